@@ -1,0 +1,71 @@
+// Metrics that need one solver (shared/DESIGN.md, "Metrics"); their definitions are part of the
+// contract. All take per-segment states in the model's segment frames, so they need no
+// solver-specific code.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "puppet/model/environment.h"
+#include "puppet/model/model.h"
+
+namespace puppet::compare {
+
+// |c_a − c_b| of every joint (m)
+void joint_gaps(const Model& model, std::span<const BodyState> bodies, std::span<double> out);
+// |point − target| of every pin (m)
+void pin_gaps(std::span<const Pin> pins, std::span<const Vector3d> targets,
+              std::span<const BodyState> bodies, std::span<double> out);
+// how far each joint is outside its limits (deg, 0 inside)
+void limit_violations_deg(const Model& model, std::span<const BodyState> bodies,
+                          std::span<double> out);
+// kinetic + potential energy, potential −m g·x (J)
+double mechanical_energy(const Model& model, const Environment& environment,
+                         std::span<const BodyState> bodies);
+double kinetic_energy(const Model& model, std::span<const BodyState> bodies);
+Vector3d centre_of_mass(const Model& model, std::span<const BodyState> bodies);
+Vector3d linear_momentum(const Model& model, std::span<const BodyState> bodies);
+// about the centre of mass
+Vector3d angular_momentum(const Model& model, std::span<const BodyState> bodies);
+// deepest penetration of any shape below the ground z = 0 (m, 0 when none)
+double ground_penetration(const Model& model, std::span<const BodyState> bodies);
+// fastest segment's COM speed (m/s)
+double peak_speed(std::span<const BodyState> bodies);
+
+// the scale energy drift is measured against: E_ref = M·|g|·H + KE(0)
+double energy_reference(const Model& model, const Environment& environment,
+                        std::span<const BodyState> initial);
+
+// the quantities recorded after every step
+struct StepMetrics {
+  double t = 0.0;
+  double joint_gap_max = 0.0, joint_gap_rms = 0.0;  // over joints
+  double pin_gap_max = 0.0;
+  double limit_violation_max_deg = 0.0;
+  double energy_drift = 0.0;            // (E − E(0)) / E_ref
+  double linear_momentum_drift = 0.0;   // |P − P(0)| / (M v_rms(0))
+  double angular_momentum_drift = 0.0;  // |L − L(0)| / |L(0)|
+  double penetration = 0.0;
+  double peak_speed = 0.0;
+  bool finite = true;
+};
+
+// evaluates StepMetrics along a run; buffers sized once
+class MetricsProbe {
+ public:
+  MetricsProbe(const Model& model, const Environment& environment, std::span<const Pin> pins,
+               std::span<const BodyState> initial);
+  StepMetrics measure(double t, std::span<const BodyState> bodies,
+                      std::span<const Vector3d> targets);
+
+ private:
+  const Model& model_;
+  Environment environment_;
+  std::vector<Pin> pins_;
+  double energy0_, energy_ref_;
+  Vector3d momentum0_, angular0_;
+  double momentum_scale_;
+  std::vector<double> joint_buffer_, pin_buffer_;
+};
+
+}  // namespace puppet::compare

@@ -1,0 +1,39 @@
+// Files the testbed writes (shared/DESIGN.md, "Outputs"): the tidy summary.csv, per-run traces
+// and poses. Every file is written whole to a temporary name and renamed, so a failure never
+// leaves half a file behind.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "puppet/compare/run.h"
+
+namespace puppet::compare {
+
+struct OutputContext {
+  std::string model;  // model name
+  std::string git_sha;
+  std::string machine;
+};
+
+inline constexpr const char* kSummaryHeader =
+    "scenario,solver,rule,dt,substeps,metric,stat,value,unit,model,reference,status,git_sha,"
+    "machine";
+
+// dt as a decimal with 9 significant digits
+std::string format_dt(double dt);
+// <model>__<scenario>__<solver>__<rule>__<dt>, safe as a file name ("-" for an empty rule)
+std::string trace_stem(const std::string& model, const RunResult& result);
+
+std::string summary_csv(const std::vector<RunResult>& results, const OutputContext& context);
+std::string trace_csv(const RunResult& result);
+std::string poses_csv(const Model& model, const RunResult& result);
+
+// throws std::runtime_error naming the file on failure
+void write_file_atomically(const std::string& path, const std::string& content);
+
+// the commit the binary runs from ("unknown" outside a git checkout) and a one-line machine id
+std::string current_git_sha();
+std::string machine_description();
+
+}  // namespace puppet::compare

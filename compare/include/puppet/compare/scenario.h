@@ -1,0 +1,80 @@
+// The scenarios of shared/DESIGN.md, defined once and used by the CLI, the tests, the benchmarks
+// and any viewer. Each is deterministic and runs on any model.
+#pragma once
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "puppet/model/environment.h"
+#include "puppet/model/model.h"
+
+namespace puppet::compare {
+
+// bad scenario input (unknown name, unknown segment): one message naming the problem
+class ScenarioError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// a segment, and optionally a point on it (segment frame); without one the scenario picks the
+// segment's highest point at rest (for a hanging pin) or its lowest (for a grab)
+struct PointChoice {
+  std::string segment;
+  std::optional<Vector3d> local_point;
+};
+
+// what a user may change from the command line; unset fields keep the scenario's values
+struct ScenarioOptions {
+  double tilt_deg = 30.0;  // initial tilt of hang and the scenarios built on it
+  double hz = 0.5;         // circle frequency of drag and yank
+  std::optional<PointChoice> pin;
+  std::optional<PointChoice> grab;
+  std::optional<Vector3d> gravity;
+  std::optional<double> air_drag;
+  std::optional<bool> ground;
+};
+
+enum class TargetPath {
+  kFixed,   // stays at its initial point
+  kCircle,  // circle in the x–z plane through its initial point (its lowest point)
+  kShakeX,  // sinusoid along x about its initial point
+};
+
+struct PinPath {
+  Pin pin;  // target = the initial world point
+  TargetPath path = TargetPath::kFixed;
+  double radius = 0.0;  // circle radius or shake amplitude (m)
+  double hz = 0.0;
+};
+
+struct Scenario {
+  std::string name;
+  double duration = 5.0;  // s
+  Environment environment;
+  bool tremble = false;  // procedural only
+  std::vector<BodyState> initial;
+  std::vector<PinPath> pins;
+
+  // pin targets at time t (the end of the step being taken), ramped in with a smoothstep over
+  // the first 0.5 s
+  void targets_at(double t, std::vector<Vector3d>& out) const;
+  std::vector<Pin> initial_pins() const;
+  // nothing external does work: energy is conserved (hang, spin)
+  bool conserves_energy() const;
+  // no external force at all: momentum is conserved (spin)
+  bool conserves_momentum() const;
+};
+
+const std::vector<std::string>& scenario_names();
+// builds a named scenario for a model; throws ScenarioError
+Scenario make_scenario(const std::string& name, const Model& model,
+                       const ScenarioOptions& options = {});
+
+// the default segment choices (DESIGN.md): the pinocchio names, else the root for the pin and
+// the segment reaching lowest at rest for the grab
+int default_pin_segment(const Model& model);
+int default_grab_segment(const Model& model, const std::string& scenario);
+
+}  // namespace puppet::compare

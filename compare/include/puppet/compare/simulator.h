@@ -1,0 +1,65 @@
+// The one interface every solver sits behind (shared/DESIGN.md, "The references"). Coarse
+// grained: one virtual call per step, never per joint.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "puppet/compare/scenario.h"
+#include "puppet/model/environment.h"
+#include "puppet/model/model.h"
+
+namespace puppet::compare {
+
+// a solver's complete state, opaque to the harness
+class Snapshot {
+ public:
+  virtual ~Snapshot() = default;
+};
+
+class Simulator {
+ public:
+  virtual ~Simulator() = default;
+
+  // "procedural", "bullet-multibody", ...
+  virtual std::string name() const = 0;
+  // the adjust rule, empty for solvers without one
+  virtual std::string rule() const { return {}; }
+  virtual int substeps() const { return 1; }
+
+  // builds the model in its initial state, environment and pins; the model must outlive it
+  virtual void reset(const Model& model, const Scenario& scenario) = 0;
+  // targets of the scenario's pins (world), in the scenario's order, for the end of the next step
+  virtual void set_pin_targets(std::span<const Vector3d> targets) = 0;
+  virtual void step(double dt) = 0;
+  // per segment, in the model's segment frames: COM, orientation, v, ω (world)
+  virtual void read_state(std::span<BodyState> out) const = 0;
+  // place every segment (a joint-consistent state, e.g. from another solver's trajectory)
+  virtual void set_state(std::span<const BodyState> bodies) = 0;
+  virtual std::unique_ptr<Snapshot> snapshot() const = 0;
+  virtual void restore(const Snapshot& snapshot) = 0;
+  // the solver itself met a non-finite value
+  virtual bool diverged() const = 0;
+
+  // per-stage wall time of the last step (empty when the solver has no stages)
+  virtual std::vector<std::string_view> stage_names() const { return {}; }
+  virtual void set_stage_timing(bool /*on*/) {}
+  virtual std::vector<double> stage_seconds() const { return {}; }
+};
+
+const std::vector<std::string>& solver_names();
+// options a solver may use: the procedural rule and its settings
+struct SolverOptions {
+  std::string rule = "relaxed";
+  int iterations = 4;
+  int substeps = 1;
+  bool derive_velocities = true;
+  bool tremble = true;  // honoured only where the scenario asks for it
+};
+// throws ScenarioError for an unknown solver or rule
+std::unique_ptr<Simulator> make_simulator(const std::string& solver, const SolverOptions& options);
+
+}  // namespace puppet::compare

@@ -1,0 +1,153 @@
+#include "puppet/compare/metrics.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "puppet/model/rotation.h"
+
+namespace puppet::compare {
+
+void joint_gaps(const Model& model, std::span<const BodyState> b, std::span<double> out) {
+  for (int j = 0; j < model.joint_count(); ++j) {
+    const Joint& joint = model.joints[j];
+    const Vector3d c_parent = b[joint.parent].x + b[joint.parent].q * joint.anchor_in_parent;
+    const Vector3d c_child = b[joint.child].x + b[joint.child].q * joint.anchor_in_child;
+    out[j] = (c_parent - c_child).norm();
+  }
+}
+
+void pin_gaps(std::span<const Pin> pins, std::span<const Vector3d> targets,
+              std::span<const BodyState> b, std::span<double> out) {
+  for (size_t i = 0; i < pins.size(); ++i) {
+    const BodyState& body = b[pins[i].segment];
+    out[i] = (body.x + body.q * pins[i].local_point - targets[i]).norm();
+  }
+}
+
+void limit_violations_deg(const Model& model, std::span<const BodyState> b, std::span<double> out) {
+  for (int j = 0; j < model.joint_count(); ++j) {
+    const Joint& joint = model.joints[j];
+    const Quaterniond q_rel = joint_relative_rotation(joint, b[joint.parent].q, b[joint.child].q);
+    out[j] = limit_violation(joint, q_rel) * 180.0 / M_PI;
+  }
+}
+
+double kinetic_energy(const Model& model, std::span<const BodyState> b) {
+  double energy = 0.0;
+  for (int i = 0; i < model.segment_count(); ++i) {
+    const Segment& s = model.segments[i];
+    const Vector3d w_body = b[i].q.conjugate() * b[i].w;
+    energy +=
+        0.5 * s.mass * b[i].v.squaredNorm() + 0.5 * w_body.dot(s.inertia.cwiseProduct(w_body));
+  }
+  return energy;
+}
+
+double mechanical_energy(const Model& model, const Environment& environment,
+                         std::span<const BodyState> b) {
+  double potential = 0.0;
+  for (int i = 0; i < model.segment_count(); ++i) {
+    potential -= model.segments[i].mass * environment.gravity.dot(b[i].x);
+  }
+  return kinetic_energy(model, b) + potential;
+}
+
+Vector3d centre_of_mass(const Model& model, std::span<const BodyState> b) {
+  Vector3d sum{0, 0, 0};
+  for (int i = 0; i < model.segment_count(); ++i) sum += model.segments[i].mass * b[i].x;
+  return sum / model.total_mass;
+}
+
+Vector3d linear_momentum(const Model& model, std::span<const BodyState> b) {
+  Vector3d p{0, 0, 0};
+  for (int i = 0; i < model.segment_count(); ++i) p += model.segments[i].mass * b[i].v;
+  return p;
+}
+
+Vector3d angular_momentum(const Model& model, std::span<const BodyState> b) {
+  const Vector3d com = centre_of_mass(model, b);
+  Vector3d l{0, 0, 0};
+  for (int i = 0; i < model.segment_count(); ++i) {
+    const Segment& s = model.segments[i];
+    l += (b[i].x - com).cross(s.mass * b[i].v) + world_inertia(s, b[i].q) * b[i].w;
+  }
+  return l;
+}
+
+double ground_penetration(const Model& model, std::span<const BodyState> b) {
+  double deepest = 0.0;
+  for (int i = 0; i < model.segment_count(); ++i) {
+    double low = 0.0, high = 0.0;
+    vertical_extent(model.segments[i], b[i].q, b[i].x, &low, &high);
+    deepest = std::max(deepest, -low);
+  }
+  return deepest;
+}
+
+double peak_speed(std::span<const BodyState> b) {
+  double peak = 0.0;
+  for (const BodyState& body : b) peak = std::max(peak, body.v.norm());
+  return peak;
+}
+
+double energy_reference(const Model& model, const Environment& environment,
+                        std::span<const BodyState> initial) {
+  return model.total_mass * environment.gravity.norm() * model.rest_height +
+         kinetic_energy(model, initial);
+}
+
+MetricsProbe::MetricsProbe(const Model& model, const Environment& environment,
+                           std::span<const Pin> pins, std::span<const BodyState> initial)
+    : model_(model),
+      environment_(environment),
+      pins_(pins.begin(), pins.end()),
+      energy0_(mechanical_energy(model, environment, initial)),
+      energy_ref_(energy_reference(model, environment, initial)),
+      momentum0_(linear_momentum(model, initial)),
+      angular0_(angular_momentum(model, initial)),
+      joint_buffer_(model.joint_count()),
+      pin_buffer_(pins.size()) {
+  // M·v_rms(0), v_rms² = Σ m v² / M
+  double mv2 = 0.0;
+  for (int i = 0; i < model.segment_count(); ++i) {
+    mv2 += model.segments[i].mass * initial[i].v.squaredNorm();
+  }
+  momentum_scale_ = std::sqrt(mv2 * model.total_mass);
+}
+
+StepMetrics MetricsProbe::measure(double t, std::span<const BodyState> bodies,
+                                  std::span<const Vector3d> targets) {
+  StepMetrics m;
+  m.t = t;
+  for (const BodyState& b : bodies) {
+    if (!b.x.allFinite() || !b.q.coeffs().allFinite() || !b.v.allFinite() || !b.w.allFinite()) {
+      m.finite = false;
+      return m;
+    }
+  }
+  joint_gaps(model_, bodies, joint_buffer_);
+  double sum2 = 0.0;
+  for (double g : joint_buffer_) {
+    m.joint_gap_max = std::max(m.joint_gap_max, g);
+    sum2 += g * g;
+  }
+  if (!joint_buffer_.empty()) m.joint_gap_rms = std::sqrt(sum2 / joint_buffer_.size());
+  pin_gaps(pins_, targets, bodies, pin_buffer_);
+  for (double g : pin_buffer_) m.pin_gap_max = std::max(m.pin_gap_max, g);
+  limit_violations_deg(model_, bodies, joint_buffer_);
+  for (double v : joint_buffer_) m.limit_violation_max_deg = std::max(m.limit_violation_max_deg, v);
+  m.energy_drift = (mechanical_energy(model_, environment_, bodies) - energy0_) / energy_ref_;
+  if (momentum_scale_ > 0.0) {
+    m.linear_momentum_drift =
+        (linear_momentum(model_, bodies) - momentum0_).norm() / momentum_scale_;
+  }
+  if (angular0_.norm() > 0.0) {
+    m.angular_momentum_drift =
+        (angular_momentum(model_, bodies) - angular0_).norm() / angular0_.norm();
+  }
+  if (environment_.ground) m.penetration = ground_penetration(model_, bodies);
+  m.peak_speed = peak_speed(bodies);
+  return m;
+}
+
+}  // namespace puppet::compare

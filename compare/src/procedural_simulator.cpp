@@ -1,0 +1,99 @@
+// The procedural solver behind the Simulator interface.
+#include <optional>
+
+#include "puppet/compare/simulator.h"
+#include "puppet/procedural/solver.h"
+
+namespace puppet::compare {
+namespace {
+
+class ProceduralSnapshot : public Snapshot {
+ public:
+  explicit ProceduralSnapshot(const procedural::State& s) : state(s) {}
+  procedural::State state;
+};
+
+class ProceduralSimulator : public Simulator {
+ public:
+  explicit ProceduralSimulator(const procedural::Settings& settings, bool allow_tremble)
+      : settings_(settings), allow_tremble_(allow_tremble) {}
+
+  std::string name() const override { return "procedural"; }
+  std::string rule() const override { return std::string(procedural::rule_name(settings_.rule)); }
+  int substeps() const override { return settings_.substeps; }
+
+  void reset(const Model& model, const Scenario& scenario) override {
+    procedural::Settings settings = settings_;
+    settings.tremble = allow_tremble_ && scenario.tremble;
+    settings.time_stages = time_stages_;
+    solver_.emplace(model, settings, scenario.environment);
+    solver_->reset(scenario.initial);
+    solver_->set_pins(scenario.initial_pins());
+  }
+  void set_pin_targets(std::span<const Vector3d> targets) override {
+    solver_->set_pin_targets(targets);
+  }
+  void step(double dt) override { solver_->step(dt); }
+  void read_state(std::span<BodyState> out) const override {
+    const auto& bodies = solver_->state().bodies;
+    std::copy(bodies.begin(), bodies.end(), out.begin());
+  }
+  void set_state(std::span<const BodyState> bodies) override {
+    procedural::State& state = solver_->mutable_state();
+    for (size_t i = 0; i < bodies.size(); ++i) {
+      state.bodies[i] = bodies[i];
+      state.x_prev[i] = bodies[i].x;
+      state.q_prev[i] = bodies[i].q;
+    }
+    state.diverged = false;
+  }
+  std::unique_ptr<Snapshot> snapshot() const override {
+    return std::make_unique<ProceduralSnapshot>(solver_->state());
+  }
+  void restore(const Snapshot& snapshot) override {
+    solver_->mutable_state() = static_cast<const ProceduralSnapshot&>(snapshot).state;
+  }
+  bool diverged() const override { return solver_->state().diverged; }
+
+  std::vector<std::string_view> stage_names() const override {
+    return {procedural::kStageNames.begin(), procedural::kStageNames.end()};
+  }
+  void set_stage_timing(bool on) override { time_stages_ = on; }
+  std::vector<double> stage_seconds() const override {
+    const auto& s = solver_->stage_seconds();
+    return {s.begin(), s.end()};
+  }
+
+ private:
+  procedural::Settings settings_;
+  bool allow_tremble_;
+  bool time_stages_ = false;
+  std::optional<procedural::Solver> solver_;
+};
+
+}  // namespace
+
+std::unique_ptr<Simulator> make_procedural_simulator(const SolverOptions& options) {
+  const auto rule = procedural::parse_rule(options.rule);
+  if (!rule) throw ScenarioError("--rule: unknown rule \"" + options.rule + "\"");
+  procedural::Settings settings;
+  settings.rule = *rule;
+  settings.iterations = options.iterations;
+  settings.substeps = options.substeps;
+  settings.derive_velocities = options.derive_velocities;
+  const std::string problem = procedural::validate(settings);
+  if (!problem.empty()) throw ScenarioError(problem);
+  return std::make_unique<ProceduralSimulator>(settings, options.tremble);
+}
+
+const std::vector<std::string>& solver_names() {
+  static const std::vector<std::string> names = {"procedural"};
+  return names;
+}
+
+std::unique_ptr<Simulator> make_simulator(const std::string& solver, const SolverOptions& options) {
+  if (solver == "procedural") return make_procedural_simulator(options);
+  throw ScenarioError("--solver: unknown solver \"" + solver + "\"");
+}
+
+}  // namespace puppet::compare

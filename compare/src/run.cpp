@@ -1,0 +1,165 @@
+#include "puppet/compare/run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+namespace puppet::compare {
+namespace {
+
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const size_t k = std::min(values.size() - 1, static_cast<size_t>(p * (values.size() - 1) + 0.5));
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
+  return values[k];
+}
+
+int step_count(const Scenario& scenario, const RunOptions& options) {
+  const double duration = options.duration >= 0.0 ? options.duration : scenario.duration;
+  return static_cast<int>(std::llround(duration / options.dt));
+}
+
+void summarise(const Scenario& scenario, RunResult& result) {
+  const auto& trace = result.trace;
+  double gap_max = 0, gap_sum2 = 0, pin_max = 0, pin_sum2 = 0, limit_max = 0, energy_abs = 0;
+  double lin_max = 0, ang_max = 0, pen_max = 0, speed_max = 0;
+  for (const StepMetrics& m : trace) {
+    gap_max = std::max(gap_max, m.joint_gap_max);
+    gap_sum2 += m.joint_gap_rms * m.joint_gap_rms;
+    pin_max = std::max(pin_max, m.pin_gap_max);
+    pin_sum2 += m.pin_gap_max * m.pin_gap_max;
+    limit_max = std::max(limit_max, m.limit_violation_max_deg);
+    energy_abs = std::max(energy_abs, std::abs(m.energy_drift));
+    lin_max = std::max(lin_max, m.linear_momentum_drift);
+    ang_max = std::max(ang_max, m.angular_momentum_drift);
+    pen_max = std::max(pen_max, m.penetration);
+    speed_max = std::max(speed_max, m.peak_speed);
+  }
+  const double n = static_cast<double>(std::max<size_t>(trace.size(), 1));
+  auto add = [&](const char* metric, const char* stat, double value, const char* unit) {
+    result.summary.push_back({metric, stat, value, unit});
+  };
+  add("joint_gap_m", "max", gap_max, "m");
+  add("joint_gap_m", "rms", std::sqrt(gap_sum2 / n), "m");
+  add("joint_gap_m", "final", trace.empty() ? 0.0 : trace.back().joint_gap_max, "m");
+  if (!scenario.pins.empty()) {
+    add("pin_gap_m", "max", pin_max, "m");
+    add("pin_gap_m", "rms", std::sqrt(pin_sum2 / n), "m");
+  }
+  add("limit_violation_deg", "max", limit_max, "deg");
+  add("energy_drift", "final", trace.empty() ? 0.0 : trace.back().energy_drift, "1");
+  add("energy_drift", "max_abs", energy_abs, "1");
+  if (scenario.conserves_momentum()) {
+    add("momentum_drift", "linear_max", lin_max, "1");
+    add("momentum_drift", "angular_max", ang_max, "1");
+  }
+  if (scenario.environment.ground) add("penetration_m", "max", pen_max, "m");
+  add("peak_speed_mps", "max", speed_max, "m/s");
+  if (result.diverged) add("diverged_at_s", "value", result.diverged_at, "s");
+}
+
+// a pass that only steps and reads the clock: nothing else runs between the clock reads
+void timing_pass(Simulator& simulator, const Model& model, const Scenario& scenario,
+                 const RunOptions& options, int steps, RunResult& result) {
+  using Clock = std::chrono::steady_clock;
+  std::vector<Vector3d> targets;
+  std::vector<double> step_seconds;
+  step_seconds.reserve(steps);
+  simulator.set_stage_timing(false);
+  simulator.reset(model, scenario);
+  for (int k = 0; k < steps && !simulator.diverged(); ++k) {
+    scenario.targets_at((k + 1) * options.dt, targets);
+    simulator.set_pin_targets(targets);
+    const auto begin = Clock::now();
+    simulator.step(options.dt);
+    step_seconds.push_back(std::chrono::duration<double>(Clock::now() - begin).count());
+  }
+  if (step_seconds.empty()) return;
+  double total = 0.0;
+  for (double s : step_seconds) total += s;
+  result.summary.push_back({"step_us", "median", 1e6 * percentile(step_seconds, 0.5), "us"});
+  result.summary.push_back({"step_us", "p95", 1e6 * percentile(step_seconds, 0.95), "us"});
+  result.summary.push_back(
+      {"realtime_factor", "value", step_seconds.size() * options.dt / total, "1"});
+
+  // per stage, from its own pass (the stage clocks cost time of their own)
+  const auto names = simulator.stage_names();
+  if (names.empty()) return;
+  std::vector<std::vector<double>> stages(names.size());
+  simulator.set_stage_timing(true);
+  simulator.reset(model, scenario);
+  for (int k = 0; k < steps && !simulator.diverged(); ++k) {
+    scenario.targets_at((k + 1) * options.dt, targets);
+    simulator.set_pin_targets(targets);
+    simulator.step(options.dt);
+    const auto seconds = simulator.stage_seconds();
+    for (size_t s = 0; s < names.size(); ++s) stages[s].push_back(seconds[s]);
+  }
+  simulator.set_stage_timing(false);
+  for (size_t s = 0; s < names.size(); ++s) {
+    const std::string metric = std::string(names[s]) + "_us";
+    result.summary.push_back({metric, "median", 1e6 * percentile(stages[s], 0.5), "us"});
+    result.summary.push_back({metric, "p95", 1e6 * percentile(stages[s], 0.95), "us"});
+  }
+}
+
+}  // namespace
+
+double RunResult::value(const std::string& metric, const std::string& stat) const {
+  for (const SummaryRow& row : summary) {
+    if (row.metric == metric && row.stat == stat) return row.value;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+RunResult run_scenario(Simulator& simulator, const Model& model, const Scenario& scenario,
+                       const RunOptions& options) {
+  RunResult result;
+  result.scenario = scenario.name;
+  result.solver = simulator.name();
+  result.rule = simulator.rule();
+  result.dt = options.dt;
+  result.substeps = simulator.substeps();
+  const int steps = step_count(scenario, options);
+  const int sample_every =
+      options.sample_hz > 0.0
+          ? std::max(1, static_cast<int>(std::lround(1.0 / (options.sample_hz * options.dt))))
+          : 1;
+
+  simulator.reset(model, scenario);
+  const std::vector<Pin> pins = scenario.initial_pins();
+  std::vector<BodyState> bodies(model.segment_count());
+  std::vector<Vector3d> targets;
+  simulator.read_state(bodies);
+  MetricsProbe probe(model, scenario.environment, pins, bodies);
+  scenario.targets_at(0.0, targets);
+  result.trace.reserve(steps + 1);
+  result.trace.push_back(probe.measure(0.0, bodies, targets));
+  auto keep_poses = [&](double t) {
+    for (int i = 0; i < model.segment_count(); ++i) result.poses.push_back({t, i, bodies[i]});
+  };
+  keep_poses(0.0);
+
+  for (int k = 0; k < steps; ++k) {
+    const double t = (k + 1) * options.dt;
+    scenario.targets_at(t, targets);
+    simulator.set_pin_targets(targets);
+    simulator.step(options.dt);
+    simulator.read_state(bodies);
+    const StepMetrics m = probe.measure(t, bodies, targets);
+    if (!m.finite || simulator.diverged() || m.joint_gap_max > kDivergedJointGap ||
+        m.energy_drift > kDivergedEnergyDrift) {
+      result.diverged = true;
+      result.diverged_at = t;
+      break;
+    }
+    result.trace.push_back(m);
+    if ((k + 1) % sample_every == 0) keep_poses(t);
+  }
+  summarise(scenario, result);
+  if (options.timing) timing_pass(simulator, model, scenario, options, steps, result);
+  return result;
+}
+
+}  // namespace puppet::compare

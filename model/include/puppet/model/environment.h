@@ -1,0 +1,58 @@
+// The world a model moves in, and the forces it exerts, with the same formulas in every solver
+// (shared/DESIGN.md, "Environment"), so that differences between solvers are the solvers'.
+#pragma once
+
+#include "puppet/model/model.h"
+
+namespace puppet {
+
+struct Environment {
+  Vector3d gravity{0.0, 0.0, -9.81};
+  double air_drag = 0.0;  // k_air (1/s): F = −k·m·v, τ = −k·I·ω
+  bool water = false;
+  double water_level = 0.0;       // z of the surface (m)
+  double water_density = 1000.0;  // ρ_w (kg/m³)
+  double water_drag = 0.0;        // k_water (1/s), scaled by the submerged fraction
+  bool ground = false;            // plane z = 0
+  double friction = 0.8;          // μ
+};
+
+// pose and velocity of one segment: COM position, orientation of the segment frame, linear and
+// angular velocity, all in world
+struct BodyState {
+  Vector3d x{0, 0, 0};
+  Quaterniond q = Quaterniond::Identity();
+  Vector3d v{0, 0, 0};
+  Vector3d w{0, 0, 0};
+};
+
+// a point of a segment held at a world target (a user's drag, a marionette string)
+struct Pin {
+  int segment = -1;
+  Vector3d local_point{0, 0, 0};  // segment frame
+  Vector3d target{0, 0, 0};       // world
+};
+
+struct Wrench {
+  Vector3d force{0, 0, 0};   // at the COM
+  Vector3d torque{0, 0, 0};  // world
+};
+
+// world z-extent of a segment's shape
+void vertical_extent(const Segment& segment, const Quaterniond& q, const Vector3d& x, double* low,
+                     double* high);
+// fraction of the segment below the water surface: linear in depth across its vertical extent
+// (smooth, unlike a switch at the centre, which makes results depend on dt)
+double submerged_fraction(const Segment& segment, const Environment& environment,
+                          const BodyState& body);
+// gravity, air drag, buoyancy and water drag on one segment (no contact forces)
+Wrench environment_wrench(const Segment& segment, const Environment& environment,
+                          const BodyState& body);
+
+// world inertia tensor of a segment in a given orientation
+inline Matrix3d world_inertia(const Segment& segment, const Quaterniond& q) {
+  const Matrix3d r = q.toRotationMatrix();
+  return r * segment.inertia.asDiagonal() * r.transpose();
+}
+
+}  // namespace puppet

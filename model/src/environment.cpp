@@ -1,0 +1,39 @@
+#include "puppet/model/environment.h"
+
+#include <algorithm>
+
+namespace puppet {
+
+void vertical_extent(const Segment& segment, const Quaterniond& q, const Vector3d& x, double* low,
+                     double* high) {
+  const Vector3d up_local = q.conjugate() * Vector3d::UnitZ();
+  *high = x.z() + (q * support_point(segment.shape, up_local)).z();
+  *low = x.z() + (q * support_point(segment.shape, -up_local)).z();
+}
+
+double submerged_fraction(const Segment& segment, const Environment& environment,
+                          const BodyState& body) {
+  if (!environment.water) return 0.0;
+  double low = 0.0, high = 0.0;
+  vertical_extent(segment, body.q, body.x, &low, &high);
+  return std::clamp((environment.water_level - low) / (high - low), 0.0, 1.0);
+}
+
+Wrench environment_wrench(const Segment& segment, const Environment& environment,
+                          const BodyState& body) {
+  Wrench wrench;
+  const Matrix3d inertia = world_inertia(segment, body.q);
+  wrench.force = segment.mass * environment.gravity - environment.air_drag * segment.mass * body.v;
+  wrench.torque = -environment.air_drag * (inertia * body.w);
+  const double f = submerged_fraction(segment, environment, body);
+  if (f > 0.0) {
+    // buoyancy ρ·V·f·|g| against gravity; drag −k·f·m·v, and −k·f·I·ω by the same reading
+    wrench.force -=
+        environment.water_density * shape_volume(segment.shape) * f * environment.gravity;
+    wrench.force -= environment.water_drag * f * segment.mass * body.v;
+    wrench.torque -= environment.water_drag * f * (inertia * body.w);
+  }
+  return wrench;
+}
+
+}  // namespace puppet

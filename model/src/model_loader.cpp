@@ -1,0 +1,426 @@
+// Model files (shared/DESIGN.md, "The model"): JSON in world coordinates at rest. Everything is
+// validated here, once; a bad file raises one ModelError naming the file, the element and the
+// problem, and nothing half-built escapes.
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "puppet/model/model.h"
+#include "puppet/model/rotation.h"
+
+namespace puppet {
+namespace {
+
+using nlohmann::json;
+
+constexpr double kAnchorTolerance = 0.05;  // m from either shape's surface
+constexpr double kDegToRad = M_PI / 180.0;
+
+// reads typed fields of one JSON element and reports problems with its full name
+class Element {
+ public:
+  Element(const json& value, std::string source, std::string where)
+      : value_(value), source_(std::move(source)), where_(std::move(where)) {}
+
+  [[noreturn]] void fail(const std::string& problem) const {
+    throw ModelError(source_ + ": " + where_ + ": " + problem);
+  }
+
+  void require_object() const {
+    if (!value_.is_object()) fail("must be a JSON object");
+  }
+
+  void reject_unknown(std::initializer_list<const char*> known) const {
+    for (const auto& [key, unused] : value_.items()) {
+      if (std::none_of(known.begin(), known.end(), [&](const char* k) { return key == k; })) {
+        fail("unknown field \"" + key + "\"");
+      }
+    }
+  }
+
+  bool has(const char* key) const { return value_.contains(key); }
+
+  const json& field(const char* key) const {
+    if (!value_.contains(key)) fail(std::string("missing field \"") + key + "\"");
+    return value_.at(key);
+  }
+
+  std::string string(const char* key) const {
+    const json& v = field(key);
+    if (!v.is_string()) fail(std::string("field \"") + key + "\" must be a string");
+    return v.get<std::string>();
+  }
+
+  double number(const char* key) const {
+    const json& v = field(key);
+    if (!v.is_number()) fail(std::string("field \"") + key + "\" must be a number");
+    const double x = v.get<double>();
+    if (!std::isfinite(x)) fail(std::string("field \"") + key + "\" must be finite");
+    return x;
+  }
+
+  double positive(const char* key) const {
+    const double x = number(key);
+    if (!(x > 0.0))
+      fail(std::string("field \"") + key + "\" must be positive (got " + fmt(x) + ")");
+    return x;
+  }
+
+  double non_negative(const char* key) const {
+    const double x = number(key);
+    if (x < 0.0)
+      fail(std::string("field \"") + key + "\" must not be negative (got " + fmt(x) + ")");
+    return x;
+  }
+
+  template <int N>
+  Eigen::Matrix<double, N, 1> vector(const char* key) const {
+    const json& v = field(key);
+    if (!v.is_array() || v.size() != N) {
+      fail(std::string("field \"") + key + "\" must be an array of " + std::to_string(N) +
+           " numbers");
+    }
+    Eigen::Matrix<double, N, 1> out;
+    for (int i = 0; i < N; ++i) {
+      if (!v[i].is_number()) {
+        fail(std::string("field \"") + key + "\" must be an array of " + std::to_string(N) +
+             " numbers");
+      }
+      out[i] = v[i].get<double>();
+      if (!std::isfinite(out[i])) fail(std::string("field \"") + key + "\" must be finite");
+    }
+    return out;
+  }
+
+  Quaterniond quaternion(const char* key) const {
+    const Eigen::Vector4d wxyz = vector<4>(key);
+    if (wxyz.norm() < 1e-9) fail(std::string("field \"") + key + "\" is a zero quaternion");
+    Quaterniond q(wxyz[0], wxyz[1], wxyz[2], wxyz[3]);
+    q.normalize();
+    return q;
+  }
+
+  Element child(const char* key, const std::string& name) const {
+    return Element(field(key), source_, where_ + " " + name);
+  }
+
+  const std::string& source() const { return source_; }
+
+  static std::string fmt(double x) {
+    std::ostringstream out;
+    out << x;
+    return out.str();
+  }
+
+ private:
+  const json& value_;
+  std::string source_;
+  std::string where_;
+};
+
+Shape read_shape(const Element& e) {
+  e.require_object();
+  Shape shape;
+  const std::string type = e.string("type");
+  if (type == "capsule") {
+    e.reject_unknown({"type", "radius", "half_length"});
+    shape.type = ShapeType::kCapsule;
+    shape.radius = e.positive("radius");
+    shape.half_length = e.positive("half_length");
+  } else if (type == "sphere") {
+    e.reject_unknown({"type", "radius"});
+    shape.type = ShapeType::kSphere;
+    shape.radius = e.positive("radius");
+  } else if (type == "box") {
+    e.reject_unknown({"type", "half_extents"});
+    shape.type = ShapeType::kBox;
+    shape.half_extents = e.vector<3>("half_extents");
+    if ((shape.half_extents.array() <= 0.0).any()) {
+      e.fail("field \"half_extents\" must be positive");
+    }
+  } else {
+    e.fail("unknown shape type \"" + type + "\" (expected capsule, box or sphere)");
+  }
+  return shape;
+}
+
+Segment read_segment(const Element& e) {
+  e.require_object();
+  e.reject_unknown({"name", "mass", "position", "orientation", "shape", "inertia"});
+  Segment s;
+  s.mass = e.positive("mass");
+  s.rest_position = e.vector<3>("position");
+  if (e.has("orientation")) s.rest_orientation = e.quaternion("orientation");
+  s.shape = read_shape(e.child("shape", "shape"));
+  if (e.has("inertia")) {
+    s.inertia = e.vector<3>("inertia");
+    if ((s.inertia.array() <= 0.0).any()) e.fail("field \"inertia\" must be positive");
+  } else {
+    s.inertia = solid_inertia(s.shape, s.mass);
+  }
+  return s;
+}
+
+struct RawJoint {
+  Joint joint;
+  std::string parent_name, child_name;
+  Vector3d hinge_axis_world{0, 0, 0};
+  bool has_frame = false;
+};
+
+RawJoint read_joint(const Element& e) {
+  e.require_object();
+  RawJoint raw;
+  Joint& j = raw.joint;
+  const std::string type = e.string("type");
+  if (type == "ball") {
+    e.reject_unknown(
+        {"name", "parent", "child", "anchor", "type", "frame", "swing_deg", "twist_deg"});
+    j.type = JointType::kBall;
+    const Eigen::Vector2d swing = e.vector<2>("swing_deg");
+    if ((swing.array() < 0.0).any()) e.fail("field \"swing_deg\" must not be negative");
+    if ((swing.array() > 180.0).any()) e.fail("field \"swing_deg\" must be at most 180");
+    j.swing_x = swing.x() * kDegToRad;
+    j.swing_y = swing.y() * kDegToRad;
+    const double twist = e.non_negative("twist_deg");
+    if (twist > 180.0) e.fail("field \"twist_deg\" must be at most 180");
+    j.twist = twist * kDegToRad;
+  } else if (type == "hinge") {
+    e.reject_unknown({"name", "parent", "child", "anchor", "type", "frame", "axis", "range_deg"});
+    j.type = JointType::kHinge;
+    raw.hinge_axis_world = e.vector<3>("axis");
+    if (raw.hinge_axis_world.norm() < 1e-9) e.fail("field \"axis\" is a zero vector");
+    raw.hinge_axis_world.normalize();
+    const Eigen::Vector2d range = e.vector<2>("range_deg");
+    if (range.x() > range.y()) {
+      e.fail("field \"range_deg\" has lo > hi (" + Element::fmt(range.x()) + " > " +
+             Element::fmt(range.y()) + ")");
+    }
+    if (range.x() > 0.0 || range.y() < 0.0) {
+      e.fail("field \"range_deg\" must contain the rest angle 0");
+    }
+    if (range.x() < -180.0 || range.y() > 180.0)
+      e.fail("field \"range_deg\" must lie in [-180, 180]");
+    j.lower = range.x() * kDegToRad;
+    j.upper = range.y() * kDegToRad;
+  } else if (type == "fixed") {
+    e.reject_unknown({"name", "parent", "child", "anchor", "type", "frame"});
+    j.type = JointType::kFixed;
+  } else {
+    e.fail("unknown joint type \"" + type + "\" (expected ball, hinge or fixed)");
+  }
+  raw.parent_name = e.string("parent");
+  raw.child_name = e.string("child");
+  j.anchor_world = e.vector<3>("anchor");
+  if (e.has("frame")) {
+    j.frame_world = e.quaternion("frame");
+    raw.has_frame = true;
+  }
+  return raw;
+}
+
+// the joint frame must be a principal frame of the child: its inertia, seen in the joint
+// frame, is diagonal (the Bullet link frame is the joint frame)
+bool is_principal_frame(const Segment& child, const Quaterniond& frame_in_child) {
+  const Matrix3d r = frame_in_child.toRotationMatrix();
+  const Matrix3d inertia = r.transpose() * child.inertia.asDiagonal() * r;
+  const double scale = child.inertia.maxCoeff();
+  const Matrix3d off = inertia - Matrix3d(inertia.diagonal().asDiagonal());
+  return off.cwiseAbs().maxCoeff() <= 1e-9 * scale;
+}
+
+Model build(const json& root_json, const std::string& source) {
+  Element root(root_json, source, "model");
+  root.require_object();
+  root.reject_unknown({"name", "segments", "joints"});
+  Model model;
+  model.name = root.string("name");
+
+  // segments, in file order for now
+  const json& segments_json = root.field("segments");
+  if (!segments_json.is_array()) root.fail("field \"segments\" must be an array");
+  if (segments_json.empty()) root.fail("field \"segments\" must not be empty");
+  std::vector<Segment> segments;
+  std::map<std::string, int> index_of;
+  for (size_t i = 0; i < segments_json.size(); ++i) {
+    Element e(segments_json[i], source, "segment #" + std::to_string(i));
+    e.require_object();
+    const std::string name = e.string("name");
+    Element named(segments_json[i], source, "segment \"" + name + "\"");
+    if (index_of.count(name)) named.fail("duplicate segment name");
+    Segment s = read_segment(named);
+    s.name = name;
+    index_of[name] = static_cast<int>(segments.size());
+    segments.push_back(std::move(s));
+  }
+
+  // joints
+  std::vector<RawJoint> raw_joints;
+  std::set<std::string> joint_names;
+  std::vector<int> parent_joint_of(segments.size(), -1);
+  if (root.has("joints")) {
+    const json& joints_json = root.field("joints");
+    if (!joints_json.is_array()) root.fail("field \"joints\" must be an array");
+    for (size_t i = 0; i < joints_json.size(); ++i) {
+      Element e(joints_json[i], source, "joint #" + std::to_string(i));
+      e.require_object();
+      const std::string name = e.string("name");
+      Element named(joints_json[i], source, "joint \"" + name + "\"");
+      if (!joint_names.insert(name).second) named.fail("duplicate joint name");
+      RawJoint raw = read_joint(named);
+      raw.joint.name = name;
+      auto p = index_of.find(raw.parent_name);
+      if (p == index_of.end()) named.fail("unknown parent segment \"" + raw.parent_name + "\"");
+      auto c = index_of.find(raw.child_name);
+      if (c == index_of.end()) named.fail("unknown child segment \"" + raw.child_name + "\"");
+      if (p->second == c->second) named.fail("parent and child are the same segment (a cycle)");
+      raw.joint.parent = p->second;
+      raw.joint.child = c->second;
+      if (parent_joint_of[c->second] >= 0) {
+        named.fail("segment \"" + raw.child_name + "\" already has a parent (joint \"" +
+                   raw_joints[parent_joint_of[c->second]].joint.name + "\"): two parents");
+      }
+      parent_joint_of[c->second] = static_cast<int>(raw_joints.size());
+      raw_joints.push_back(std::move(raw));
+    }
+  }
+
+  // exactly one root
+  std::vector<int> roots;
+  for (size_t i = 0; i < segments.size(); ++i) {
+    if (parent_joint_of[i] < 0) roots.push_back(static_cast<int>(i));
+  }
+  if (roots.empty()) root.fail("no root segment: the joints form a cycle");
+  if (roots.size() > 1) {
+    root.fail("two roots: segments \"" + segments[roots[0]].name + "\" and \"" +
+              segments[roots[1]].name + "\" have no parent joint");
+  }
+
+  // order parent before child (depth first from the root); unreached segments sit on a cycle
+  std::vector<std::vector<int>> children(segments.size());
+  for (size_t j = 0; j < raw_joints.size(); ++j) {
+    children[raw_joints[j].joint.parent].push_back(static_cast<int>(j));
+  }
+  std::vector<int> order;  // old segment indices in new order
+  std::vector<int> new_index(segments.size(), -1);
+  std::vector<int> stack{roots[0]};
+  while (!stack.empty()) {
+    const int s = stack.back();
+    stack.pop_back();
+    new_index[s] = static_cast<int>(order.size());
+    order.push_back(s);
+    for (auto it = children[s].rbegin(); it != children[s].rend(); ++it) {
+      stack.push_back(raw_joints[*it].joint.child);
+    }
+  }
+  for (size_t i = 0; i < segments.size(); ++i) {
+    if (new_index[i] < 0) {
+      Element(segments_json[i], source, "segment \"" + segments[i].name + "\"")
+          .fail("lies on a cycle of joints (not reachable from the root \"" +
+                segments[roots[0]].name + "\")");
+    }
+  }
+
+  for (int old : order) model.segments.push_back(segments[old]);
+  for (int i = 1; i < model.segment_count(); ++i) {
+    const int old = order[i];
+    RawJoint& raw = raw_joints[parent_joint_of[old]];
+    Joint j = raw.joint;
+    j.parent = new_index[j.parent];
+    j.child = i;
+    const Element e(root_json["joints"][parent_joint_of[old]], source, "joint \"" + j.name + "\"");
+    const Segment& parent = model.segments[j.parent];
+    const Segment& child = model.segments[j.child];
+
+    // local anchors, and the anchor within reach of both shapes
+    j.anchor_in_parent =
+        parent.rest_orientation.conjugate() * (j.anchor_world - parent.rest_position);
+    j.anchor_in_child = child.rest_orientation.conjugate() * (j.anchor_world - child.rest_position);
+    for (const auto* seg : {&parent, &child}) {
+      const Vector3d local = seg == &parent ? j.anchor_in_parent : j.anchor_in_child;
+      const double distance = signed_distance(seg->shape, local);
+      if (distance > kAnchorTolerance) {
+        e.fail("anchor is " + Element::fmt(std::round(distance * 1000.0) / 10.0) +
+               " cm from the surface of segment \"" + seg->name + "\" (at most 5 cm allowed)");
+      }
+    }
+
+    // joint frames
+    j.frame_in_parent = parent.rest_orientation.conjugate() * j.frame_world;
+    j.frame_in_child = child.rest_orientation.conjugate() * j.frame_world;
+    if (!is_principal_frame(child, j.frame_in_child)) {
+      e.fail(std::string(raw.has_frame ? "frame" : "the default (world) joint frame") +
+             " is not a principal frame of child segment \"" + child.name +
+             "\" (its inertia is not diagonal in it)");
+    }
+    if (j.type == JointType::kHinge)
+      j.hinge_axis = j.frame_world.conjugate() * raw.hinge_axis_world;
+    model.segments[i].parent_joint = i - 1;
+    model.segments[i].parent = j.parent;
+    model.joints.push_back(std::move(j));
+  }
+
+  // derived totals
+  double top = -INFINITY, bottom = INFINITY;
+  for (const Segment& s : model.segments) {
+    model.total_mass += s.mass;
+    const Vector3d up = s.rest_orientation.conjugate() * Vector3d::UnitZ();
+    top = std::max(top, (s.rest_position + s.rest_orientation * support_point(s.shape, up)).z());
+    bottom =
+        std::min(bottom, (s.rest_position + s.rest_orientation * support_point(s.shape, -up)).z());
+  }
+  model.rest_height = top - bottom;
+  return model;
+}
+
+}  // namespace
+
+int Model::find_segment(const std::string& segment_name) const {
+  for (int i = 0; i < segment_count(); ++i) {
+    if (segments[i].name == segment_name) return i;
+  }
+  return -1;
+}
+
+Model parse_model(const std::string& json_text, const std::string& source) {
+  json document;
+  try {
+    document = json::parse(json_text);
+  } catch (const json::parse_error& error) {
+    // nlohmann's message begins "[json.exception.parse_error.101] parse error at line…"
+    std::string what = error.what();
+    const auto bracket = what.find("] ");
+    if (bracket != std::string::npos) what = what.substr(bracket + 2);
+    throw ModelError(source + ": malformed JSON: " + what);
+  }
+  return build(document, source);
+}
+
+Model load_model(const std::string& path_or_builtin) {
+  const std::string chain_prefix = "chain:";
+  if (path_or_builtin.rfind(chain_prefix, 0) == 0) {
+    const std::string count = path_or_builtin.substr(chain_prefix.size());
+    size_t used = 0;
+    int n = 0;
+    try {
+      n = std::stoi(count, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != count.size() || count.empty() || n < 1 || n > 100000) {
+      throw ModelError(path_or_builtin + ": chain length must be an integer in [1, 100000]");
+    }
+    return make_chain(n);
+  }
+  std::ifstream file(path_or_builtin);
+  if (!file) throw ModelError(path_or_builtin + ": cannot open the model file");
+  std::stringstream text;
+  text << file.rdbuf();
+  return parse_model(text.str(), path_or_builtin);
+}
+
+}  // namespace puppet

@@ -1,0 +1,118 @@
+#include "puppet/model/rotation.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace puppet {
+
+Quaterniond quat_exp(const Vector3d& rotation_vector) {
+  const double angle = rotation_vector.norm();
+  const double half = 0.5 * angle;
+  // sin(half)/angle, with its series near zero so tiny rotations stay exact
+  const double k = angle < 1e-8 ? 0.5 - angle * angle / 48.0 : std::sin(half) / angle;
+  return Quaterniond(std::cos(half), k * rotation_vector.x(), k * rotation_vector.y(),
+                     k * rotation_vector.z());
+}
+
+Vector3d quat_log(const Quaterniond& q) {
+  // fold to w ≥ 0 so the result is the shortest arc
+  const double sign = q.w() < 0.0 ? -1.0 : 1.0;
+  const Vector3d v = sign * q.vec();
+  const double w = sign * q.w();
+  const double s = v.norm();
+  if (s < 1e-12) return 2.0 * v / std::max(w, 1e-300);  // 2·atan2(s, w)/s → 2/w
+  return (2.0 * std::atan2(s, w) / s) * v;
+}
+
+double angle_between(const Quaterniond& a, const Quaterniond& b) {
+  return quat_log(a.conjugate() * b).norm();
+}
+
+Vector3d any_orthogonal(const Vector3d& v) {
+  const Vector3d other = std::abs(v.x()) < 0.9 ? Vector3d::UnitX() : Vector3d::UnitY();
+  return v.cross(other).normalized();
+}
+
+SwingTwist decompose_swing_twist(const Quaterniond& q, const Vector3d& axis) {
+  const double projection = q.vec().dot(axis);
+  Quaterniond twist(q.w(), projection * axis.x(), projection * axis.y(), projection * axis.z());
+  const double norm = twist.norm();
+  if (norm < 1e-12) {
+    // a half turn of swing: the twist is undefined, take none
+    return {q, 0.0};
+  }
+  twist.coeffs() /= norm;
+  double angle = 2.0 * std::atan2(projection / norm, twist.w());
+  if (angle > M_PI) angle -= 2.0 * M_PI;
+  if (angle <= -M_PI) angle += 2.0 * M_PI;
+  return {q * twist.conjugate(), angle};
+}
+
+Quaterniond joint_relative_rotation(const Joint& joint, const Quaterniond& parent_orientation,
+                                    const Quaterniond& child_orientation) {
+  return (parent_orientation * joint.frame_in_parent).conjugate() *
+         (child_orientation * joint.frame_in_child);
+}
+
+namespace {
+
+Quaterniond clamp_ball(const Joint& joint, const Quaterniond& q_rel) {
+  const SwingTwist st = decompose_swing_twist(q_rel, Vector3d::UnitZ());
+  bool changed = false;
+
+  // twist: |angle| ≤ twist limit
+  double twist = st.twist_angle;
+  if (std::abs(twist) > joint.twist) {
+    twist = std::copysign(joint.twist, twist);
+    changed = true;
+  }
+
+  // swing vector (angle · axis) lies in the frame's xy plane; the ellipse has half-angles
+  // swing_x and swing_y about those axes; scale radially onto it when outside
+  Vector3d swing_vector = quat_log(st.swing);
+  const double sx = swing_vector.x(), sy = swing_vector.y();
+  const double ex = joint.swing_x > 0.0 ? sx / joint.swing_x : (sx == 0.0 ? 0.0 : INFINITY);
+  const double ey = joint.swing_y > 0.0 ? sy / joint.swing_y : (sy == 0.0 ? 0.0 : INFINITY);
+  const double ellipse = std::hypot(ex, ey);
+  if (ellipse > 1.0) {
+    if (std::isinf(ellipse)) {
+      // a zero half-angle removes that direction entirely
+      swing_vector =
+          Vector3d(joint.swing_x > 0.0 ? std::clamp(sx, -joint.swing_x, joint.swing_x) : 0.0,
+                   joint.swing_y > 0.0 ? std::clamp(sy, -joint.swing_y, joint.swing_y) : 0.0, 0.0);
+    } else {
+      swing_vector = Vector3d(sx, sy, 0.0) / ellipse;
+    }
+    changed = true;
+  }
+  if (!changed) return q_rel;
+  const Vector3d swing_xy(swing_vector.x(), swing_vector.y(), 0.0);
+  return quat_exp(swing_xy) * quat_exp(Vector3d(0, 0, twist));
+}
+
+Quaterniond clamp_hinge(const Joint& joint, const Quaterniond& q_rel) {
+  const SwingTwist st = decompose_swing_twist(q_rel, joint.hinge_axis);
+  const double angle = std::clamp(st.twist_angle, joint.lower, joint.upper);
+  // other directions are not allowed at all: keep only the rotation about the axis
+  return quat_exp(angle * joint.hinge_axis);
+}
+
+}  // namespace
+
+Quaterniond clamp_to_limits(const Joint& joint, const Quaterniond& q_rel) {
+  switch (joint.type) {
+    case JointType::kBall:
+      return clamp_ball(joint, q_rel);
+    case JointType::kHinge:
+      return clamp_hinge(joint, q_rel);
+    case JointType::kFixed:
+      return Quaterniond::Identity();
+  }
+  return q_rel;
+}
+
+double limit_violation(const Joint& joint, const Quaterniond& q_rel) {
+  return angle_between(q_rel, clamp_to_limits(joint, q_rel));
+}
+
+}  // namespace puppet

@@ -1,0 +1,130 @@
+// The seed paper's procedural solver (Bae, Baek, Lee & Ryu 2001): each segment moves alone
+// under its forces (update), then one geometric pass over the tree rotates and translates
+// segments so that joints meet again and limits hold (adjust). No linear system is solved.
+//
+//   step(dt) = for each substep: update → adjust → resolve_contacts → derive_velocities
+//
+// shared/DESIGN.md, "The procedural solver", defines each stage and the adjust rules.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "puppet/model/environment.h"
+#include "puppet/model/model.h"
+
+namespace puppet::procedural {
+
+// how a joint's gap is split between b's rotation and translation (DESIGN.md, "Adjust rules")
+enum class Rule { kLiteral, kSmoothed, kWeighted, kSubtree, kRelaxed };
+inline constexpr std::array kAllRules = {Rule::kLiteral, Rule::kSmoothed, Rule::kWeighted,
+                                         Rule::kSubtree, Rule::kRelaxed};
+std::string_view rule_name(Rule rule);
+std::optional<Rule> parse_rule(std::string_view name);
+
+struct Settings {
+  Rule rule = Rule::kRelaxed;
+  int iterations = 4;             // two-sided sweeps of `relaxed`
+  int substeps = 1;               // each step(dt) runs this many stages of dt/substeps
+  bool derive_velocities = true;  // v, ω from the corrected poses (the seed is silent)
+  bool tremble = false;           // the seed's active response (§3.4)
+  bool time_stages = false;       // measure each stage's wall time (costs a few clock reads)
+  uint64_t tremble_seed = 2001;
+};
+
+// empty when valid, else what is wrong
+std::string validate(const Settings& settings);
+
+constexpr int kMaxPins = 4;
+
+// everything that changes during a run; allocated once, plain contiguous data
+struct State {
+  std::vector<BodyState> bodies;  // per segment
+  std::vector<Vector3d> x_prev;   // poses at the start of the (sub)step
+  std::vector<Quaterniond> q_prev;
+  std::vector<Vector3d> user_force;  // world, at the COM; left in place between steps
+  std::vector<Vector3d> user_torque;
+  std::vector<Vector3d> tremble_offset;  // current tremble displacement per segment
+  std::array<Pin, kMaxPins> pins{};
+  std::array<Vector3d, kMaxPins> pin_previous_target{};
+  std::array<double, kMaxPins> pin_force{};  // last correction expressed as a force (N)
+  int pin_count = 0;
+  double tremble_phase = 0.0;
+  double time = 0.0;
+  bool diverged = false;  // a non-finite value appeared; the state is no longer advanced
+  double diverged_time = 0.0;
+};
+
+enum Stage { kUpdate, kAdjust, kContacts, kVelocities, kStageCount };
+inline constexpr std::array<std::string_view, kStageCount> kStageNames = {"update", "adjust",
+                                                                          "contacts", "velocities"};
+
+// An order of the tree from one anchor, computed once per anchor: segments in depth-first
+// preorder, each with the joint that places it and the segment it hangs from in this order.
+struct AnchorOrder {
+  struct Link {
+    int joint = -1;
+    int a = -1;              // placed already
+    int b = -1;              // moved now
+    bool b_is_child = true;  // false when the edge is walked against the model's direction
+  };
+  int anchor = -1;
+  std::vector<Link> links;           // links[k] places preorder[k + 1]
+  std::vector<int> preorder;         // segments, anchor first
+  std::vector<int> subtree_end;      // preorder position one past the subtree of preorder[k]
+  std::vector<int> parent_position;  // preorder position of the segment preorder[k] hangs from
+};
+AnchorOrder make_anchor_order(const Model& model, int anchor);
+
+// scratch space sized once for the model; nothing in it outlives a step
+struct Workspace {
+  // composite mass properties of each preorder subtree (rule `subtree`)
+  std::vector<double> subtree_mass;
+  std::vector<Vector3d> subtree_moment;  // Σ m·x
+  std::vector<Matrix3d> subtree_second;  // Σ (R I Rᵀ + m(|x|²E − x xᵀ)) about the origin
+  // accumulated rigid motion of each segment during a pass (rule `subtree`)
+  std::vector<Quaterniond> motion_q;
+  std::vector<Vector3d> motion_t;
+  std::vector<Vector3d> tremble_delta;  // this substep's tremble displacement per segment
+};
+
+class Solver {
+ public:
+  // the model must outlive the solver; throws std::invalid_argument on invalid settings
+  Solver(const Model& model, const Settings& settings, const Environment& environment);
+
+  // place every segment (poses and velocities in world); clears pins, forces and time
+  void reset(std::span<const BodyState> bodies);
+  // pins change rarely (a user grabs or lets go): orders for their anchors are built here, so
+  // that step() never allocates. At most kMaxPins; the first pin is the adjust pass's anchor.
+  void set_pins(std::span<const Pin> pins);
+  // move the pins' targets (world) for the end of the next step
+  void set_pin_targets(std::span<const Vector3d> targets);
+  void step(double dt);
+
+  const Model& model() const { return model_; }
+  const Settings& settings() const { return settings_; }
+  const Environment& environment() const { return environment_; }
+  const State& state() const { return state_; }
+  State& mutable_state() { return state_; }
+  // wall time (s) of each stage in the last step; zeros unless settings.time_stages
+  const std::array<double, kStageCount>& stage_seconds() const { return stage_seconds_; }
+
+ private:
+  void substep(double h, double target_fraction);
+  const AnchorOrder& order_for(int anchor);
+
+  const Model& model_;
+  Settings settings_;
+  Environment environment_;
+  State state_;
+  Workspace workspace_;
+  std::vector<AnchorOrder> orders_;  // by anchor segment; built outside step()
+  std::array<double, kStageCount> stage_seconds_{};
+};
+
+}  // namespace puppet::procedural

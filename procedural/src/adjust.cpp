@@ -1,0 +1,224 @@
+// Stage 2, adjust (seed §3.3): pins, joints and limits in one pass over the tree from the
+// anchor (the first pinned segment, else the root).
+//
+// For each link the placed segment is a (fixed) and the moved one b: close_point() gives the
+// forced rotation of the rule and the translation of eq. 5, then limit_correction() clamps the
+// joint (eq. 4) and rotates b about the joint point, which keeps the joint closed. A pin is a
+// joint between the world (a) and a point of its segment.
+//
+// Rule `subtree` moves the whole subtree hanging from b as one rigid body: composite mass and
+// inertia come from one backward pass, and each segment's accumulated motion is composed on the
+// way down, so the pass stays O(n).
+//
+// Rule `relaxed` first runs `iterations` two-sided sweeps (Gauss–Seidel, as position-based
+// dynamics does): every correction is shared by both sides through K_a + K_b, limits and
+// ground contacts included; then the one-sided `weighted` pass closes every joint exactly.
+//
+// seed: with two pins the pass starts from the first; every other pin is closed on its own
+// segment before the pass (world as a), so the pass leaves the joints closed and what is left
+// of the other pins' gaps is reported as pin_gap_m.
+#include "puppet/model/rotation.h"
+#include "stages.h"
+
+namespace puppet::procedural {
+namespace {
+
+Matrix3d skew_square_term(const Vector3d& r, double mass) {
+  // m (|r|² E − r rᵀ): the parallel-axis term
+  return mass * (r.squaredNorm() * Matrix3d::Identity() - r * r.transpose());
+}
+
+// composite mass properties of every preorder subtree, from the current poses
+void build_subtrees(const Model& model, const AnchorOrder& order, const State& state,
+                    Workspace& ws) {
+  const int n = static_cast<int>(order.preorder.size());
+  for (int k = 0; k < n; ++k) {
+    const int seg = order.preorder[k];
+    const Segment& segment = model.segments[seg];
+    const BodyState& body = state.bodies[seg];
+    const Matrix3d rotation = body.q.toRotationMatrix();
+    ws.subtree_mass[k] = segment.mass;
+    ws.subtree_moment[k] = segment.mass * body.x;
+    ws.subtree_second[k] = rotation * segment.inertia.asDiagonal() * rotation.transpose() +
+                           skew_square_term(body.x, segment.mass);
+  }
+  for (int k = n - 1; k > 0; --k) {
+    const int p = order.parent_position[k];
+    ws.subtree_mass[p] += ws.subtree_mass[k];
+    ws.subtree_moment[p] += ws.subtree_moment[k];
+    ws.subtree_second[p] += ws.subtree_second[k];
+  }
+}
+
+// the composite body of subtree k, moved by `motion` (the accumulated motion of its parent)
+MovingBody composite_body(const Workspace& ws, int k, const Motion& motion) {
+  MovingBody body;
+  body.mass = ws.subtree_mass[k];
+  const Vector3d centre = ws.subtree_moment[k] / body.mass;
+  const Matrix3d about_centre = ws.subtree_second[k] - skew_square_term(centre, body.mass);
+  const Matrix3d rotation = motion.q.toRotationMatrix();
+  body.centre = motion.apply(centre);
+  body.inertia = rotation * about_centre * rotation.transpose();
+  body.inertia_inv = body.inertia.inverse();
+  return body;
+}
+
+// close the joint of link k and clamp its limits; returns the motion applied to b
+Motion close_link(const Model& model, Rule rule, const AnchorOrder::Link& link,
+                  const MovingBody& body, const BodyState& a, const BodyState& b_current,
+                  double h) {
+  const Joint& joint = model.joints[link.joint];
+  const Vector3d& local_a = link.b_is_child ? joint.anchor_in_parent : joint.anchor_in_child;
+  const Vector3d& local_b = link.b_is_child ? joint.anchor_in_child : joint.anchor_in_parent;
+  const Vector3d c_a = world_point(a, local_a);
+  const Motion closing = close_point(rule, body, world_point(b_current, local_b), c_a, h);
+
+  // eq. 4: clamp to the limits, rotating b about the (now closed) joint point
+  const Quaterniond b_closed = closing.q * b_current.q;
+  const Quaterniond clamp = limit_correction(joint, link.b_is_child, a.q, b_closed);
+  return Motion::about(clamp, c_a).after(closing);
+}
+
+void close_secondary_pins(const Model& model, Rule rule, const PinTargets& targets, State& state,
+                          double h) {
+  const Rule single = rule == Rule::kSubtree ? Rule::kWeighted : rule;
+  for (int i = 1; i < state.pin_count; ++i) {
+    const Pin& pin = state.pins[i];
+    BodyState& body = state.bodies[pin.segment];
+    const MovingBody moving = single_body(model.segments[pin.segment], body);
+    close_point(single, moving, world_point(body, pin.local_point), targets[i], h).apply(body);
+  }
+}
+
+// relaxed: one two-sided correction of a point shared by segments a and b (a = −1: the world)
+void share_point_correction(const Model& model, int a, int b, const Vector3d& c_a,
+                            const Vector3d& c_b, State& state) {
+  BodyState& body_b = state.bodies[b];
+  const MovingBody moving_b = single_body(model.segments[b], body_b);
+  const Vector3d r_b = c_b - body_b.x;
+  Matrix3d k = point_mass_matrix(moving_b, r_b);
+  MovingBody moving_a;
+  Vector3d r_a{0, 0, 0};
+  if (a >= 0) {
+    moving_a = single_body(model.segments[a], state.bodies[a]);
+    r_a = c_a - state.bodies[a].x;
+    k += point_mass_matrix(moving_a, r_a);
+  }
+  const Vector3d lambda = k.inverse() * (c_a - c_b);
+  body_b.x += lambda / moving_b.mass;
+  body_b.q = (quat_exp(moving_b.inertia_inv * r_b.cross(lambda)) * body_b.q).normalized();
+  if (a >= 0) {
+    BodyState& body_a = state.bodies[a];
+    body_a.x -= lambda / moving_a.mass;
+    body_a.q = (quat_exp(-(moving_a.inertia_inv * r_a.cross(lambda))) * body_a.q).normalized();
+  }
+}
+
+// relaxed: a limit's angular correction shared through I_a⁻¹ + I_b⁻¹
+void share_limit_correction(const Model& model, const Joint& joint, State& state) {
+  BodyState& parent = state.bodies[joint.parent];
+  BodyState& child = state.bodies[joint.child];
+  const Quaterniond correction = limit_correction(joint, true, parent.q, child.q);
+  if (correction.w() == 1.0) return;
+  const Vector3d error = quat_log(correction);  // rotation the child needs, parent fixed
+  const MovingBody p = single_body(model.segments[joint.parent], parent);
+  const MovingBody c = single_body(model.segments[joint.child], child);
+  const Vector3d impulse = (p.inertia_inv + c.inertia_inv).inverse() * error;
+  child.q = (quat_exp(c.inertia_inv * impulse) * child.q).normalized();
+  parent.q = (quat_exp(-(p.inertia_inv * impulse)) * parent.q).normalized();
+}
+
+void relaxed_sweeps(const Model& model, const Settings& settings, const Environment& environment,
+                    const AnchorOrder& order, const PinTargets& targets, State& state, double h) {
+  for (int iteration = 0; iteration < settings.iterations; ++iteration) {
+    for (int i = 0; i < state.pin_count; ++i) {
+      const Pin& pin = state.pins[i];
+      share_point_correction(model, -1, pin.segment, targets[i],
+                             world_point(state.bodies[pin.segment], pin.local_point), state);
+    }
+    for (const AnchorOrder::Link& link : order.links) {
+      const Joint& joint = model.joints[link.joint];
+      share_point_correction(model, joint.parent, joint.child,
+                             world_point(state.bodies[joint.parent], joint.anchor_in_parent),
+                             world_point(state.bodies[joint.child], joint.anchor_in_child), state);
+      share_limit_correction(model, joint, state);
+    }
+    if (environment.ground) {
+      for (int s = 0; s < model.segment_count(); ++s) {
+        push_out_of_ground(model, environment, s, state, h);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+void one_sided_pass(const Model& model, Rule rule, const AnchorOrder& order, bool with_pins,
+                    const PinTargets& targets, State& state, Workspace& ws, double h) {
+  const bool pinned = with_pins && state.pin_count > 0 && state.pins[0].segment == order.anchor;
+  if (with_pins) close_secondary_pins(model, rule, targets, state, h);
+  const bool subtree = rule == Rule::kSubtree;
+  if (subtree) build_subtrees(model, order, state, ws);
+
+  // the anchor: closed to its pin (a joint with the world), else left where update put it
+  BodyState& anchor = state.bodies[order.anchor];
+  Motion anchor_motion;
+  if (pinned) {
+    const Pin& pin = state.pins[0];
+    const MovingBody body = subtree ? composite_body(ws, 0, Motion())
+                                    : single_body(model.segments[order.anchor], anchor);
+    anchor_motion = close_point(rule, body, world_point(anchor, pin.local_point), targets[0], h);
+    anchor_motion.apply(anchor);
+  }
+  if (subtree) {
+    ws.motion_q[0] = anchor_motion.q;
+    ws.motion_t[0] = anchor_motion.t;
+  }
+
+  // every joint, parent-before-child from the anchor
+  const int links = static_cast<int>(order.links.size());
+  for (int k = 0; k < links; ++k) {
+    const AnchorOrder::Link& link = order.links[k];
+    const int position = k + 1;
+    BodyState& b = state.bodies[link.b];
+    Motion motion;
+    if (subtree) {
+      const int parent = order.parent_position[position];
+      const Motion inherited{ws.motion_q[parent], ws.motion_t[parent]};
+      BodyState current = b;
+      inherited.apply(current);
+      motion = close_link(model, rule, link, composite_body(ws, position, inherited),
+                          state.bodies[link.a], current, h);
+      const Motion total = motion.after(inherited);
+      ws.motion_q[position] = total.q;
+      ws.motion_t[position] = total.t;
+      b = current;
+    } else {
+      motion = close_link(model, rule, link, single_body(model.segments[link.b], b),
+                          state.bodies[link.a], b, h);
+    }
+    motion.apply(b);
+  }
+}
+
+void adjust(const Model& model, const Settings& settings, const Environment& environment,
+            std::span<const AnchorOrder> orders, int anchor, const PinTargets& targets,
+            State& state, Workspace& ws, double h) {
+  // the pins' pull, expressed as the force that would close them in one step (eq. 2's f)
+  for (int i = 0; i < state.pin_count; ++i) {
+    const Pin& pin = state.pins[i];
+    const double gap =
+        (targets[i] - world_point(state.bodies[pin.segment], pin.local_point)).norm();
+    state.pin_force[i] = 2.0 * model.segments[pin.segment].mass * gap / (h * h);
+  }
+  if (settings.rule != Rule::kRelaxed) {
+    one_sided_pass(model, settings.rule, orders[anchor], true, targets, state, ws, h);
+    return;
+  }
+  // relaxed: the sweeps share every correction, then the one-sided pass closes the joints
+  // exactly from the anchor
+  relaxed_sweeps(model, settings, environment, orders[anchor], targets, state, h);
+  one_sided_pass(model, Rule::kWeighted, orders[anchor], true, targets, state, ws, h);
+}
+
+}  // namespace puppet::procedural

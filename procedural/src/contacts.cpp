@@ -1,0 +1,91 @@
+// Stage 3, contacts: the ground z = 0 as a position-level constraint. Each shape's candidate
+// points (capsule: the bottom of each cap; sphere: its bottom; box: its corners) found below
+// the plane are moved onto it by the same minimum-energy point correction as a joint (rule
+// `weighted`), with Coulomb friction on the tangential displacement of that material point over
+// the step: it sticks while the slide is within μ·depth, else slides by the excess. No
+// restitution. The seed's repulsion force in update() is the soft part of the same contact.
+#include <algorithm>
+#include <cmath>
+
+#include "stages.h"
+
+namespace puppet::procedural {
+namespace {
+
+constexpr int kMaxCandidates = 8;
+constexpr int kContactPasses = 2;  // a capsule lying flat touches with both caps
+
+// candidate contact points of a shape in world; returns how many
+int contact_candidates(const Segment& segment, const BodyState& body,
+                       std::array<Vector3d, kMaxCandidates>& out) {
+  const Shape& shape = segment.shape;
+  switch (shape.type) {
+    case ShapeType::kSphere:
+      out[0] = body.x - shape.radius * Vector3d::UnitZ();
+      return 1;
+    case ShapeType::kCapsule:
+      for (int end = 0; end < 2; ++end) {
+        const Vector3d centre(0, 0, end == 0 ? shape.half_length : -shape.half_length);
+        out[end] = world_point(body, centre) - shape.radius * Vector3d::UnitZ();
+      }
+      return 2;
+    case ShapeType::kBox:
+      for (int corner = 0; corner < 8; ++corner) {
+        const Vector3d local((corner & 1 ? 1 : -1) * shape.half_extents.x(),
+                             (corner & 2 ? 1 : -1) * shape.half_extents.y(),
+                             (corner & 4 ? 1 : -1) * shape.half_extents.z());
+        out[corner] = world_point(body, local);
+      }
+      return 8;
+  }
+  return 0;
+}
+
+}  // namespace
+
+double push_out_of_ground(const Model& model, const Environment& environment, int segment,
+                          State& state, double h) {
+  const Segment& seg = model.segments[segment];
+  BodyState& body = state.bodies[segment];
+  std::array<Vector3d, kMaxCandidates> points;
+  double deepest = 0.0;
+  for (int pass = 0; pass < kContactPasses; ++pass) {
+    const int count = contact_candidates(seg, body, points);
+    for (int c = 0; c < count; ++c) {
+      // candidates move with every correction: recompute this one from the current pose
+      contact_candidates(seg, body, points);
+      const Vector3d p = points[c];
+      if (p.z() >= 0.0) continue;
+      const double depth = -p.z();
+      deepest = std::max(deepest, depth);
+
+      // the same material point at the start of the step, and its slide along the ground
+      const Vector3d local = body.q.conjugate() * (p - body.x);
+      const Vector3d p_prev = state.x_prev[segment] + state.q_prev[segment] * local;
+      Vector3d slide = p - p_prev;
+      slide.z() = 0.0;
+      Vector3d target(p.x(), p.y(), 0.0);
+      const double slide_norm = slide.norm();
+      const double stick = environment.friction * depth;
+      target -= slide_norm <= stick ? slide : (stick / slide_norm) * slide;
+
+      close_point(Rule::kWeighted, single_body(seg, body), p, target, h).apply(body);
+    }
+  }
+  return deepest;
+}
+
+int resolve_contacts(const Model& model, const Environment& environment, State& state, double h) {
+  int lowest = -1;
+  double deepest = 0.0;
+  for (int s = 0; s < model.segment_count(); ++s) {
+    const double depth = push_out_of_ground(model, environment, s, state, h);
+    if (depth > deepest) {
+      deepest = depth;
+      lowest = s;
+    }
+  }
+  return lowest;
+}
+
+}  // namespace puppet::procedural

@@ -1,0 +1,124 @@
+// The forced rotation R and forced translation T of the seed's adjust step (§3.3).
+//
+// Segment b, centre x, must bring its joint point c_b onto c_a (a is fixed):
+//   r = c_b − x,  s = c_a − c_b                                                (§3.3)
+//   r + s = R·r + T                                                             (1)
+//   T = (I − R)·r + s                                                           (5)
+// Eq. 5 closes the gap exactly for any R; the rules below only choose R:
+//
+//   literal   A = r×s/|r×s|, φ = ∠(r, s), I_b = Aᵀ I A, f = 2 m s/dt²,
+//             τ = |r × f|, h = 2 m/(I_b dt²), θ = φ·exp(−h/τ)                  (2), (3)
+//             (h/τ = 1/(I_b |r×s|) is huge in SI units: θ ≈ 0, pure translation)
+//   smoothed  θ_raw = ½ α dt² = m |r||s| sin φ / I_b (eq. 2 over one step), bounded by
+//             φ_max = ∠(r, r + s): θ = φ_max (1 − exp(−θ_raw/φ_max))
+//   weighted  the minimum-kinetic-energy correction of a point constraint on a rigid body
+//             (the seed's "minimise b's angular momentum" made exact):
+//             K = E/m − [r]× I⁻¹ [r]×, λ = K⁻¹ s, rotation vector I⁻¹ (r × λ)
+//   subtree   as weighted, for the composite body hanging from b (the caller builds it)
+//   relaxed   its final one-sided pass is weighted
+//
+// seed: when r ∥ s there is no rotation axis; R = identity and the joint closes by translation.
+#include <cmath>
+
+#include "puppet/model/rotation.h"
+#include "stages.h"
+
+namespace puppet::procedural {
+namespace {
+
+constexpr double kParallel = 1e-12;  // |r × s| (m²) below which r ∥ s
+
+Matrix3d skew(const Vector3d& v) {
+  Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+Quaterniond literal_rotation(const MovingBody& body, const Vector3d& r, const Vector3d& s,
+                             const Vector3d& cross, double cross_norm, double h) {
+  const Vector3d axis = cross / cross_norm;
+  const double phi = std::atan2(cross_norm, r.dot(s));
+  const double inertia_b = axis.dot(body.inertia * axis);
+  const double torque = 2.0 * body.mass * cross_norm / (h * h);  // |r × f|, f = 2 m s / dt²
+  const double h_seed = 2.0 * body.mass / (inertia_b * h * h);   // the seed's h
+  const double theta = phi * std::exp(-h_seed / torque);
+  return Quaterniond(Eigen::AngleAxisd(theta, axis));
+}
+
+Quaterniond smoothed_rotation(const MovingBody& body, const Vector3d& r, const Vector3d& s,
+                              const Vector3d& cross, double cross_norm) {
+  const Vector3d axis = cross / cross_norm;
+  const double inertia_b = axis.dot(body.inertia * axis);
+  const double theta_raw = body.mass * cross_norm / inertia_b;  // ½ α dt², eq. 2
+  const double phi_max = std::atan2(r.cross(r + s).norm(), r.dot(r + s));
+  if (phi_max <= 0.0) return Quaterniond::Identity();
+  const double theta = phi_max * (1.0 - std::exp(-theta_raw / phi_max));
+  return Quaterniond(Eigen::AngleAxisd(theta, axis));
+}
+
+Quaterniond weighted_rotation(const MovingBody& body, const Vector3d& r, const Vector3d& s) {
+  const Vector3d lambda = point_mass_matrix(body, r).inverse() * s;
+  return quat_exp(body.inertia_inv * r.cross(lambda));
+}
+
+}  // namespace
+
+MovingBody single_body(const Segment& segment, const BodyState& body) {
+  const Matrix3d rotation = body.q.toRotationMatrix();
+  MovingBody out;
+  out.mass = segment.mass;
+  out.centre = body.x;
+  out.inertia = rotation * segment.inertia.asDiagonal() * rotation.transpose();
+  out.inertia_inv = rotation * segment.inertia.cwiseInverse().asDiagonal() * rotation.transpose();
+  return out;
+}
+
+Matrix3d point_mass_matrix(const MovingBody& body, const Vector3d& r) {
+  const Matrix3d rx = skew(r);
+  return Matrix3d::Identity() / body.mass - rx * body.inertia_inv * rx;
+}
+
+Motion close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, const Vector3d& c_a,
+                   double h) {
+  const Vector3d r = c_b - body.centre;
+  const Vector3d s = c_a - c_b;
+  const Vector3d cross = r.cross(s);
+  const double cross_norm = cross.norm();
+  Quaterniond rotation = Quaterniond::Identity();
+  if (cross_norm >= kParallel) {
+    switch (rule) {
+      case Rule::kLiteral:
+        rotation = literal_rotation(body, r, s, cross, cross_norm, h);
+        break;
+      case Rule::kSmoothed:
+        rotation = smoothed_rotation(body, r, s, cross, cross_norm);
+        break;
+      case Rule::kWeighted:
+      case Rule::kSubtree:
+      case Rule::kRelaxed:
+        rotation = weighted_rotation(body, r, s);
+        break;
+    }
+  }
+  // eq. 5: x ↦ x + T with T = (I − R) r + s; every point p ↦ x + T + R (p − x)
+  const Vector3d translation = r - rotation * r + s;
+  return {rotation, body.centre + translation - rotation * body.centre};
+}
+
+Quaterniond limit_correction(const Joint& joint, bool b_is_child, const Quaterniond& q_a,
+                             const Quaterniond& q_b) {
+  const Quaterniond& q_parent = b_is_child ? q_a : q_b;
+  const Quaterniond& q_child = b_is_child ? q_b : q_a;
+  const Quaterniond q_rel = joint_relative_rotation(joint, q_parent, q_child);
+  const Quaterniond clamped = clamp_to_limits(joint, q_rel);
+  if (clamped.coeffs() == q_rel.coeffs()) return Quaterniond::Identity();
+  // rebuild b from a and the clamped q_rel (inverted when b is the parent), never from a
+  // re-decomposed inverse
+  const Quaterniond q_b_new =
+      b_is_child
+          ? q_a * joint.frame_in_parent * clamped * joint.frame_in_child.conjugate()
+          : q_a * joint.frame_in_child * clamped.conjugate() * joint.frame_in_parent.conjugate();
+  return (q_b_new * q_b.conjugate()).normalized();
+}
+
+}  // namespace puppet::procedural
