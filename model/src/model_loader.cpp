@@ -390,7 +390,7 @@ Model parse_model(const std::string& json_text, const std::string& source) {
   json document;
   try {
     document = json::parse(json_text);
-  } catch (const json::parse_error& error) {
+  } catch (const json::exception& error) {
     // nlohmann's message begins "[json.exception.parse_error.101] parse error at line…"
     std::string what = error.what();
     const auto bracket = what.find("] ");

@@ -1,0 +1,87 @@
+#include "puppet/compare/scenario.h"
+
+#include <gtest/gtest.h>
+
+#include "puppet/compare/metrics.h"
+
+namespace puppet::compare {
+namespace {
+
+const std::string kPinocchio = std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json";
+
+TEST(Scenario, EveryScenarioBuildsOnEveryKindOfModel) {
+  for (const std::string& model_name : {kPinocchio, std::string("chain:5")}) {
+    const Model model = load_model(model_name);
+    for (const std::string& name : scenario_names()) {
+      const Scenario s = make_scenario(name, model);
+      EXPECT_EQ(static_cast<int>(s.initial.size()), model.segment_count());
+      // initial poses keep every joint closed, pins start on their points
+      std::vector<double> gaps(model.joint_count());
+      joint_gaps(model, s.initial, gaps);
+      for (double g : gaps) EXPECT_LT(g, 1e-12) << name;
+      std::vector<Vector3d> targets;
+      s.targets_at(0.0, targets);
+      const auto pins = s.initial_pins();
+      std::vector<double> pin_gap(pins.size());
+      pin_gaps(pins, targets, s.initial, pin_gap);
+      for (double g : pin_gap) EXPECT_LT(g, 1e-12) << name;
+    }
+  }
+}
+
+TEST(Scenario, PinocchioChoices) {
+  const Model model = load_model(kPinocchio);
+  const Scenario drag = make_scenario("drag", model);
+  ASSERT_EQ(drag.pins.size(), 2u);
+  EXPECT_EQ(model.segments[drag.pins[0].pin.segment].name, "head");
+  EXPECT_EQ(model.segments[drag.pins[1].pin.segment].name, "r_forearm");
+  // the head's pin is the top of its cap, the hand the tip of the forearm's far cap
+  EXPECT_TRUE(drag.pins[0].pin.local_point.isApprox(Vector3d(0, 0, 0.11)));
+  EXPECT_TRUE(drag.pins[1].pin.local_point.isApprox(Vector3d(0, 0, -0.14)));
+  EXPECT_EQ(model.segments[make_scenario("shake", model).pins[1].pin.segment].name, "l_forearm");
+  EXPECT_EQ(make_scenario("yank", model).pins.size(), 1u);
+  EXPECT_TRUE(make_scenario("spin", model).pins.empty());
+}
+
+TEST(Scenario, CircleTargetAfterTheRamp) {
+  const Model model = load_model(kPinocchio);
+  const Scenario drag = make_scenario("drag", model);
+  std::vector<Vector3d> targets;
+  const Vector3d start = drag.pins[1].pin.target;
+  drag.targets_at(1.0, targets);  // half a turn at 0.5 Hz: the top of the circle
+  EXPECT_LT((targets[1] - (start + Vector3d(0, 0, 0.6))).norm(), 1e-12);
+  drag.targets_at(0.5, targets);  // a quarter turn, ramp complete
+  EXPECT_LT((targets[1] - (start + Vector3d(0.3, 0, 0.3))).norm(), 1e-12);
+  EXPECT_LT((targets[0] - drag.pins[0].pin.target).norm(), 1e-15);
+}
+
+TEST(Scenario, TiltAndOverrides) {
+  const Model model = load_model(kPinocchio);
+  ScenarioOptions options;
+  options.tilt_deg = 0.0;
+  options.pin = PointChoice{"chest", Vector3d(0, 0.1, 0)};
+  options.gravity = Vector3d(0, 0, -1.62);
+  const Scenario hang = make_scenario("hang", model, options);
+  EXPECT_EQ(hang.pins[0].pin.segment, model.find_segment("chest"));
+  EXPECT_EQ(hang.environment.gravity, Vector3d(0, 0, -1.62));
+  EXPECT_TRUE(hang.initial[0].x.isApprox(model.segments[0].rest_position));
+  options.pin = PointChoice{"tail", std::nullopt};
+  EXPECT_THROW(make_scenario("hang", model, options), ScenarioError);
+  EXPECT_THROW(make_scenario("swim", model), ScenarioError);
+}
+
+TEST(Scenario, DropStartsOneMetreUp) {
+  const Model model = load_model(kPinocchio);
+  const Scenario drop = make_scenario("drop", model);
+  double lowest = 1e9;
+  for (int i = 0; i < model.segment_count(); ++i) {
+    double low = 0, high = 0;
+    vertical_extent(model.segments[i], drop.initial[i].q, drop.initial[i].x, &low, &high);
+    lowest = std::min(lowest, low);
+  }
+  EXPECT_NEAR(lowest, 1.0, 1e-12);
+  EXPECT_TRUE(drop.environment.ground);
+}
+
+}  // namespace
+}  // namespace puppet::compare

@@ -1,0 +1,100 @@
+// The testbed command as a user meets it: exit codes, one-line errors, nothing half-written.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int status;
+  std::string output;  // stdout and stderr
+};
+
+Outcome testbed(const std::string& arguments) {
+  const std::string command = std::string(TESTBED_BINARY) + " " + arguments + " 2>&1";
+  Outcome outcome{-1, ""};
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return outcome;
+  std::array<char, 4096> buffer{};
+  while (std::fgets(buffer.data(), buffer.size(), pipe)) outcome.output += buffer.data();
+  const int raw = pclose(pipe);
+  outcome.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  return outcome;
+}
+
+fs::path fresh_folder(const std::string& name) {
+  const fs::path folder = fs::temp_directory_path() / ("testbed_cli_" + name);
+  fs::remove_all(folder);
+  return folder;
+}
+
+// exit 2 with one line that names the flag or file
+void expect_bad(const std::string& arguments, const std::string& names) {
+  const Outcome o = testbed(arguments);
+  EXPECT_EQ(o.status, 2) << arguments << "\n" << o.output;
+  EXPECT_NE(o.output.find(names), std::string::npos) << arguments << "\n" << o.output;
+  EXPECT_EQ(std::count(o.output.begin(), o.output.end(), '\n'), 1) << arguments << "\n" << o.output;
+}
+
+TEST(TestbedCli, HelpAndList) {
+  EXPECT_EQ(testbed("--help").status, 0);
+  EXPECT_EQ(testbed("run --help").status, 0);
+  const Outcome list = testbed("list");
+  EXPECT_EQ(list.status, 0);
+  EXPECT_NE(list.output.find("yank"), std::string::npos);
+  EXPECT_NE(list.output.find("subtree"), std::string::npos);
+}
+
+TEST(TestbedCli, Validate) {
+  const Outcome ok = testbed("validate pinocchio");
+  EXPECT_EQ(ok.status, 0);
+  EXPECT_NE(ok.output.find("14 segments, 13 joints, total mass 69.600 kg"), std::string::npos);
+  EXPECT_EQ(testbed("validate chain:3").status, 0);
+  expect_bad("validate " + std::string(PUPPET_SOURCE_DIR) + "/tests/data/bad/negative_mass.json",
+             "negative_mass.json: segment \"lower\": field \"mass\" must be positive");
+  expect_bad("validate /no/such/file.json", "/no/such/file.json: cannot open");
+}
+
+TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
+  const fs::path out = fresh_folder("bad");
+  const std::string o = " --out " + out.string();
+  expect_bad("run --scenario swim" + o, "--scenario");
+  expect_bad("run --solver ode" + o, "--solver");
+  expect_bad("run --rule magic" + o, "--rule");
+  expect_bad("run --dt 0" + o, "--dt");
+  expect_bad("run --dt -0.01" + o, "--dt");
+  expect_bad("run --dt abc" + o, "--dt");
+  expect_bad("run --dt nan" + o, "--dt");
+  expect_bad("run --duration -1" + o, "--duration");
+  expect_bad("run --pin head:1,2" + o, "--pin");
+  expect_bad("run --pin tail --scenario hang" + o, "--pin");
+  expect_bad("run --grab r_forearm:a,b,c" + o, "--grab");
+  expect_bad("run --gravity 0,0" + o, "--gravity");
+  expect_bad("run --ground maybe" + o, "--ground");
+  expect_bad("run --model /no/such/model.json" + o, "--model");
+  expect_bad("run --frobnicate" + o, "--frobnicate");
+  EXPECT_FALSE(fs::exists(out / "summary.csv"));
+  expect_bad("run --scenario hang --duration 0.1 --out /proc/forbidden", "--out");
+}
+
+TEST(TestbedCli, ShortRunWritesSummaryAndTraces) {
+  const fs::path out = fresh_folder("run");
+  const Outcome o =
+      testbed("run --scenario hang,spin --rule weighted --duration 0.2 --sample-hz 30 --out " +
+              out.string());
+  EXPECT_EQ(o.status, 0) << o.output;
+  EXPECT_TRUE(fs::exists(out / "summary.csv"));
+  EXPECT_TRUE(
+      fs::exists(out / "traces" / "pinocchio__hang__procedural__weighted__0.00416666667.csv"));
+  EXPECT_TRUE(fs::exists(out / "traces" /
+                         "pinocchio__spin__procedural__weighted__0.00416666667__poses.csv"));
+  EXPECT_NE(o.output.find("joint gap m"), std::string::npos);  // the table
+  fs::remove_all(out);
+}
+
+}  // namespace

@@ -1,0 +1,127 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "puppet/model/model.h"
+#include "puppet/model/rotation.h"
+
+namespace puppet {
+namespace {
+
+const std::string kData = std::string(PUPPET_SOURCE_DIR) + "/tests/data/";
+
+TEST(ModelLoader, DesignExampleLoads) {
+  const Model model = load_model(kData + "two_rods.json");
+  ASSERT_EQ(model.segment_count(), 2);
+  ASSERT_EQ(model.joint_count(), 1);
+  EXPECT_DOUBLE_EQ(model.total_mass, 2.5);
+  EXPECT_EQ(model.segments[0].inertia, Vector3d(0.08, 0.08, 0.0001));  // as given
+  // the box's default inertia is the solid box's
+  EXPECT_NEAR(model.segments[1].inertia.x(), 1.0 / 12.0 * (0.04 * 0.04 + 0.6 * 0.6), 1e-15);
+  // local anchors reproduce the world anchor at rest
+  const Joint& elbow = model.joints[0];
+  EXPECT_NEAR(
+      (model.segments[0].rest_position + elbow.anchor_in_parent - Vector3d(0, 0, 1.2)).norm(), 0,
+      1e-15);
+  EXPECT_NEAR(
+      (model.segments[1].rest_position + elbow.anchor_in_child - Vector3d(0, 0, 1.2)).norm(), 0,
+      1e-15);
+  EXPECT_NEAR(elbow.swing_x, 60 * M_PI / 180, 1e-15);
+  EXPECT_NEAR(elbow.twist, 30 * M_PI / 180, 1e-15);
+}
+
+TEST(ModelLoader, PinocchioIsTheSeedsFigure) {
+  const Model model = load_model(std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json");
+  EXPECT_EQ(model.segment_count(), 14);
+  EXPECT_EQ(model.joint_count(), 13);
+  EXPECT_NEAR(model.total_mass, 69.6, 1e-9);
+  EXPECT_GT(model.rest_height, 1.6);
+  EXPECT_LT(model.rest_height, 1.8);
+  EXPECT_EQ(model.segments[0].name, "pelvis");
+  // parent before child, joint j places segment j + 1
+  for (int i = 1; i < model.segment_count(); ++i) {
+    EXPECT_LT(model.segments[i].parent, i);
+    EXPECT_EQ(model.joints[i - 1].child, i);
+  }
+  // q_rel is the identity at rest for every joint
+  for (const Joint& j : model.joints) {
+    const Quaterniond q_rel = joint_relative_rotation(j, model.segments[j.parent].rest_orientation,
+                                                      model.segments[j.child].rest_orientation);
+    EXPECT_NEAR(angle_between(q_rel, Quaterniond::Identity()), 0.0, 1e-12) << j.name;
+  }
+}
+
+TEST(ModelLoader, SingleSegmentWithoutJoints) {
+  const Model model = parse_model(
+      R"({"name":"one","segments":[{"name":"s","mass":2,"position":[0,0,1],"shape":{"type":"sphere","radius":0.1}}]})",
+      "one.json");
+  EXPECT_EQ(model.segment_count(), 1);
+  EXPECT_EQ(model.joint_count(), 0);
+  EXPECT_NEAR(model.segments[0].inertia.x(), 0.4 * 2 * 0.01, 1e-15);
+}
+
+TEST(ModelLoader, OrdersSegmentsParentFirst) {
+  // the child is listed before its parent in the file
+  const Model model = parse_model(R"({"name":"rev","segments":[
+      {"name":"low","mass":1,"position":[0,0,0],"shape":{"type":"sphere","radius":0.1}},
+      {"name":"top","mass":1,"position":[0,0,0.2],"shape":{"type":"sphere","radius":0.1}}],
+    "joints":[{"name":"j","parent":"top","child":"low","anchor":[0,0,0.1],"type":"fixed"}]})",
+                                  "rev.json");
+  EXPECT_EQ(model.segments[0].name, "top");
+  EXPECT_EQ(model.segments[1].name, "low");
+  EXPECT_EQ(model.joints[0].parent, 0);
+}
+
+TEST(ModelLoader, Chain) {
+  const Model model = load_model("chain:6");
+  EXPECT_EQ(model.segment_count(), 6);
+  EXPECT_EQ(model.joint_count(), 5);
+  EXPECT_NEAR(model.rest_height, 1.5, 1e-12);
+  EXPECT_THROW(load_model("chain:0"), ModelError);
+  EXPECT_THROW(load_model("chain:x"), ModelError);
+}
+
+TEST(ModelLoader, MissingFileNamesTheFile) {
+  try {
+    load_model("/nonexistent/model.json");
+    FAIL();
+  } catch (const ModelError& e) {
+    EXPECT_EQ(std::string(e.what()), "/nonexistent/model.json: cannot open the model file");
+  }
+}
+
+// every file of the malformed corpus fails with one line: "<file>: <element>: <problem>"
+TEST(ModelLoader, MalformedCorpus) {
+  std::ifstream manifest(kData + "bad/expected.tsv");
+  ASSERT_TRUE(manifest);
+  std::string line;
+  int cases = 0;
+  while (std::getline(manifest, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    const auto tab = line.find('\t');
+    const std::string file = kData + "bad/" + line.substr(0, tab);
+    const std::string expected = file + ": " + line.substr(tab + 1);
+    ++cases;
+    try {
+      load_model(file);
+      ADD_FAILURE() << file << " loaded";
+    } catch (const ModelError& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(message.rfind(expected, 0), 0u)
+          << "got:      " << message << "\nexpected: " << expected;
+      EXPECT_EQ(message.find('\n'), std::string::npos);
+    }
+  }
+  EXPECT_GE(cases, 25);
+  // and every file in the folder is listed
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(kData + "bad")) {
+    files += entry.path().extension() == ".json";
+  }
+  EXPECT_EQ(files, cases);
+}
+
+}  // namespace
+}  // namespace puppet

@@ -1,0 +1,72 @@
+#include <gtest/gtest.h>
+
+#include "puppet/model/rotation.h"
+
+namespace puppet {
+namespace {
+
+Quaterniond about(const Vector3d& axis, double angle) {
+  return Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()));
+}
+
+TEST(Rotation, ExpLogRoundTrip) {
+  for (const Vector3d& v : {Vector3d(0.3, -0.2, 0.1), Vector3d(1e-10, 0, 0), Vector3d(0, 3.0, 0)}) {
+    EXPECT_LT((quat_log(quat_exp(v)) - v).norm(), 1e-12);
+  }
+  // shortest arc: a rotation written with w < 0 is the same rotation
+  Quaterniond q = quat_exp(Vector3d(0, 0, 0.5));
+  q.coeffs() *= -1;
+  EXPECT_LT((quat_log(q) - Vector3d(0, 0, 0.5)).norm(), 1e-12);
+}
+
+TEST(Rotation, SwingTwistRecomposes) {
+  const Quaterniond q = about(Vector3d(1, 0, 0), 0.4) * about(Vector3d(0, 0, 1), -0.7);
+  const SwingTwist st = decompose_swing_twist(q, Vector3d::UnitZ());
+  EXPECT_NEAR(st.twist_angle, -0.7, 1e-12);
+  EXPECT_LT(angle_between(st.swing, about(Vector3d(1, 0, 0), 0.4)), 1e-12);
+}
+
+Joint ball(double sx_deg, double sy_deg, double twist_deg) {
+  Joint j;
+  j.type = JointType::kBall;
+  j.swing_x = sx_deg * M_PI / 180;
+  j.swing_y = sy_deg * M_PI / 180;
+  j.twist = twist_deg * M_PI / 180;
+  return j;
+}
+
+TEST(Rotation, BallLimitsAlongTheAxes) {
+  const Joint j = ball(30, 60, 20);
+  const double d = M_PI / 180;
+  // inside: untouched
+  EXPECT_EQ(limit_violation(j, about(Vector3d(1, 0, 0), 25 * d)), 0.0);
+  // along each swing axis the ellipse is the half-angle
+  EXPECT_NEAR(limit_violation(j, about(Vector3d(1, 0, 0), 40 * d)), 10 * d, 1e-12);
+  EXPECT_NEAR(limit_violation(j, about(Vector3d(0, 1, 0), -70 * d)), 10 * d, 1e-12);
+  EXPECT_NEAR(limit_violation(j, about(Vector3d(0, 0, 1), 35 * d)), 15 * d, 1e-12);
+  // the clamped rotation sits on the boundary
+  const Quaterniond clamped = clamp_to_limits(j, about(Vector3d(1, 0, 0), 40 * d));
+  EXPECT_NEAR(angle_between(clamped, about(Vector3d(1, 0, 0), 30 * d)), 0.0, 1e-12);
+}
+
+TEST(Rotation, HingeKeepsOnlyItsAxis) {
+  Joint j;
+  j.type = JointType::kHinge;
+  j.hinge_axis = Vector3d(0, 1, 0);
+  j.lower = -0.1;
+  j.upper = 2.0;
+  const Quaterniond bent = about(Vector3d(0, 1, 0), 1.0);
+  EXPECT_NEAR(limit_violation(j, bent), 0.0, 1e-12);
+  EXPECT_NEAR(limit_violation(j, about(Vector3d(0, 1, 0), -0.5)), 0.4, 1e-12);
+  // any rotation off the axis is a violation of its own size
+  EXPECT_NEAR(limit_violation(j, about(Vector3d(1, 0, 0), 0.2) * bent), 0.2, 1e-9);
+}
+
+TEST(Rotation, FixedAllowsNothing) {
+  Joint j;
+  j.type = JointType::kFixed;
+  EXPECT_NEAR(limit_violation(j, about(Vector3d(1, 2, 3), 0.3)), 0.3, 1e-12);
+}
+
+}  // namespace
+}  // namespace puppet

@@ -1,0 +1,54 @@
+#include <gtest/gtest.h>
+
+#include "puppet/model/model.h"
+
+namespace puppet {
+namespace {
+
+TEST(Shape, CapsuleInertiaMatchesIntegration) {
+  // independent answer: midpoint-rule integration of the solid capsule's density
+  Shape capsule;
+  capsule.type = ShapeType::kCapsule;
+  capsule.radius = 0.05;
+  capsule.half_length = 0.15;
+  const double mass = 3.5;
+  const int n = 120;
+  const double r = capsule.radius, h = capsule.half_length;
+  double volume = 0, ixx = 0, izz = 0;
+  const double dx = 2 * r / n, dz = 2 * (h + r) / (2 * n);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      for (int k = 0; k < 2 * n; ++k) {
+        const Vector3d p(-r + (i + 0.5) * dx, -r + (j + 0.5) * dx, -h - r + (k + 0.5) * dz);
+        if (signed_distance(capsule, p) > 0) continue;
+        const double dv = dx * dx * dz;
+        volume += dv;
+        ixx += (p.y() * p.y() + p.z() * p.z()) * dv;
+        izz += (p.x() * p.x() + p.y() * p.y()) * dv;
+      }
+    }
+  }
+  const Vector3d inertia = solid_inertia(capsule, mass);
+  EXPECT_NEAR(shape_volume(capsule), volume, 2e-3 * volume);
+  EXPECT_NEAR(inertia.x(), mass * ixx / volume, 3e-3 * inertia.x());
+  EXPECT_NEAR(inertia.z(), mass * izz / volume, 3e-3 * inertia.z());
+}
+
+TEST(Shape, SupportAndDistance) {
+  Shape box;
+  box.type = ShapeType::kBox;
+  box.half_extents = Vector3d(1, 2, 3);
+  EXPECT_EQ(support_point(box, Vector3d(1, -1, 1)), Vector3d(1, -2, 3));
+  EXPECT_EQ(support_point(box, Vector3d(0, 0, -1)), Vector3d(0, 0, -3));  // ties: the middle
+  EXPECT_DOUBLE_EQ(signed_distance(box, Vector3d(0, 0, 4)), 1.0);
+  EXPECT_DOUBLE_EQ(signed_distance(box, Vector3d(0, 0, 0)), -1.0);
+  Shape capsule;
+  capsule.type = ShapeType::kCapsule;
+  capsule.radius = 0.1;
+  capsule.half_length = 0.5;
+  EXPECT_TRUE(support_point(capsule, Vector3d(0, 0, 1)).isApprox(Vector3d(0, 0, 0.6)));
+  EXPECT_NEAR(signed_distance(capsule, Vector3d(0.3, 0, 0.2)), 0.2, 1e-15);
+}
+
+}  // namespace
+}  // namespace puppet

@@ -1,0 +1,344 @@
+// The procedural solver against independent answers: the analytic physical pendulum, a
+// Lagrangian double pendulum integrated here, conservation of momentum, and its own invariants
+// (joints closed, limits held, finite, deterministic).
+#include "puppet/procedural/solver.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "puppet/compare/metrics.h"
+#include "puppet/compare/scenario.h"
+#include "puppet/model/rotation.h"
+
+namespace puppet::procedural {
+namespace {
+
+const std::string kPinocchio = std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json";
+constexpr double kDt = 1.0 / 240.0;
+// pinned: any change to the solver's arithmetic shows here first (update it deliberately)
+constexpr uint64_t kExpectedDragHash = 0xe157c2c386718055ULL;
+
+// one or two 0.8 m rods (1 kg capsules) hanging from the origin
+Model rods(int count) {
+  std::string json = R"({"name":"rods","segments":[)";
+  for (int i = 0; i < count; ++i) {
+    json += std::string(i ? "," : "") + R"({"name":"rod)" + std::to_string(i) +
+            R"(","mass":1,"position":[0,0,)" + std::to_string(-0.4 - 0.8 * i) +
+            R"(],"shape":{"type":"capsule","radius":0.02,"half_length":0.38}})";
+  }
+  json += "]";
+  if (count == 2) {
+    json +=
+        R"(,"joints":[{"name":"j","parent":"rod0","child":"rod1","anchor":[0,0,-0.8],"type":"ball","swing_deg":[180,180],"twist_deg":180}])";
+  }
+  return parse_model(json + "}", "rods");
+}
+
+// rods at angles θ about world x from hanging straight down, at rest
+std::vector<BodyState> rods_at(const std::vector<double>& angles) {
+  std::vector<BodyState> bodies(angles.size());
+  Vector3d top{0, 0, 0};
+  for (size_t i = 0; i < angles.size(); ++i) {
+    const Quaterniond q(Eigen::AngleAxisd(angles[i], Vector3d::UnitX()));
+    bodies[i].q = q;
+    bodies[i].x = top + q * Vector3d(0, 0, -0.4);
+    top += q * Vector3d(0, 0, -0.8);
+  }
+  return bodies;
+}
+
+Pin top_pin() {
+  Pin pin;
+  pin.segment = 0;
+  pin.local_point = Vector3d(0, 0, 0.4);
+  return pin;
+}
+
+double max_joint_gap(const Model& model, const State& state) {
+  std::vector<double> gaps(model.joint_count());
+  compare::joint_gaps(model, state.bodies, gaps);
+  double worst = 0;
+  for (double g : gaps) worst = std::max(worst, g);
+  return worst;
+}
+
+double max_limit_violation_rad(const Model& model, const State& state) {
+  double worst = 0;
+  for (const Joint& j : model.joints) {
+    const Quaterniond q_rel =
+        joint_relative_rotation(j, state.bodies[j.parent].q, state.bodies[j.child].q);
+    worst = std::max(worst, limit_violation(j, q_rel));
+  }
+  return worst;
+}
+
+// period from upward zero crossings of ω_x (interpolated), over `seconds`
+double measured_period(Rule rule, double seconds) {
+  const Model model = rods(1);
+  Settings settings;
+  settings.rule = rule;
+  Solver solver(model, settings, Environment{});
+  solver.reset(rods_at({10.0 * M_PI / 180.0}));
+  const Pin pins[] = {top_pin()};
+  solver.set_pins(pins);
+  std::vector<double> crossings;
+  double previous = 0.0;
+  for (int k = 0; k < std::lround(seconds / kDt); ++k) {
+    solver.step(kDt);
+    const double w = solver.state().bodies[0].w.x();
+    if (previous < 0.0 && w >= 0.0) crossings.push_back((k + 1) * kDt - kDt * w / (w - previous));
+    previous = w;
+  }
+  if (crossings.size() < 3) return NAN;
+  return (crossings.back() - crossings.front()) / (crossings.size() - 1);
+}
+
+double analytic_period(double amplitude) {
+  const Model model = rods(1);
+  const double pivot_inertia = model.segments[0].inertia.x() + 1.0 * 0.4 * 0.4;
+  const double small = 2 * M_PI * std::sqrt(pivot_inertia / (9.81 * 0.4));
+  // finite-amplitude series of the complete elliptic integral
+  return small * (1 + amplitude * amplitude / 16 + 11 * std::pow(amplitude, 4) / 3072);
+}
+
+TEST(Pendulum, PeriodMatchesThePhysicalPendulum) {
+  const double expected = analytic_period(10.0 * M_PI / 180.0);
+  for (Rule rule : {Rule::kWeighted, Rule::kSubtree, Rule::kRelaxed}) {
+    const double period = measured_period(rule, 12.0);
+    std::printf("[ period   ] %-8s %.6f s vs analytic %.6f s: %+.3f %%\n",
+                std::string(rule_name(rule)).c_str(), period, expected,
+                100 * (period / expected - 1));
+    EXPECT_NEAR(period / expected, 1.0, 0.01) << rule_name(rule);
+  }
+  // reported, not required: the literal rule never swings, smoothed runs fast
+  for (Rule rule : {Rule::kLiteral, Rule::kSmoothed}) {
+    std::printf("[ period   ] %-8s %.6f s (not required)\n", std::string(rule_name(rule)).c_str(),
+                measured_period(rule, 12.0));
+  }
+}
+
+// the double physical pendulum of two identical rods, planar, by Lagrange; RK4 at 1e-4 s
+struct DoublePendulum {
+  double m = 1, length = 0.8, inertia, g = 9.81;
+  explicit DoublePendulum(double com_inertia) : inertia(com_inertia) {}
+  // [θ1, θ2, θ1', θ2'] → derivative
+  Eigen::Vector4d derivative(const Eigen::Vector4d& s) const {
+    const double c = m * length * length / 2, delta = s[0] - s[1];
+    Eigen::Matrix2d mass;
+    mass << m * length * length * 1.25 + inertia, c * std::cos(delta), c * std::cos(delta),
+        m * length * length / 4 + inertia;
+    const Eigen::Vector2d rhs(
+        -c * std::sin(delta) * s[3] * s[3] - 1.5 * m * g * length * std::sin(s[0]),
+        c * std::sin(delta) * s[2] * s[2] - 0.5 * m * g * length * std::sin(s[1]));
+    const Eigen::Vector2d acc = mass.inverse() * rhs;
+    return {s[2], s[3], acc[0], acc[1]};
+  }
+  void advance(Eigen::Vector4d& s, double h) const {
+    const Eigen::Vector4d k1 = derivative(s), k2 = derivative(s + h / 2 * k1),
+                          k3 = derivative(s + h / 2 * k2), k4 = derivative(s + h * k3);
+    s += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+  }
+};
+
+double double_pendulum_error(Rule rule) {
+  const Model model = rods(2);
+  Settings settings;
+  settings.rule = rule;
+  Solver solver(model, settings, Environment{});
+  solver.reset(rods_at({0.3, -0.2}));
+  const Pin pins[] = {top_pin()};
+  solver.set_pins(pins);
+  const DoublePendulum truth(model.segments[0].inertia.x());
+  Eigen::Vector4d s(0.3, -0.2, 0, 0);
+  const int substeps = 40;  // 1e-4 s per RK4 step
+  double sum = 0;
+  int samples = 0;
+  for (int k = 0; k < std::lround(5.0 / kDt); ++k) {
+    solver.step(kDt);
+    for (int i = 0; i < substeps; ++i) truth.advance(s, kDt / substeps);
+    const auto expected = rods_at({s[0], s[1]});
+    double sq = 0;
+    for (int i = 0; i < 2; ++i) sq += (solver.state().bodies[i].x - expected[i].x).squaredNorm();
+    sum += std::sqrt(sq / 2);
+    ++samples;
+  }
+  return sum / samples;
+}
+
+TEST(Pendulum, DoublePendulumAgainstLagrange) {
+  for (Rule rule : kAllRules) {
+    const double error = double_pendulum_error(rule);
+    std::printf("[ 2 rods   ] %-8s mean pose error over 5 s: %.4f m\n",
+                std::string(rule_name(rule)).c_str(), error);
+    if (rule == Rule::kRelaxed) {
+      EXPECT_LT(error, 0.03);
+    }
+  }
+}
+
+TEST(FreeBody, MomentumOfASpinningBox) {
+  const Model model = parse_model(
+      R"({"name":"box","segments":[{"name":"b","mass":3,"position":[0,0,0],"shape":{"type":"box","half_extents":[0.3,0.2,0.1]}}]})",
+      "box");
+  Environment space;
+  space.gravity.setZero();
+  Solver solver(model, Settings{}, space);
+  std::vector<BodyState> body(1);
+  body[0].w = Vector3d(0.2, 0.1, 5.0);  // near the major axis (z: the largest inertia)
+  solver.reset(body);
+  const Vector3d l0 = world_inertia(model.segments[0], body[0].q) * body[0].w;
+  for (int k = 0; k < std::lround(10.0 / kDt); ++k) solver.step(kDt);
+  const BodyState& end = solver.state().bodies[0];
+  const Vector3d l = world_inertia(model.segments[0], end.q) * end.w;
+  std::printf("[ momentum ] |L| drift over 10 s: %+.2e, direction drift %.2e rad\n",
+              l.norm() / l0.norm() - 1,
+              std::acos(std::min(1.0, l.normalized().dot(l0.normalized()))));
+  EXPECT_EQ(end.v, Vector3d::Zero());
+  EXPECT_NEAR(l.norm() / l0.norm(), 1.0, 1e-3);
+}
+
+std::unique_ptr<Solver> scenario_solver(const Model& model, const compare::Scenario& scenario,
+                                        Rule rule) {
+  Settings settings;
+  settings.rule = rule;
+  auto solver = std::make_unique<Solver>(model, settings, scenario.environment);
+  solver->reset(scenario.initial);
+  solver->set_pins(scenario.initial_pins());
+  return solver;
+}
+
+// single-pin scenarios: every joint closed and inside its limits after every step
+TEST(Scenarios, JointsClosedAndLimitsHeldEveryStep) {
+  const Model model = load_model(kPinocchio);
+  compare::ScenarioOptions options;
+  options.hz = 2.0;  // yank at 2 Hz: the stability claim
+  for (const char* name : {"hang", "yank"}) {
+    const compare::Scenario scenario = compare::make_scenario(name, model, options);
+    for (Rule rule : kAllRules) {
+      auto solver = scenario_solver(model, scenario, rule);
+      std::vector<Vector3d> targets;
+      double worst_gap = 0, worst_limit = 0, peak_speed = 0;
+      bool finite = true;
+      for (int k = 0; k < std::lround(scenario.duration / kDt); ++k) {
+        scenario.targets_at((k + 1) * kDt, targets);
+        solver->set_pin_targets(targets);
+        solver->step(kDt);
+        finite = finite && !solver->state().diverged;
+        worst_gap = std::max(worst_gap, max_joint_gap(model, solver->state()));
+        worst_limit = std::max(worst_limit, max_limit_violation_rad(model, solver->state()));
+        peak_speed = std::max(peak_speed, compare::peak_speed(solver->state().bodies));
+      }
+      std::printf(
+          "[ %-8s ] %-8s max gap %.1e m, max limit violation %.1e rad, peak speed %.1f m/s\n", name,
+          std::string(rule_name(rule)).c_str(), worst_gap, worst_limit, peak_speed);
+      EXPECT_TRUE(finite) << name << " " << rule_name(rule);
+      EXPECT_LE(worst_gap, 1e-9) << name << " " << rule_name(rule);
+      EXPECT_LE(worst_limit, 1e-6) << name << " " << rule_name(rule);
+    }
+  }
+}
+
+// a user drags a hand far past what the elbow and shoulder allow: limits still hold, whether the
+// hand is the anchor (edges walked against the model) or a second pin
+TEST(Scenarios, LimitsHoldWhenALimbIsDraggedAgainstThem) {
+  const Model model = load_model(kPinocchio);
+  const int hand = model.find_segment("r_forearm");
+  const int pelvis = model.find_segment("pelvis");
+  Pin grab;
+  grab.segment = hand;
+  grab.local_point = Vector3d(0, 0, -0.14);
+  Pin hip;
+  hip.segment = pelvis;
+  hip.target = model.segments[pelvis].rest_position;
+  for (bool hand_first : {true, false}) {
+    for (Rule rule : kAllRules) {
+      Settings settings;
+      settings.rule = rule;
+      Solver solver(model, settings, Environment{});
+      grab.target = model.segments[hand].rest_position + Vector3d(-0.3, -0.2, -0.1);
+      const std::vector<Pin> pins =
+          hand_first ? std::vector<Pin>{grab, hip} : std::vector<Pin>{hip, grab};
+      solver.set_pins(pins);
+      double worst = 0;
+      for (int k = 0; k < 480; ++k) {
+        // the hand is pulled behind the back and up over the head
+        const double t = (k + 1) * kDt;
+        const Vector3d target =
+            model.segments[hand].rest_position + Vector3d(-0.5 * t, -0.2, 0.6 * t);
+        const std::vector<Vector3d> targets = hand_first
+                                                  ? std::vector<Vector3d>{target, hip.target}
+                                                  : std::vector<Vector3d>{hip.target, target};
+        solver.set_pin_targets(targets);
+        solver.step(kDt);
+        worst = std::max(worst, max_limit_violation_rad(model, solver.state()));
+      }
+      EXPECT_LE(worst, 1e-6) << rule_name(rule) << (hand_first ? " hand first" : " hip first");
+    }
+  }
+}
+
+uint64_t state_hash(const State& state) {
+  uint64_t hash = 1469598103934665603ULL;  // FNV-1a over the bytes of every pose and velocity
+  auto mix = [&](double value) {
+    unsigned char bytes[sizeof(double)];
+    std::memcpy(bytes, &value, sizeof value);
+    for (unsigned char b : bytes) hash = (hash ^ b) * 1099511628211ULL;
+  };
+  for (const BodyState& b : state.bodies) {
+    for (double v : {b.x.x(), b.x.y(), b.x.z(), b.q.w(), b.q.x(), b.q.y(), b.q.z(), b.v.x(),
+                     b.v.y(), b.v.z(), b.w.x(), b.w.y(), b.w.z()}) {
+      mix(v);
+    }
+  }
+  return hash;
+}
+
+TEST(Determinism, DragAfterThousandSteps) {
+  const Model model = load_model(kPinocchio);
+  const compare::Scenario scenario = compare::make_scenario("drag", model);
+  uint64_t hashes[2];
+  for (uint64_t& hash : hashes) {
+    auto solver = scenario_solver(model, scenario, Rule::kRelaxed);
+    std::vector<Vector3d> targets;
+    for (int k = 0; k < 1000; ++k) {
+      scenario.targets_at((k + 1) * kDt, targets);
+      solver->set_pin_targets(targets);
+      solver->step(kDt);
+    }
+    hash = state_hash(solver->state());
+  }
+  std::printf("[ hash     ] %016llx\n", static_cast<unsigned long long>(hashes[0]));
+  EXPECT_EQ(hashes[0], hashes[1]);
+  EXPECT_EQ(hashes[0], kExpectedDragHash);
+}
+
+TEST(Divergence, NonFiniteStateIsFlaggedNotThrown) {
+  const Model model = rods(2);
+  Solver solver(model, Settings{}, Environment{});
+  solver.mutable_state().bodies[1].v.x() = NAN;
+  EXPECT_NO_THROW(solver.step(kDt));
+  EXPECT_TRUE(solver.state().diverged);
+  EXPECT_NEAR(solver.state().diverged_time, kDt, 1e-15);
+}
+
+TEST(AnchorOrder, PreorderWithContiguousSubtrees) {
+  const Model model = load_model(kPinocchio);
+  const AnchorOrder order = make_anchor_order(model, model.find_segment("r_forearm"));
+  ASSERT_EQ(order.preorder.size(), 14u);
+  EXPECT_EQ(order.preorder[0], model.find_segment("r_forearm"));
+  EXPECT_EQ(order.subtree_end[0], 14);
+  // the first link is walked against the model: the upper arm is the forearm's parent
+  EXPECT_FALSE(order.links[0].b_is_child);
+  EXPECT_EQ(order.links[0].b, model.find_segment("r_upper_arm"));
+  for (size_t k = 1; k < order.preorder.size(); ++k) {
+    const int p = order.parent_position[k];
+    EXPECT_LT(p, static_cast<int>(k));
+    EXPECT_LE(order.subtree_end[k], order.subtree_end[p]);
+  }
+}
+
+}  // namespace
+}  // namespace puppet::procedural
