@@ -241,6 +241,36 @@ TEST(Scenarios, JointsClosedAndLimitsHeldEveryStep) {
   }
 }
 
+// two pins: the pass starts from the first, so joints stay closed; the second pin's gap is what
+// the rule leaves, reported
+TEST(Scenarios, TwoPinScenariosKeepJointsClosedAndReportThePinGap) {
+  const Model model = load_model(kPinocchio);
+  for (const char* name : {"drag", "shake"}) {
+    const compare::Scenario scenario = compare::make_scenario(name, model);
+    for (Rule rule : kAllRules) {
+      auto solver = scenario_solver(model, scenario, rule);
+      std::vector<Vector3d> targets;
+      std::vector<double> pin_gap(2);
+      double worst_gap = 0, worst_pin = 0, sum_pin = 0;
+      const int steps = static_cast<int>(std::lround(scenario.duration / kDt));
+      for (int k = 0; k < steps && !solver->state().diverged; ++k) {
+        scenario.targets_at((k + 1) * kDt, targets);
+        solver->set_pin_targets(targets);
+        solver->step(kDt);
+        worst_gap = std::max(worst_gap, max_joint_gap(model, solver->state()));
+        compare::pin_gaps(scenario.initial_pins(), targets, solver->state().bodies, pin_gap);
+        EXPECT_LT(pin_gap[0], 1e-9) << "the anchor's pin is closed exactly";
+        worst_pin = std::max(worst_pin, pin_gap[1]);
+        sum_pin += pin_gap[1];
+      }
+      std::printf("[ %-8s ] %-8s second pin gap: max %.3f m, mean %.3f m\n", name,
+                  std::string(rule_name(rule)).c_str(), worst_pin, sum_pin / steps);
+      EXPECT_FALSE(solver->state().diverged) << name << " " << rule_name(rule);
+      EXPECT_LE(worst_gap, 1e-9) << name << " " << rule_name(rule);
+    }
+  }
+}
+
 // a user drags a hand far past what the elbow and shoulder allow: limits still hold, whether the
 // hand is the anchor (edges walked against the model) or a second pin
 TEST(Scenarios, LimitsHoldWhenALimbIsDraggedAgainstThem) {
