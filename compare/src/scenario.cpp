@@ -11,15 +11,6 @@ constexpr double kCircleRadius = 0.3;  // m
 constexpr double kShakeAmplitude = 0.1;
 constexpr double kShakeHz = 3.0;
 
-std::vector<BodyState> rest_pose(const Model& model) {
-  std::vector<BodyState> bodies(model.segment_count());
-  for (int i = 0; i < model.segment_count(); ++i) {
-    bodies[i].x = model.segments[i].rest_position;
-    bodies[i].q = model.segments[i].rest_orientation;
-  }
-  return bodies;
-}
-
 // rotate every body rigidly by `rotation` about `centre`
 void rotate_about(std::vector<BodyState>& bodies, const Quaterniond& rotation,
                   const Vector3d& centre) {

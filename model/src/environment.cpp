@@ -4,6 +4,15 @@
 
 namespace puppet {
 
+std::vector<BodyState> rest_pose(const Model& model) {
+  std::vector<BodyState> bodies(model.segment_count());
+  for (int i = 0; i < model.segment_count(); ++i) {
+    bodies[i].x = model.segments[i].rest_position;
+    bodies[i].q = model.segments[i].rest_orientation;
+  }
+  return bodies;
+}
+
 void vertical_extent(const Segment& segment, const Quaterniond& q, const Vector3d& x, double* low,
                      double* high) {
   const Vector3d up_local = q.conjugate() * Vector3d::UnitZ();

@@ -111,12 +111,7 @@ Solver::Solver(const Model& model, const Settings& settings, const Environment& 
   if (environment.ground) {
     for (int s = 0; s < n; ++s) order_for(s);
   }
-  std::vector<BodyState> rest(n);
-  for (int i = 0; i < n; ++i) {
-    rest[i].x = model.segments[i].rest_position;
-    rest[i].q = model.segments[i].rest_orientation;
-  }
-  reset(rest);
+  reset(rest_pose(model));
 }
 
 const AnchorOrder& Solver::order_for(int anchor) {

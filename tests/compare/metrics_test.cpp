@@ -9,18 +9,9 @@ namespace {
 
 const std::string kPinocchio = std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json";
 
-std::vector<BodyState> rest(const Model& model) {
-  std::vector<BodyState> bodies(model.segment_count());
-  for (int i = 0; i < model.segment_count(); ++i) {
-    bodies[i].x = model.segments[i].rest_position;
-    bodies[i].q = model.segments[i].rest_orientation;
-  }
-  return bodies;
-}
-
 TEST(Metrics, JointGapOfAKnownOffset) {
   const Model model = load_model(kPinocchio);
-  auto bodies = rest(model);
+  auto bodies = rest_pose(model);
   std::vector<double> gaps(model.joint_count());
   joint_gaps(model, bodies, gaps);
   for (double g : gaps) EXPECT_NEAR(g, 0.0, 1e-15);
@@ -32,7 +23,7 @@ TEST(Metrics, JointGapOfAKnownOffset) {
 
 TEST(Metrics, LimitViolationOfAKnownRotation) {
   const Model model = load_model(kPinocchio);
-  auto bodies = rest(model);
+  auto bodies = rest_pose(model);
   const int forearm = model.find_segment("l_forearm");
   const Joint& elbow = model.joints[model.segments[forearm].parent_joint];
   // bend the elbow 10° the wrong way (its range starts at −5°), about its own axis, in world
@@ -46,7 +37,7 @@ TEST(Metrics, LimitViolationOfAKnownRotation) {
 
 TEST(Metrics, EnergyMomentumOfARigidSpin) {
   const Model model = load_model(kPinocchio);
-  auto bodies = rest(model);
+  auto bodies = rest_pose(model);
   const Vector3d omega(0, 0, 2), com = centre_of_mass(model, bodies);
   double expected_ke = 0;
   Matrix3d inertia_about_com = Matrix3d::Zero();
@@ -66,7 +57,7 @@ TEST(Metrics, EnergyMomentumOfARigidSpin) {
 
 TEST(Metrics, ProbeDriftsAreZeroAtTheStart) {
   const Model model = load_model(kPinocchio);
-  const auto bodies = rest(model);
+  const auto bodies = rest_pose(model);
   MetricsProbe probe(model, Environment{}, {}, bodies);
   const StepMetrics m = probe.measure(0.0, bodies, {});
   EXPECT_EQ(m.energy_drift, 0.0);
@@ -80,7 +71,7 @@ TEST(Metrics, ProbeDriftsAreZeroAtTheStart) {
 
 TEST(Metrics, PenetrationOfASunkBody) {
   const Model model = load_model(kPinocchio);
-  auto bodies = rest(model);
+  auto bodies = rest_pose(model);
   for (auto& b : bodies) b.x.z() -= 0.02;  // the feet's lowest point was 1 cm up
   EXPECT_NEAR(ground_penetration(model, bodies), 0.01, 1e-12);
 }

@@ -2,6 +2,8 @@
 // (shared/DESIGN.md, "Environment"), so that differences between solvers are the solvers'.
 #pragma once
 
+#include <vector>
+
 #include "puppet/model/model.h"
 
 namespace puppet {
@@ -32,6 +34,9 @@ struct Pin {
   Vector3d local_point{0, 0, 0};  // segment frame
   Vector3d target{0, 0, 0};       // world
 };
+
+// every segment at its rest pose, at rest
+std::vector<BodyState> rest_pose(const Model& model);
 
 struct Wrench {
   Vector3d force{0, 0, 0};   // at the COM
