@@ -71,8 +71,6 @@ class ProceduralSimulator : public Simulator {
   std::optional<procedural::Solver> solver_;
 };
 
-}  // namespace
-
 std::unique_ptr<Simulator> make_procedural_simulator(const SolverOptions& options) {
   const auto rule = procedural::parse_rule(options.rule);
   if (!rule) throw ScenarioError("--rule: unknown rule \"" + options.rule + "\"");
@@ -85,6 +83,8 @@ std::unique_ptr<Simulator> make_procedural_simulator(const SolverOptions& option
   if (!problem.empty()) throw ScenarioError(problem);
   return std::make_unique<ProceduralSimulator>(settings, options.tremble);
 }
+
+}  // namespace
 
 const std::vector<std::string>& solver_names() {
   static const std::vector<std::string> names = {"procedural"};

@@ -181,8 +181,8 @@ void print_table(const std::vector<RunResult>& results) {
   for (const RunResult& r : results) {
     auto show = [&](const char* metric, const char* stat, const char* format) {
       const double v = r.value(metric, stat);
-      static char cell[32];
       if (std::isnan(v)) return std::string("-");
+      char cell[32];
       std::snprintf(cell, sizeof cell, format, v);
       return std::string(cell);
     };

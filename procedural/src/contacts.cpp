@@ -12,33 +12,38 @@
 namespace puppet::procedural {
 namespace {
 
-constexpr int kMaxCandidates = 8;
 constexpr int kContactPasses = 2;  // a capsule lying flat touches with both caps
 
-// candidate contact points of a shape in world; returns how many
-int contact_candidates(const Segment& segment, const BodyState& body,
-                       std::array<Vector3d, kMaxCandidates>& out) {
-  const Shape& shape = segment.shape;
+// how many candidate contact points a shape has
+int candidate_count(const Shape& shape) {
   switch (shape.type) {
     case ShapeType::kSphere:
-      out[0] = body.x - shape.radius * Vector3d::UnitZ();
       return 1;
     case ShapeType::kCapsule:
-      for (int end = 0; end < 2; ++end) {
-        const Vector3d centre(0, 0, end == 0 ? shape.half_length : -shape.half_length);
-        out[end] = world_point(body, centre) - shape.radius * Vector3d::UnitZ();
-      }
       return 2;
     case ShapeType::kBox:
-      for (int corner = 0; corner < 8; ++corner) {
-        const Vector3d local((corner & 1 ? 1 : -1) * shape.half_extents.x(),
-                             (corner & 2 ? 1 : -1) * shape.half_extents.y(),
-                             (corner & 4 ? 1 : -1) * shape.half_extents.z());
-        out[corner] = world_point(body, local);
-      }
       return 8;
   }
   return 0;
+}
+
+// candidate contact point `c` of a shape, in world, from the body's current pose
+Vector3d contact_candidate(const Shape& shape, const BodyState& body, int c) {
+  switch (shape.type) {
+    case ShapeType::kSphere:
+      return body.x - shape.radius * Vector3d::UnitZ();
+    case ShapeType::kCapsule: {
+      const Vector3d centre(0, 0, c == 0 ? shape.half_length : -shape.half_length);
+      return world_point(body, centre) - shape.radius * Vector3d::UnitZ();
+    }
+    case ShapeType::kBox: {
+      const Vector3d local((c & 1 ? 1 : -1) * shape.half_extents.x(),
+                           (c & 2 ? 1 : -1) * shape.half_extents.y(),
+                           (c & 4 ? 1 : -1) * shape.half_extents.z());
+      return world_point(body, local);
+    }
+  }
+  return body.x;
 }
 
 }  // namespace
@@ -47,14 +52,12 @@ double push_out_of_ground(const Model& model, const Environment& environment, in
                           State& state, double h) {
   const Segment& seg = model.segments[segment];
   BodyState& body = state.bodies[segment];
-  std::array<Vector3d, kMaxCandidates> points;
+  const int count = candidate_count(seg.shape);
   double deepest = 0.0;
   for (int pass = 0; pass < kContactPasses; ++pass) {
-    const int count = contact_candidates(seg, body, points);
     for (int c = 0; c < count; ++c) {
-      // candidates move with every correction: recompute this one from the current pose
-      contact_candidates(seg, body, points);
-      const Vector3d p = points[c];
+      // every correction moves the segment: each candidate is read from the current pose
+      const Vector3d p = contact_candidate(seg.shape, body, c);
       if (p.z() >= 0.0) continue;
       const double depth = -p.z();
       deepest = std::max(deepest, depth);

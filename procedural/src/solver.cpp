@@ -50,7 +50,6 @@ AnchorOrder make_anchor_order(const Model& model, int anchor) {
   order.anchor = anchor;
   order.preorder.reserve(n);
   order.parent_position.assign(n, -1);
-  order.subtree_end.assign(n, n);
   std::vector<int> position(n, -1);
   // depth-first preorder: parents before children, and every subtree a contiguous range
   struct Frame {
@@ -78,13 +77,12 @@ AnchorOrder make_anchor_order(const Model& model, int anchor) {
     }
   }
   // subtree ends, from the back: a subtree ends where its last descendant's does
-  std::vector<int> end(n);
-  for (int k = n - 1; k >= 0; --k) end[k] = std::max(end[k], k + 1);
+  order.subtree_end.resize(n);
+  for (int k = 0; k < n; ++k) order.subtree_end[k] = k + 1;
   for (int k = n - 1; k > 0; --k) {
     const int p = order.parent_position[k];
-    end[p] = std::max(end[p], end[k]);
+    order.subtree_end[p] = std::max(order.subtree_end[p], order.subtree_end[k]);
   }
-  order.subtree_end = end;
   return order;
 }
 
