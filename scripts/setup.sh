@@ -8,6 +8,8 @@ packages=(
   libeigen3-dev      # fixed-size linear algebra in the solver
   nlohmann-json3-dev # model files
   libcli11-dev       # the testbed command line
+  libbullet-dev      # the references (its bullet-float64 variant: double precision)
+  pkg-config         # finds bullet-float64
   libgtest-dev       # tests
 )
 

@@ -86,13 +86,19 @@ std::unique_ptr<Simulator> make_procedural_simulator(const SolverOptions& option
 
 }  // namespace
 
+// reference_simulator.cpp
+std::unique_ptr<Simulator> make_reference_simulator(const std::string& solver,
+                                                    const SolverOptions& options);
+
 const std::vector<std::string>& solver_names() {
-  static const std::vector<std::string> names = {"procedural"};
+  static const std::vector<std::string> names = {"procedural", "bullet-multibody", "bullet-rigid"};
   return names;
 }
 
 std::unique_ptr<Simulator> make_simulator(const std::string& solver, const SolverOptions& options) {
   if (solver == "procedural") return make_procedural_simulator(options);
+  if (solver == "bullet-multibody" || solver == "bullet-rigid")
+    return make_reference_simulator(solver, options);
   throw ScenarioError("--solver: unknown solver \"" + solver + "\"");
 }
 

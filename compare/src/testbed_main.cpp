@@ -172,6 +172,7 @@ struct RunFlags {
   std::string model = "pinocchio", scenario = "all", solver = "all", rule = "all";
   std::string dt = "1/240", duration, out = "results", pin, grab, gravity, air_drag, ground;
   std::string tilt = "30", hz = "0.5", sample_hz = "0", iterations = "4", substeps = "1";
+  std::string bullet_iterations = "10";
   bool no_velocities = false, no_tremble = false, no_timing = false;
 };
 
@@ -227,11 +228,18 @@ int command_run(const RunFlags& f) {
       iterations != std::floor(iterations)) {
     throw UsageError("--iterations: expected a non-negative integer, got \"" + f.iterations + "\"");
   }
+  double bullet_iterations = 0.0;
+  if (!parse_finite(f.bullet_iterations, &bullet_iterations) || bullet_iterations < 1 ||
+      bullet_iterations != std::floor(bullet_iterations)) {
+    throw UsageError("--bullet-iterations: expected a positive integer, got \"" +
+                     f.bullet_iterations + "\"");
+  }
   if (!parse_finite(f.substeps, &substeps) || substeps < 1 || substeps != std::floor(substeps)) {
     throw UsageError("--substeps: expected a positive integer, got \"" + f.substeps + "\"");
   }
   solver_options.iterations = static_cast<int>(iterations);
   solver_options.substeps = static_cast<int>(substeps);
+  solver_options.bullet_iterations = static_cast<int>(bullet_iterations);
   solver_options.derive_velocities = !f.no_velocities;
   solver_options.tremble = !f.no_tremble;
 
@@ -330,6 +338,9 @@ int main(int argc, char** argv) {
   run->add_option("--sample-hz", f.sample_hz, "poses kept per simulated second (0: every step)")
       ->capture_default_str();
   run->add_option("--iterations", f.iterations, "relaxed: two-sided sweeps")->capture_default_str();
+  run->add_option("--bullet-iterations", f.bullet_iterations,
+                  "Bullet: sequential-impulse sweeps per step")
+      ->capture_default_str();
   run->add_option("--substeps", f.substeps, "procedural substeps per step")->capture_default_str();
   run->add_flag("--no-velocities", f.no_velocities,
                 "procedural: do not derive velocities from poses");

@@ -1,0 +1,60 @@
+// The Bullet references behind the Simulator interface.
+#include "puppet/compare/simulator.h"
+#include "puppet/reference/bullet.h"
+
+namespace puppet::compare {
+namespace {
+
+class ReferenceSnapshot : public Snapshot {
+ public:
+  explicit ReferenceSnapshot(std::vector<double> s) : saved(std::move(s)) {}
+  std::vector<double> saved;
+};
+
+class ReferenceSimulator : public Simulator {
+ public:
+  ReferenceSimulator(reference::Kind kind, const reference::Settings& settings)
+      : kind_(kind), settings_(settings) {}
+
+  std::string name() const override {
+    return kind_ == reference::Kind::kMultibody ? "bullet-multibody" : "bullet-rigid";
+  }
+  void reset(const Model& model, const Scenario& scenario) override {
+    solver_ = reference::make_solver(kind_, model, scenario.environment, settings_);
+    solver_->set_state(scenario.initial);
+    solver_->set_pins(scenario.initial_pins());
+  }
+  void set_pin_targets(std::span<const Vector3d> targets) override {
+    solver_->set_pin_targets(targets);
+  }
+  void step(double dt) override { solver_->step(dt); }
+  void read_state(std::span<BodyState> out) const override { solver_->read_state(out); }
+  void set_state(std::span<const BodyState> bodies) override { solver_->set_state(bodies); }
+  std::unique_ptr<Snapshot> snapshot() const override {
+    return std::make_unique<ReferenceSnapshot>(solver_->save());
+  }
+  void restore(const Snapshot& snapshot) override {
+    solver_->load(static_cast<const ReferenceSnapshot&>(snapshot).saved);
+  }
+  bool diverged() const override { return solver_->diverged(); }
+
+ private:
+  reference::Kind kind_;
+  reference::Settings settings_;
+  std::unique_ptr<reference::Solver> solver_;
+};
+
+}  // namespace
+
+std::unique_ptr<Simulator> make_reference_simulator(const std::string& solver,
+                                                    const SolverOptions& options) {
+  reference::Settings settings;
+  settings.iterations = options.bullet_iterations;
+  const std::string problem = reference::validate(settings);
+  if (!problem.empty()) throw ScenarioError("--bullet-iterations: " + problem);
+  const auto kind =
+      solver == "bullet-multibody" ? reference::Kind::kMultibody : reference::Kind::kRigid;
+  return std::make_unique<ReferenceSimulator>(kind, settings);
+}
+
+}  // namespace puppet::compare

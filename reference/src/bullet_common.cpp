@@ -1,0 +1,57 @@
+#include "bullet_common.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace puppet::reference {
+
+std::string validate(const Settings& settings) {
+  if (settings.iterations < 1 || settings.iterations > 10000)
+    return "iterations must be in [1, 10000], got " + std::to_string(settings.iterations);
+  if (!(settings.erp > 0.0 && settings.erp <= 1.0))
+    return "erp must be in (0, 1], got " + std::to_string(settings.erp);
+  return {};
+}
+
+namespace detail {
+
+std::unique_ptr<btCollisionShape> make_shape(const Shape& shape) {
+  switch (shape.type) {
+    case ShapeType::kSphere:
+      return std::make_unique<btSphereShape>(shape.radius);
+    case ShapeType::kCapsule:
+      // btCapsuleShapeZ takes the full cylinder height
+      return std::make_unique<btCapsuleShapeZ>(shape.radius, 2.0 * shape.half_length);
+    case ShapeType::kBox:
+      return std::make_unique<btBoxShape>(to_bt(shape.half_extents));
+  }
+  return nullptr;
+}
+
+Ground make_ground() {
+  Ground ground;
+  ground.shape = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), 0.0);
+  btRigidBody::btRigidBodyConstructionInfo info(0.0, nullptr, ground.shape.get());
+  info.m_friction = 1.0;
+  info.m_restitution = 0.0;
+  ground.body = std::make_unique<btRigidBody>(info);
+  return ground;
+}
+
+void clear_contact_caches(btCollisionDispatcher& dispatcher) {
+  for (int i = 0; i < dispatcher.getNumManifolds(); ++i) {
+    dispatcher.getManifoldByIndexInternal(i)->clearManifold();
+  }
+}
+
+}  // namespace detail
+
+std::unique_ptr<Solver> make_solver(Kind kind, const Model& model, const Environment& environment,
+                                    const Settings& settings) {
+  const std::string problem = validate(settings);
+  if (!problem.empty()) throw std::invalid_argument("reference settings: " + problem);
+  if (kind == Kind::kMultibody) return detail::make_multibody(model, environment, settings);
+  return detail::make_rigid(model, environment, settings);
+}
+
+}  // namespace puppet::reference

@@ -1,0 +1,307 @@
+// The model as a classic ragdoll: one btRigidBody per segment (maximal coordinates) tied by
+// joint constraints that Bullet's sequential-impulse solver enforces a few sweeps at a time.
+//
+// Each body's frame is its segment frame (COM, principal axes), so state needs no conversion.
+// Joint constraint frames are the model's joint frame seen from each segment, re-labelled for
+// each Bullet constraint's axis convention:
+//   btConeTwistConstraint  twist about x, swing1 about z, swing2 about y
+//                          → frame axes (x, y, z) = the joint frame's (z, x, y), so
+//                            swing1 = swing_y, swing2 = swing_x, twist = twist
+//   btHingeConstraint      hinge about z, getHingeAngle() is minus the right-handed angle
+//                          (its reference sign is −1) → limits [−upper, −lower]
+//   btFixedConstraint      the joint frame itself
+#include <cmath>
+#include <numbers>
+
+#include "bullet_common.h"
+
+namespace puppet::reference::detail {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// the cone-twist frame in the joint frame: columns are the joint frame's z, x, y
+Quaterniond cone_twist_relabel() {
+  Matrix3d r;
+  r.col(0) = Vector3d::UnitZ();
+  r.col(1) = Vector3d::UnitX();
+  r.col(2) = Vector3d::UnitY();
+  return Quaterniond(r);
+}
+
+class RigidSolver final : public Solver {
+ public:
+  RigidSolver(const Model& model, const Environment& environment, const Settings& settings);
+  ~RigidSolver() override;
+
+  Kind kind() const override { return Kind::kRigid; }
+  void set_pins(std::span<const Pin> pins) override;
+  void set_pin_targets(std::span<const Vector3d> targets) override;
+  void step(double dt) override;
+  void read_state(std::span<BodyState> out) const override;
+  void set_state(std::span<const BodyState> bodies) override;
+  std::vector<double> save() const override;
+  void load(std::span<const double> saved) override;
+  bool diverged() const override { return diverged_; }
+
+  double segment_mass(int segment) const override {
+    return 1.0 / bodies_[segment]->getInvMass();
+  }
+  Vector3d segment_inertia(int segment) const override {
+    return from_bt(bodies_[segment]->getLocalInertia());
+  }
+  void joint_anchors(int joint, Vector3d* on_parent, Vector3d* on_child) const override;
+
+ private:
+  void build_bodies();
+  void build_joints();
+  void place(int segment, const BodyState& body);
+
+  const Model& model_;
+  Environment environment_;
+  // each joint's constraint frame in its parent and its child (origin = the anchor)
+  std::vector<btTransform> frame_in_parent_, frame_in_child_;
+
+  // Bullet objects: the world is declared last so that it is destroyed first
+  CollisionMachinery machinery_;
+  btSequentialImpulseConstraintSolver constraint_solver_;
+  std::vector<std::unique_ptr<btCollisionShape>> shapes_;
+  std::vector<std::unique_ptr<btRigidBody>> bodies_;
+  std::vector<std::unique_ptr<btTypedConstraint>> joints_;
+  std::vector<std::unique_ptr<btPoint2PointConstraint>> pins_;
+  Ground ground_;
+  std::unique_ptr<btDiscreteDynamicsWorld> world_;
+
+  std::vector<BodyState> states_;  // scratch, sized once
+  bool diverged_ = false;
+};
+
+RigidSolver::RigidSolver(const Model& model, const Environment& environment,
+                         const Settings& settings)
+    : model_(model), environment_(environment) {
+  world_ = std::make_unique<btDiscreteDynamicsWorld>(&machinery_.dispatcher,
+                                                     &machinery_.broadphase, &constraint_solver_,
+                                                     &machinery_.configuration);
+  // gravity comes with the other environment forces through environment_wrench
+  world_->setGravity(btVector3(0, 0, 0));
+  btContactSolverInfo& info = world_->getSolverInfo();
+  // a game ragdoll's budget: Bullet's default 10 sweeps (an option)
+  info.m_numIterations = settings.iterations;
+  info.m_erp = settings.erp;
+  build_bodies();
+  build_joints();
+  if (environment.ground) {
+    ground_ = make_ground();
+    world_->addRigidBody(ground_.body.get(), kGroundGroup, kSegmentGroup);
+  }
+  states_ = rest_pose(model);
+  set_state(states_);
+}
+
+RigidSolver::~RigidSolver() {
+  for (auto& pin : pins_) world_->removeConstraint(pin.get());
+  for (auto& joint : joints_) world_->removeConstraint(joint.get());
+  for (auto& body : bodies_) world_->removeRigidBody(body.get());
+  if (ground_.body) world_->removeRigidBody(ground_.body.get());
+}
+
+void RigidSolver::build_bodies() {
+  const int mask = segment_mask(environment_);
+  for (const Segment& segment : model_.segments) {
+    shapes_.push_back(make_shape(segment.shape));
+    // the model's inertia, never Bullet's calculateLocalInertia
+    btRigidBody::btRigidBodyConstructionInfo info(segment.mass, nullptr, shapes_.back().get(),
+                                                  to_bt(segment.inertia));
+    info.m_startWorldTransform = to_bt(segment.rest_orientation, segment.rest_position);
+    info.m_linearDamping = 0.0;  // nothing but the environment takes energy out
+    info.m_angularDamping = 0.0;
+    info.m_friction = environment_.friction;  // times the ground's 1
+    info.m_restitution = 0.0;
+    auto body = std::make_unique<btRigidBody>(info);
+    // never deactivated: a sleeping body stops moving and stops costing time
+    body->setActivationState(DISABLE_DEACTIVATION);
+    // Bullet's default: the gyroscopic term, integrated implicitly in the body frame
+    body->setFlags(BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY);
+    world_->addRigidBody(body.get(), kSegmentGroup, mask);
+    bodies_.push_back(std::move(body));
+  }
+}
+
+void RigidSolver::build_joints() {
+  const Quaterniond relabel = cone_twist_relabel();
+  for (const Joint& joint : model_.joints) {
+    btRigidBody& parent = *bodies_[joint.parent];
+    btRigidBody& child = *bodies_[joint.child];
+    Quaterniond in_parent = joint.frame_in_parent;
+    Quaterniond in_child = joint.frame_in_child;
+    if (joint.type == JointType::kBall) {
+      in_parent = in_parent * relabel;
+      in_child = in_child * relabel;
+    } else if (joint.type == JointType::kHinge) {
+      // the hinge axis becomes the frame's z
+      const Quaterniond to_axis = Quaterniond::FromTwoVectors(Vector3d::UnitZ(), joint.hinge_axis);
+      in_parent = in_parent * to_axis;
+      in_child = in_child * to_axis;
+    }
+    const btTransform frame_a = to_bt(in_parent, joint.anchor_in_parent);
+    const btTransform frame_b = to_bt(in_child, joint.anchor_in_child);
+    frame_in_parent_.push_back(frame_a);
+    frame_in_child_.push_back(frame_b);
+
+    std::unique_ptr<btTypedConstraint> constraint;
+    switch (joint.type) {
+      case JointType::kBall: {
+        auto cone = std::make_unique<btConeTwistConstraint>(parent, child, frame_a, frame_b);
+        // limits of half a turn or more never act; Bullet's cone is undefined past π
+        const double swing_y = std::min(joint.swing_y, kPi);
+        const double swing_x = std::min(joint.swing_x, kPi);
+        const double twist = std::min(joint.twist, kPi);
+        cone->setLimit(swing_y, swing_x, twist);  // Bullet's softness, bias and relaxation
+        constraint = std::move(cone);
+        break;
+      }
+      case JointType::kHinge: {
+        auto hinge = std::make_unique<btHingeConstraint>(parent, child, frame_a, frame_b);
+        if (joint.lower > -kPi || joint.upper < kPi) hinge->setLimit(-joint.upper, -joint.lower);
+        constraint = std::move(hinge);
+        break;
+      }
+      case JointType::kFixed:
+        constraint = std::make_unique<btFixedConstraint>(parent, child, frame_a, frame_b);
+        break;
+    }
+    // joined segments never collide (nor do any others: see the collision groups)
+    world_->addConstraint(constraint.get(), true);
+    joints_.push_back(std::move(constraint));
+  }
+}
+
+void RigidSolver::set_pins(std::span<const Pin> pins) {
+  for (auto& pin : pins_) world_->removeConstraint(pin.get());
+  pins_.clear();
+  for (const Pin& pin : pins) {
+    // one body: the pin holds pivotInA at the world point pivotInB
+    auto p2p = std::make_unique<btPoint2PointConstraint>(*bodies_[pin.segment],
+                                                         to_bt(pin.local_point));
+    p2p->setPivotB(to_bt(pin.target));
+    world_->addConstraint(p2p.get(), true);
+    pins_.push_back(std::move(p2p));
+  }
+}
+
+void RigidSolver::set_pin_targets(std::span<const Vector3d> targets) {
+  for (size_t k = 0; k < pins_.size() && k < targets.size(); ++k) {
+    pins_[k]->setPivotB(to_bt(targets[k]));
+  }
+}
+
+void RigidSolver::step(double dt) {
+  if (diverged_) return;
+  read_state(states_);
+  for (int s = 0; s < model_.segment_count(); ++s) {
+    const Wrench w = environment_wrench(model_.segments[s], environment_, states_[s]);
+    bodies_[s]->applyCentralForce(to_bt(w.force));
+    bodies_[s]->applyTorque(to_bt(w.torque));
+  }
+  // exactly one internal step of dt: maxSubSteps = 0 turns Bullet's fixed-step accumulator off
+  world_->stepSimulation(dt, 0, dt);
+  read_state(states_);
+  for (const BodyState& b : states_) {
+    if (!b.x.allFinite() || !b.q.coeffs().allFinite() || !b.v.allFinite() || !b.w.allFinite()) {
+      diverged_ = true;
+    }
+  }
+}
+
+void RigidSolver::read_state(std::span<BodyState> out) const {
+  for (size_t s = 0; s < bodies_.size(); ++s) {
+    const btTransform& t = bodies_[s]->getCenterOfMassTransform();
+    out[s].x = from_bt(t.getOrigin());
+    out[s].q = from_bt(t.getRotation());
+    out[s].v = from_bt(bodies_[s]->getLinearVelocity());
+    out[s].w = from_bt(bodies_[s]->getAngularVelocity());
+  }
+}
+
+void RigidSolver::place(int segment, const BodyState& body) {
+  btRigidBody& b = *bodies_[segment];
+  b.setCenterOfMassTransform(to_bt(body.q, body.x));
+  b.setLinearVelocity(to_bt(body.v));
+  b.setAngularVelocity(to_bt(body.w));
+  b.setInterpolationLinearVelocity(to_bt(body.v));
+  b.setInterpolationAngularVelocity(to_bt(body.w));
+}
+
+void RigidSolver::set_state(std::span<const BodyState> bodies) {
+  for (int s = 0; s < model_.segment_count(); ++s) place(s, bodies[s]);
+  clear_contact_caches(machinery_.dispatcher);
+}
+
+std::vector<double> RigidSolver::save() const {
+  std::vector<double> saved;
+  for (const auto& body : bodies_) {
+    const btTransform& t = body->getCenterOfMassTransform();
+    const btQuaternion q = t.getRotation();
+    const btVector3 &x = t.getOrigin(), &v = body->getLinearVelocity(),
+                    &w = body->getAngularVelocity();
+    saved.insert(saved.end(), {x.x(), x.y(), x.z(), q.x(), q.y(), q.z(), q.w(), v.x(), v.y(),
+                               v.z(), w.x(), w.y(), w.z()});
+  }
+  for (const auto& pin : pins_) {
+    const btVector3& target = pin->getPivotInB();
+    saved.insert(saved.end(), {target.x(), target.y(), target.z()});
+  }
+  saved.push_back(diverged_ ? 1.0 : 0.0);
+  return saved;
+}
+
+void RigidSolver::load(std::span<const double> saved) {
+  const double* v = saved.data();
+  for (auto& body : bodies_) {
+    // the rotation is stored as a quaternion, so a round trip is exact up to Bullet's
+    // matrix ↔ quaternion conversion
+    const btTransform t(btQuaternion(v[3], v[4], v[5], v[6]), btVector3(v[0], v[1], v[2]));
+    body->setCenterOfMassTransform(t);
+    body->setLinearVelocity(btVector3(v[7], v[8], v[9]));
+    body->setAngularVelocity(btVector3(v[10], v[11], v[12]));
+    v += 13;
+  }
+  for (auto& pin : pins_) {
+    pin->setPivotB(btVector3(v[0], v[1], v[2]));
+    v += 3;
+  }
+  diverged_ = v[0] != 0.0;
+  clear_contact_caches(machinery_.dispatcher);
+}
+
+void RigidSolver::joint_anchors(int joint, Vector3d* on_parent, Vector3d* on_child) const {
+  const Joint& j = model_.joints[joint];
+  const btTypedConstraint& c = *joints_[joint];
+  // the frames Bullet holds, not the ones this file computed
+  btTransform a = btTransform::getIdentity(), b = btTransform::getIdentity();
+  switch (j.type) {
+    case JointType::kBall:
+      a = static_cast<const btConeTwistConstraint&>(c).getAFrame();
+      b = static_cast<const btConeTwistConstraint&>(c).getBFrame();
+      break;
+    case JointType::kHinge:
+      a = static_cast<const btHingeConstraint&>(c).getAFrame();
+      b = static_cast<const btHingeConstraint&>(c).getBFrame();
+      break;
+    case JointType::kFixed:
+      a = static_cast<const btFixedConstraint&>(c).getFrameOffsetA();
+      b = static_cast<const btFixedConstraint&>(c).getFrameOffsetB();
+      break;
+  }
+  *on_parent = from_bt(bodies_[j.parent]->getCenterOfMassTransform() * a.getOrigin());
+  *on_child = from_bt(bodies_[j.child]->getCenterOfMassTransform() * b.getOrigin());
+}
+
+}  // namespace
+
+std::unique_ptr<Solver> make_rigid(const Model& model, const Environment& environment,
+                                   const Settings& settings) {
+  return std::make_unique<RigidSolver>(model, environment, settings);
+}
+
+}  // namespace puppet::reference::detail
