@@ -50,6 +50,7 @@ std::unique_ptr<Simulator> make_reference_simulator(const std::string& solver,
                                                     const SolverOptions& options) {
   reference::Settings settings;
   settings.iterations = options.bullet_iterations;
+  settings.euler_ball_limits = options.bullet_euler_limits;
   const std::string problem = reference::validate(settings);
   if (!problem.empty()) throw ScenarioError("--bullet-iterations: " + problem);
   const auto kind =

@@ -158,7 +158,9 @@ RunResult run_scenario(Simulator& simulator, const Model& model, const Scenario&
     if ((k + 1) % sample_every == 0) keep_poses(t);
   }
   summarise(scenario, result);
-  if (options.timing) timing_pass(simulator, model, scenario, options, steps, result);
+  // a diverged run is timed only up to its divergence: what a solver does after it is noise
+  const int timed_steps = result.diverged ? static_cast<int>(result.trace.size()) : steps;
+  if (options.timing) timing_pass(simulator, model, scenario, options, timed_steps, result);
   return result;
 }
 

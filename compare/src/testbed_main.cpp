@@ -173,7 +173,7 @@ struct RunFlags {
   std::string dt = "1/240", duration, out = "results", pin, grab, gravity, air_drag, ground;
   std::string tilt = "30", hz = "0.5", sample_hz = "0", iterations = "4", substeps = "1";
   std::string bullet_iterations = "10";
-  bool no_velocities = false, no_tremble = false, no_timing = false;
+  bool no_velocities = false, no_tremble = false, no_timing = false, bullet_euler_limits = false;
 };
 
 void print_table(const std::vector<RunResult>& results) {
@@ -240,6 +240,7 @@ int command_run(const RunFlags& f) {
   solver_options.iterations = static_cast<int>(iterations);
   solver_options.substeps = static_cast<int>(substeps);
   solver_options.bullet_iterations = static_cast<int>(bullet_iterations);
+  solver_options.bullet_euler_limits = f.bullet_euler_limits;
   solver_options.derive_velocities = !f.no_velocities;
   solver_options.tremble = !f.no_tremble;
 
@@ -341,6 +342,8 @@ int main(int argc, char** argv) {
   run->add_option("--bullet-iterations", f.bullet_iterations,
                   "Bullet: sequential-impulse sweeps per step")
       ->capture_default_str();
+  run->add_flag("--bullet-euler-limits", f.bullet_euler_limits,
+                "bullet-multibody: Bullet's own ball limits (a box of Euler angles)");
   run->add_option("--substeps", f.substeps, "procedural substeps per step")->capture_default_str();
   run->add_flag("--no-velocities", f.no_velocities,
                 "procedural: do not derive velocities from poses");

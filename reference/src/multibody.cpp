@@ -205,9 +205,9 @@ MultibodySolver::MultibodySolver(const Model& model, const Environment& environm
   body_->setHasSelfCollision(false);
   body_->finalizeMultiDof();  // after every setup* call, or the dof buffers are wrong
 
-  world_ = std::make_unique<btMultiBodyDynamicsWorld>(
-      &machinery_.dispatcher, &machinery_.broadphase, &constraint_solver_,
-      &machinery_.configuration);
+  world_ =
+      std::make_unique<btMultiBodyDynamicsWorld>(&machinery_.dispatcher, &machinery_.broadphase,
+                                                 &constraint_solver_, &machinery_.configuration);
   // gravity comes with the other environment forces through environment_wrench, from the
   // same formula as the procedural solver's
   world_->setGravity(btVector3(0, 0, 0));
@@ -233,7 +233,7 @@ MultibodySolver::MultibodySolver(const Model& model, const Environment& environm
   link_velocity_.resize(n);
   world_to_local_.resize(n);
   local_origin_.resize(n);
-  coordinates_changed();
+  set_state(rest_pose(model));
 }
 
 MultibodySolver::~MultibodySolver() {
@@ -270,8 +270,8 @@ void MultibodySolver::build_links() {
                              to_bt(joint.hinge_axis), to_bt(e), to_bt(d), true);
         break;
       case JointType::kFixed:
-        body_->setupFixed(link, child.mass, to_bt(inertia), parent_link, zero, to_bt(e),
-                          to_bt(d), true);
+        body_->setupFixed(link, child.mass, to_bt(inertia), parent_link, zero, to_bt(e), to_bt(d),
+                          true);
         break;
     }
   }
@@ -327,8 +327,7 @@ void MultibodySolver::build_colliders() {
     if (!segment_to_link_[s].isApprox(Quaterniond::Identity(), 1e-15)) {
       auto compound = std::make_unique<btCompoundShape>(false, 1);
       compound->addChildShape(
-          btTransform(to_bt(segment_to_link_[s].conjugate()), btVector3(0, 0, 0)),
-          collider_shape);
+          btTransform(to_bt(segment_to_link_[s].conjugate()), btVector3(0, 0, 0)), collider_shape);
       collider_shape = compound.get();
       shapes_.push_back(std::move(compound));
     }

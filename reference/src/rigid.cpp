@@ -44,9 +44,7 @@ class RigidSolver final : public Solver {
   void load(std::span<const double> saved) override;
   bool diverged() const override { return diverged_; }
 
-  double segment_mass(int segment) const override {
-    return 1.0 / bodies_[segment]->getInvMass();
-  }
+  double segment_mass(int segment) const override { return 1.0 / bodies_[segment]->getInvMass(); }
   Vector3d segment_inertia(int segment) const override {
     return from_bt(bodies_[segment]->getLocalInertia());
   }
@@ -79,9 +77,9 @@ class RigidSolver final : public Solver {
 RigidSolver::RigidSolver(const Model& model, const Environment& environment,
                          const Settings& settings)
     : model_(model), environment_(environment) {
-  world_ = std::make_unique<btDiscreteDynamicsWorld>(&machinery_.dispatcher,
-                                                     &machinery_.broadphase, &constraint_solver_,
-                                                     &machinery_.configuration);
+  world_ =
+      std::make_unique<btDiscreteDynamicsWorld>(&machinery_.dispatcher, &machinery_.broadphase,
+                                                &constraint_solver_, &machinery_.configuration);
   // gravity comes with the other environment forces through environment_wrench
   world_->setGravity(btVector3(0, 0, 0));
   btContactSolverInfo& info = world_->getSolverInfo();
@@ -181,8 +179,8 @@ void RigidSolver::set_pins(std::span<const Pin> pins) {
   pins_.clear();
   for (const Pin& pin : pins) {
     // one body: the pin holds pivotInA at the world point pivotInB
-    auto p2p = std::make_unique<btPoint2PointConstraint>(*bodies_[pin.segment],
-                                                         to_bt(pin.local_point));
+    auto p2p =
+        std::make_unique<btPoint2PointConstraint>(*bodies_[pin.segment], to_bt(pin.local_point));
     p2p->setPivotB(to_bt(pin.target));
     world_->addConstraint(p2p.get(), true);
     pins_.push_back(std::move(p2p));
@@ -237,15 +235,16 @@ void RigidSolver::set_state(std::span<const BodyState> bodies) {
   clear_contact_caches(machinery_.dispatcher);
 }
 
+// the rotation is saved as Bullet's matrix, not a quaternion, so that a restore is bit-exact
 std::vector<double> RigidSolver::save() const {
   std::vector<double> saved;
   for (const auto& body : bodies_) {
     const btTransform& t = body->getCenterOfMassTransform();
-    const btQuaternion q = t.getRotation();
-    const btVector3 &x = t.getOrigin(), &v = body->getLinearVelocity(),
-                    &w = body->getAngularVelocity();
-    saved.insert(saved.end(), {x.x(), x.y(), x.z(), q.x(), q.y(), q.z(), q.w(), v.x(), v.y(),
-                               v.z(), w.x(), w.y(), w.z()});
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) saved.push_back(t.getBasis()[r][c]);
+    for (const btVector3& v :
+         {t.getOrigin(), body->getLinearVelocity(), body->getAngularVelocity()})
+      saved.insert(saved.end(), {v.x(), v.y(), v.z()});
   }
   for (const auto& pin : pins_) {
     const btVector3& target = pin->getPivotInB();
@@ -258,13 +257,11 @@ std::vector<double> RigidSolver::save() const {
 void RigidSolver::load(std::span<const double> saved) {
   const double* v = saved.data();
   for (auto& body : bodies_) {
-    // the rotation is stored as a quaternion, so a round trip is exact up to Bullet's
-    // matrix ↔ quaternion conversion
-    const btTransform t(btQuaternion(v[3], v[4], v[5], v[6]), btVector3(v[0], v[1], v[2]));
-    body->setCenterOfMassTransform(t);
-    body->setLinearVelocity(btVector3(v[7], v[8], v[9]));
-    body->setAngularVelocity(btVector3(v[10], v[11], v[12]));
-    v += 13;
+    const btMatrix3x3 basis(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8]);
+    body->setCenterOfMassTransform(btTransform(basis, btVector3(v[9], v[10], v[11])));
+    body->setLinearVelocity(btVector3(v[12], v[13], v[14]));
+    body->setAngularVelocity(btVector3(v[15], v[16], v[17]));
+    v += 18;
   }
   for (auto& pin : pins_) {
     pin->setPivotB(btVector3(v[0], v[1], v[2]));

@@ -4,6 +4,8 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 namespace {
@@ -78,6 +80,8 @@ TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
   expect_bad("run --ground maybe" + o, "--ground");
   expect_bad("run --model /no/such/model.json" + o, "--model");
   expect_bad("run --frobnicate" + o, "--frobnicate");
+  expect_bad("run --bullet-iterations 0" + o, "--bullet-iterations");
+  expect_bad("run --bullet-iterations 2.5" + o, "--bullet-iterations");
   EXPECT_FALSE(fs::exists(out / "summary.csv"));
   expect_bad("run --scenario hang --duration 0.1 --out /proc/forbidden", "--out");
 }
@@ -93,6 +97,17 @@ TEST(TestbedCli, ShortRunWritesSummaryAndTraces) {
       fs::exists(out / "traces" / "pinocchio__hang__procedural__weighted__0.00416666667.csv"));
   EXPECT_TRUE(fs::exists(out / "traces" /
                          "pinocchio__spin__procedural__weighted__0.00416666667__poses.csv"));
+  // --solver all: the references run the same scenarios, without a rule
+  for (const std::string solver : {"bullet-multibody", "bullet-rigid"}) {
+    EXPECT_TRUE(fs::exists(out / "traces" /
+                           ("pinocchio__spin__" + solver + "__-__0.00416666667__poses.csv")));
+  }
+  std::ifstream summary(out / "summary.csv");
+  const std::string text((std::istreambuf_iterator<char>(summary)), {});
+  EXPECT_NE(text.find("\nhang,bullet-multibody,,0.00416666667,1,joint_gap_m,max,"),
+            std::string::npos);
+  EXPECT_NE(text.find("\nspin,bullet-rigid,,0.00416666667,1,momentum_drift,angular_max,"),
+            std::string::npos);
   EXPECT_NE(o.output.find("joint gap m"), std::string::npos);  // the table
   fs::remove_all(out);
 }

@@ -12,6 +12,7 @@
 #include "puppet/compare/metrics.h"
 #include "puppet/compare/scenario.h"
 #include "puppet/model/rotation.h"
+#include "support/pendulum.h"
 
 namespace puppet::procedural {
 namespace {
@@ -21,41 +22,10 @@ constexpr double kDt = 1.0 / 240.0;
 // pinned: any change to the solver's arithmetic shows here first (update it deliberately)
 constexpr uint64_t kExpectedDragHash = 0xe157c2c386718055ULL;
 
-// one or two 0.8 m rods (1 kg capsules) hanging from the origin
-Model rods(int count) {
-  std::string json = R"({"name":"rods","segments":[)";
-  for (int i = 0; i < count; ++i) {
-    json += std::string(i ? "," : "") + R"({"name":"rod)" + std::to_string(i) +
-            R"(","mass":1,"position":[0,0,)" + std::to_string(-0.4 - 0.8 * i) +
-            R"(],"shape":{"type":"capsule","radius":0.02,"half_length":0.38}})";
-  }
-  json += "]";
-  if (count == 2) {
-    json +=
-        R"(,"joints":[{"name":"j","parent":"rod0","child":"rod1","anchor":[0,0,-0.8],"type":"ball","swing_deg":[180,180],"twist_deg":180}])";
-  }
-  return parse_model(json + "}", "rods");
-}
-
-// rods at angles θ about world x from hanging straight down, at rest
-std::vector<BodyState> rods_at(const std::vector<double>& angles) {
-  std::vector<BodyState> bodies(angles.size());
-  Vector3d top{0, 0, 0};
-  for (size_t i = 0; i < angles.size(); ++i) {
-    const Quaterniond q(Eigen::AngleAxisd(angles[i], Vector3d::UnitX()));
-    bodies[i].q = q;
-    bodies[i].x = top + q * Vector3d(0, 0, -0.4);
-    top += q * Vector3d(0, 0, -0.8);
-  }
-  return bodies;
-}
-
-Pin top_pin() {
-  Pin pin;
-  pin.segment = 0;
-  pin.local_point = Vector3d(0, 0, 0.4);
-  return pin;
-}
+using test::analytic_period;
+using test::rods;
+using test::rods_at;
+using test::top_pin;
 
 double max_joint_gap(const Model& model, const State& state) {
   std::vector<double> gaps(model.joint_count());
@@ -75,7 +45,7 @@ double max_limit_violation_rad(const Model& model, const State& state) {
   return worst;
 }
 
-// period from upward zero crossings of ω_x (interpolated), over `seconds`
+// period from upward zero crossings of ω_x, over `seconds`
 double measured_period(Rule rule, double seconds) {
   const Model model = rods(1);
   Settings settings;
@@ -84,24 +54,12 @@ double measured_period(Rule rule, double seconds) {
   solver.reset(rods_at({10.0 * M_PI / 180.0}));
   const Pin pins[] = {top_pin()};
   solver.set_pins(pins);
-  std::vector<double> crossings;
-  double previous = 0.0;
+  test::PeriodMeter meter;
   for (int k = 0; k < std::lround(seconds / kDt); ++k) {
     solver.step(kDt);
-    const double w = solver.state().bodies[0].w.x();
-    if (previous < 0.0 && w >= 0.0) crossings.push_back((k + 1) * kDt - kDt * w / (w - previous));
-    previous = w;
+    meter.add((k + 1) * kDt, kDt, solver.state().bodies[0].w.x());
   }
-  if (crossings.size() < 3) return NAN;
-  return (crossings.back() - crossings.front()) / (crossings.size() - 1);
-}
-
-double analytic_period(double amplitude) {
-  const Model model = rods(1);
-  const double pivot_inertia = model.segments[0].inertia.x() + 1.0 * 0.4 * 0.4;
-  const double small = 2 * M_PI * std::sqrt(pivot_inertia / (9.81 * 0.4));
-  // finite-amplitude series of the complete elliptic integral
-  return small * (1 + amplitude * amplitude / 16 + 11 * std::pow(amplitude, 4) / 3072);
+  return meter.period();
 }
 
 TEST(Pendulum, PeriodMatchesThePhysicalPendulum) {

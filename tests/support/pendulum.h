@@ -1,0 +1,78 @@
+// Rods hanging from the origin and the analytic physical pendulum: shared by the tests of every
+// solver, so that each is checked against the same independent answer.
+#pragma once
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "puppet/model/environment.h"
+#include "puppet/model/model.h"
+
+namespace puppet::test {
+
+// one or two 0.8 m rods (1 kg capsules) hanging from the origin, tied by a free ball joint
+inline Model rods(int count) {
+  std::string json = R"({"name":"rods","segments":[)";
+  for (int i = 0; i < count; ++i) {
+    json += std::string(i ? "," : "") + R"({"name":"rod)" + std::to_string(i) +
+            R"(","mass":1,"position":[0,0,)" + std::to_string(-0.4 - 0.8 * i) +
+            R"(],"shape":{"type":"capsule","radius":0.02,"half_length":0.38}})";
+  }
+  json += "]";
+  if (count == 2) {
+    json +=
+        R"(,"joints":[{"name":"j","parent":"rod0","child":"rod1","anchor":[0,0,-0.8],"type":"ball","swing_deg":[180,180],"twist_deg":180}])";
+  }
+  return parse_model(json + "}", "rods");
+}
+
+// rods at angles θ about world x from hanging straight down, at rest
+inline std::vector<BodyState> rods_at(const std::vector<double>& angles) {
+  std::vector<BodyState> bodies(angles.size());
+  Vector3d top{0, 0, 0};
+  for (size_t i = 0; i < angles.size(); ++i) {
+    const Quaterniond q(Eigen::AngleAxisd(angles[i], Vector3d::UnitX()));
+    bodies[i].q = q;
+    bodies[i].x = top + q * Vector3d(0, 0, -0.4);
+    top += q * Vector3d(0, 0, -0.8);
+  }
+  return bodies;
+}
+
+// the top of the first rod, held at the origin
+inline Pin top_pin() {
+  Pin pin;
+  pin.segment = 0;
+  pin.local_point = Vector3d(0, 0, 0.4);
+  return pin;
+}
+
+// the period of one rod swinging about its top at `amplitude` (rad), g = 9.81
+inline double analytic_period(double amplitude) {
+  const Model model = rods(1);
+  const double pivot_inertia = model.segments[0].inertia.x() + 1.0 * 0.4 * 0.4;
+  const double small = 2 * M_PI * std::sqrt(pivot_inertia / (9.81 * 0.4));
+  // finite-amplitude series of the complete elliptic integral
+  return small * (1 + amplitude * amplitude / 16 + 11 * std::pow(amplitude, 4) / 3072);
+}
+
+// Collects upward zero crossings of an angular velocity, interpolated within the step, and
+// gives the mean period between them.
+class PeriodMeter {
+ public:
+  void add(double t, double dt, double w) {
+    if (previous_ < 0.0 && w >= 0.0) crossings_.push_back(t - dt * w / (w - previous_));
+    previous_ = w;
+  }
+  double period() const {
+    if (crossings_.size() < 3) return NAN;
+    return (crossings_.back() - crossings_.front()) / static_cast<double>(crossings_.size() - 1);
+  }
+
+ private:
+  std::vector<double> crossings_;
+  double previous_ = 0.0;
+};
+
+}  // namespace puppet::test
