@@ -21,101 +21,12 @@
 #include <numbers>
 
 #include "bullet_common.h"
-#include "puppet/model/rotation.h"
+#include "swing_twist_limit.h"
 
 namespace puppet::reference::detail {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-
-// The model's own ball-joint limit (the one the procedural solver and the metrics use): twist
-// about the joint frame's z within ±twist, swing inside the ellipse of half-angles swing_x,
-// swing_y. Bullet's btMultiBodySphericalJointLimit bounds Euler angles instead, and with the
-// shoulders' 110° swing it blew up a free spinning puppet at 1.25 s while every joint was
-// inside its limits (Settings::euler_ball_limits keeps it available).
-//
-// Two one-sided angular rows between the link (A) and its parent (B), each C ≤ 0 with
-// dC/dt = J · (ω_A − ω_B):
-//   swing  C = φ − φ_max(u)  J = the swing axis u in world (φ_max: the ellipse along u)
-//   twist  C = |τ| − τ_max    J = ± the twist rate's gradient (below)
-// Like Bullet's hinge limit the rows are speculative: inside the limit (C < 0) they allow the
-// joint to reach the limit in this step and no further; outside, Baumgarte (m_erp) pushes back.
-class SwingTwistLimit final : public btMultiBodyConstraint {
- public:
-  SwingTwistLimit(btMultiBody* body, int link, const Joint& joint)
-      : btMultiBodyConstraint(body, body, link, body->getLink(link).m_parent, 2, true,
-                              MULTIBODY_CONSTRAINT_SPHERICAL_LIMIT),
-        joint_(joint) {
-    m_maxAppliedImpulse = kMaxImpulse;
-  }
-
-  void finalizeMultiDof() override {
-    allocateJacobiansMultiDof();
-    m_numDofsFinalized = m_jacSizeBoth;
-  }
-  int getIslandIdA() const override { return island(m_linkA); }
-  int getIslandIdB() const override { return island(m_linkB); }
-  void debugDraw(btIDebugDraw* /*drawer*/) override {}
-
-  void createConstraintRows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
-                            const btContactSolverInfo& info) override {
-    if (m_numDofsFinalized != m_jacSizeBoth) finalizeMultiDof();
-    // the joint coordinate is the model's q_rel (x, y, z, w), see the top of this file
-    const double* p = m_bodyA->getJointPosMultiDof(m_linkA);
-    const Quaterniond q_rel = Quaterniond(p[3], p[0], p[1], p[2]).normalized();
-    const btMatrix3x3 link_basis = m_bodyA->localFrameToWorld(m_linkA, btMatrix3x3::getIdentity());
-    Matrix3d child_frame;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) child_frame(r, c) = link_basis[r][c];
-    const SwingTwist st = decompose_swing_twist(q_rel, Vector3d::UnitZ());
-
-    // swing, applied in the parent's joint frame (q_rel = swing · twist)
-    const Matrix3d parent_frame = child_frame * q_rel.conjugate().toRotationMatrix();
-    const Vector3d swing = quat_log(st.swing);
-    const double phi = swing.norm();
-    const Vector3d u = phi > 1e-12 ? Vector3d(swing / phi) : Vector3d::UnitX();
-    if (phi > 1e-12 && (joint_.swing_x < kPi || joint_.swing_y < kPi)) {
-      const double ex = joint_.swing_x > 0.0 ? swing.x() / joint_.swing_x : INFINITY;
-      const double ey = joint_.swing_y > 0.0 ? swing.y() / joint_.swing_y : INFINITY;
-      const double ellipse = std::hypot(ex, ey);  // 1 on the limit, radially
-      const double c = std::isinf(ellipse) ? phi : phi * (1.0 - 1.0 / ellipse);
-      // dφ/dt = u · ω_rel exactly
-      add_row(rows, data, info, 0, parent_frame * u, c);
-    }
-    // twist about z. With ω_rel in the parent's joint frame, dτ/dt = (z − tan(φ/2)·(z × u))·ω_rel
-    // (differentiate q_rel = exp(φu)·exp(τz)): the child's own z would let the twist run away
-    // while a large swing changes direction. Undefined at a half-turn swing.
-    if (joint_.twist < kPi && std::cos(0.5 * phi) > 1e-3) {
-      const double sign = st.twist_angle >= 0.0 ? 1.0 : -1.0;
-      const double c = std::abs(st.twist_angle) - joint_.twist;
-      const Vector3d z = Vector3d::UnitZ();
-      const Vector3d rate = z - std::tan(0.5 * phi) * z.cross(u);
-      add_row(rows, data, info, 1, sign * (parent_frame * rate), c);
-    }
-  }
-
- private:
-  int island(int link) const {
-    const btMultiBodyLinkCollider* collider =
-        link < 0 ? m_bodyA->getBaseCollider() : m_bodyA->getLink(link).m_collider;
-    return collider ? collider->getIslandTag() : -1;
-  }
-
-  void add_row(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
-               const btContactSolverInfo& info, int index, const Vector3d& normal, double c) {
-    // Bullet aims at dC/dt = −m_erp·C/dt; inside the limit the aim is −C/dt (reach it, no
-    // further), hence the division. Only impulses that push back are allowed.
-    const double error = c >= 0.0 ? c : c / info.m_erp;
-    const btVector3 zero(0, 0, 0);
-    btMultiBodySolverConstraint& row = rows.expandNonInitializing();
-    fillMultiBodyConstraint(row, data, nullptr, nullptr, to_bt(normal), zero, zero, zero, error,
-                            info, -m_maxAppliedImpulse, 0.0, true);
-    row.m_orgConstraint = this;
-    row.m_orgDofIndex = index;  // this constraint's row, where Bullet stores its impulse
-  }
-
-  const Joint& joint_;
-};
 
 class MultibodySolver final : public Solver {
  public:
@@ -277,7 +188,7 @@ void MultibodySolver::build_links() {
   }
 }
 
-// Ball limits are the model's swing-twist limits (SwingTwistLimit above) unless Bullet's own
+// Ball limits are the model's swing-twist limits (swing_twist_limit.cpp) unless Bullet's own
 // Euler-angle box is asked for; hinge limits are Bullet's. Limits of half a turn or more never
 // act and are not built.
 void MultibodySolver::build_limits() {
@@ -287,7 +198,7 @@ void MultibodySolver::build_limits() {
     if (joint.type == JointType::kBall) {
       if (joint.swing_x >= kPi && joint.swing_y >= kPi && joint.twist >= kPi) continue;
       if (!euler_ball_limits_) {
-        limit = std::make_unique<SwingTwistLimit>(body_.get(), j, joint);
+        limit = make_swing_twist_limit(body_.get(), j, joint);
         limit->finalizeMultiDof();
         world_->addMultiBodyConstraint(limit.get());
         limits_.push_back(std::move(limit));

@@ -10,6 +10,7 @@
 //   btHingeConstraint      hinge about z, getHingeAngle() is minus the right-handed angle
 //                          (its reference sign is −1) → limits [−upper, −lower]
 //   btFixedConstraint      the joint frame itself
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 

@@ -43,7 +43,7 @@ class Solver {
   virtual ~Solver() = default;
 
   virtual Kind kind() const = 0;
-  // the pins (at most one per call site of set_pin_targets), replacing any existing ones
+  // holds each pin's point at its target, replacing any pins set before
   virtual void set_pins(std::span<const Pin> pins) = 0;
   // the targets of the pins, in order, for the end of the next step
   virtual void set_pin_targets(std::span<const Vector3d> targets) = 0;
