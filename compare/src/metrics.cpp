@@ -96,6 +96,25 @@ double energy_reference(const Model& model, const Environment& environment,
          kinetic_energy(model, initial);
 }
 
+double pose_error(std::span<const BodyState> bodies, std::span<const BodyState> truth) {
+  double sum = 0.0;
+  for (size_t i = 0; i < bodies.size(); ++i) sum += (bodies[i].x - truth[i].x).squaredNorm();
+  return bodies.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(bodies.size()));
+}
+
+double joint_angle_error_deg(const Model& model, std::span<const BodyState> bodies,
+                             std::span<const BodyState> truth) {
+  if (model.joints.empty()) return 0.0;
+  double sum = 0.0;
+  for (const Joint& j : model.joints) {
+    const Quaterniond q = joint_relative_rotation(j, bodies[j.parent].q, bodies[j.child].q);
+    const Quaterniond q_truth = joint_relative_rotation(j, truth[j.parent].q, truth[j.child].q);
+    const double angle = angle_between(q, q_truth);
+    sum += angle * angle;
+  }
+  return std::sqrt(sum / model.joint_count()) * 180.0 / M_PI;
+}
+
 MetricsProbe::MetricsProbe(const Model& model, const Environment& environment,
                            std::span<const Pin> pins, std::span<const BodyState> initial)
     : model_(model),

@@ -35,6 +35,40 @@ TEST(Metrics, LimitViolationOfAKnownRotation) {
   EXPECT_NEAR(violations[model.segments[forearm].parent_joint], 10.0, 1e-9);
 }
 
+// accuracy against hand-computed cases: a known offset, a known bend, a rigid motion
+TEST(Metrics, PoseAndJointAngleErrorsOfKnownChanges) {
+  const Model model = make_chain(3);
+  const auto truth = rest_pose(model);
+  EXPECT_EQ(pose_error(truth, truth), 0.0);
+  EXPECT_EQ(joint_angle_error_deg(model, truth, truth), 0.0);
+
+  // one segment 5 cm away: RMS over three segments
+  auto moved = truth;
+  moved[1].x += Vector3d(0.03, 0.04, 0.0);
+  EXPECT_NEAR(pose_error(moved, truth), 0.05 / std::sqrt(3.0), 1e-15);
+
+  // the last segment bent 12° about its joint: one of two joints off by 12°
+  auto bent = truth;
+  const Joint& last = model.joints[1];
+  const Quaterniond r(Eigen::AngleAxisd(12.0 * M_PI / 180, Vector3d(0, 0.6, 0.8)));
+  bent[2].q = r * bent[2].q;
+  bent[2].x = last.anchor_world + r * (bent[2].x - last.anchor_world);
+  EXPECT_NEAR(joint_angle_error_deg(model, bent, truth), 12.0 / std::sqrt(2.0), 1e-9);
+
+  // the whole body turned 30° and carried 1 m: not bent at all, every COM moved
+  auto carried = truth;
+  const Quaterniond turn(Eigen::AngleAxisd(M_PI / 6, Vector3d::UnitX()));
+  for (BodyState& b : carried) {
+    b.q = turn * b.q;
+    b.x = turn * b.x + Vector3d(1.0, 0.0, 0.0);
+  }
+  EXPECT_NEAR(joint_angle_error_deg(model, carried, truth), 0.0, 1e-6);
+  double sum = 0.0;
+  for (size_t i = 0; i < truth.size(); ++i) sum += (carried[i].x - truth[i].x).squaredNorm();
+  EXPECT_NEAR(pose_error(carried, truth), std::sqrt(sum / 3.0), 1e-15);
+  EXPECT_GT(pose_error(carried, truth), 1.0);
+}
+
 TEST(Metrics, EnergyMomentumOfARigidSpin) {
   const Model model = load_model(kPinocchio);
   auto bodies = rest_pose(model);

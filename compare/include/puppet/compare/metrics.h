@@ -36,6 +36,14 @@ double peak_speed(std::span<const BodyState> bodies);
 double energy_reference(const Model& model, const Environment& environment,
                         std::span<const BodyState> initial);
 
+// Accuracy: a state against the truth's state at the same time (DESIGN.md, "Metrics").
+// pose_err_m: RMS over segments of the COM distance (m)
+double pose_error(std::span<const BodyState> bodies, std::span<const BodyState> truth);
+// joint_angle_err_deg: RMS over joints of the geodesic angle between the two relative
+// rotations (deg); blind to where the body is, sees only how it is bent
+double joint_angle_error_deg(const Model& model, std::span<const BodyState> bodies,
+                             std::span<const BodyState> truth);
+
 // the quantities recorded after every step
 struct StepMetrics {
   double t = 0.0;
