@@ -45,6 +45,8 @@ class ProceduralSimulator : public Simulator {
       state.x_prev[i] = bodies[i].x;
       state.q_prev[i] = bodies[i].q;
     }
+    // substeps interpolate from the previous targets: a re-seeded state starts at the current
+    for (int i = 0; i < state.pin_count; ++i) state.pin_previous_target[i] = state.pins[i].target;
     state.diverged = false;
   }
   std::unique_ptr<Snapshot> snapshot() const override {

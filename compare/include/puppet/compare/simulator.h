@@ -37,7 +37,8 @@ class Simulator {
   virtual void step(double dt) = 0;
   // per segment, in the model's segment frames: COM, orientation, v, ω (world)
   virtual void read_state(std::span<BodyState> out) const = 0;
-  // place every segment (a joint-consistent state, e.g. from another solver's trajectory)
+  // place every segment (a joint-consistent state, e.g. from another solver's trajectory); the
+  // pins keep their current targets, as if the state had been reached under them
   virtual void set_state(std::span<const BodyState> bodies) = 0;
   virtual std::unique_ptr<Snapshot> snapshot() const = 0;
   virtual void restore(const Snapshot& snapshot) = 0;
