@@ -1,5 +1,6 @@
 #include "puppet/compare/accuracy.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -19,11 +20,7 @@ int steps_per_sample(double dt) {
 }
 
 bool finite(const std::vector<BodyState>& bodies) {
-  for (const BodyState& b : bodies) {
-    if (!b.x.allFinite() || !b.q.coeffs().allFinite() || !b.v.allFinite() || !b.w.allFinite())
-      return false;
-  }
-  return true;
+  return std::all_of(bodies.begin(), bodies.end(), [](const BodyState& b) { return is_finite(b); });
 }
 
 // steps from `t0` for `sample_count` sample intervals, appending the state after each

@@ -139,7 +139,7 @@ StepMetrics MetricsProbe::measure(double t, std::span<const BodyState> bodies,
   StepMetrics m;
   m.t = t;
   for (const BodyState& b : bodies) {
-    if (!b.x.allFinite() || !b.q.coeffs().allFinite() || !b.v.allFinite() || !b.w.allFinite()) {
+    if (!is_finite(b)) {
       m.finite = false;
       return m;
     }

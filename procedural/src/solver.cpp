@@ -219,8 +219,7 @@ void Solver::substep(double h, double target_fraction) {
   state_.time += h;
   // numerical health: flag, never throw
   for (const BodyState& body : state_.bodies) {
-    if (!body.x.allFinite() || !body.q.coeffs().allFinite() || !body.v.allFinite() ||
-        !body.w.allFinite()) {
+    if (!is_finite(body)) {
       state_.diverged = true;
       state_.diverged_time = state_.time;
       break;

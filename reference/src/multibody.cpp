@@ -199,19 +199,16 @@ void MultibodySolver::build_limits() {
       if (joint.swing_x >= kPi && joint.swing_y >= kPi && joint.twist >= kPi) continue;
       if (!euler_ball_limits_) {
         limit = make_swing_twist_limit(body_.get(), j, joint);
-        limit->finalizeMultiDof();
-        world_->addMultiBodyConstraint(limit.get());
-        limits_.push_back(std::move(limit));
-        continue;
+      } else {
+        // a box of Euler angles about the link frame's axes, agreeing with the model's ellipse
+        // only along the axes
+        auto spherical = std::make_unique<btMultiBodySphericalJointLimit>(
+            body_.get(), j, joint.swing_x, joint.swing_y, joint.twist, kMaxImpulse);
+        // its position gain kp multiplies m_erp; Bullet's default 0.2 would make the ball
+        // limits five times softer than the hinge limits and the pins: 1 makes them all alike
+        spherical->setPositionTarget(btQuaternion::getIdentity(), 1.0);
+        limit = std::move(spherical);
       }
-      // a box of Euler angles about the link frame's axes, agreeing with the model's ellipse
-      // only along the axes
-      auto spherical = std::make_unique<btMultiBodySphericalJointLimit>(
-          body_.get(), j, joint.swing_x, joint.swing_y, joint.twist, kMaxImpulse);
-      // its position gain kp multiplies m_erp; Bullet's default 0.2 would make the ball limits
-      // five times softer than the hinge limits and the pins: 1 makes them all alike
-      spherical->setPositionTarget(btQuaternion::getIdentity(), 1.0);
-      limit = std::move(spherical);
     } else if (joint.type == JointType::kHinge) {
       if (joint.lower <= -kPi && joint.upper >= kPi) continue;
       limit = std::make_unique<btMultiBodyJointLimitConstraint>(body_.get(), j, joint.lower,

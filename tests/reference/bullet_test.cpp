@@ -50,6 +50,16 @@ double max_joint_gap(const Model& model, const std::vector<BodyState>& bodies) {
   return worst;
 }
 
+// the harness's run of one scenario at dt, without the timing pass
+compare::RunResult run(const std::string& solver, const Model& model,
+                       const compare::Scenario& scenario, double dt = kDt) {
+  auto simulator = compare::make_simulator(solver, {});
+  compare::RunOptions options;
+  options.dt = dt;
+  options.timing = false;
+  return compare::run_scenario(*simulator, model, scenario, options);
+}
+
 // what Bullet holds is what the model says: masses, inertias, rest poses, joint anchors
 TEST(Correspondence, BulletHoldsTheModel) {
   for (const Model& model : test_models()) {
@@ -126,13 +136,8 @@ TEST(Multibody, PendulumPeriod) {
 // reduced coordinates cannot open a joint: every scenario, every step
 TEST(Multibody, JointsStayClosedInEveryScenario) {
   const Model model = load_model(kPinocchio);
-  auto simulator = compare::make_simulator("bullet-multibody", {});
   for (const std::string& name : compare::scenario_names()) {
-    compare::RunOptions options;
-    options.dt = kDt;
-    options.timing = false;
-    const auto result =
-        compare::run_scenario(*simulator, model, compare::make_scenario(name, model), options);
+    const auto result = run("bullet-multibody", model, compare::make_scenario(name, model));
     std::printf("[ gap      ] bullet-multibody %-8s max joint gap %.1e m%s\n", name.c_str(),
                 result.value("joint_gap_m", "max"), result.diverged ? " (diverged)" : "");
     EXPECT_LE(result.value("joint_gap_m", "max"), 1e-9) << name;
@@ -148,11 +153,7 @@ TEST(Multibody, SpinMomentumDriftIsFirstOrderInDt) {
   const Model model = load_model(kPinocchio);
   const compare::Scenario spin = compare::make_scenario("spin", model);
   auto drift = [&](double dt) {
-    auto simulator = compare::make_simulator("bullet-multibody", {});
-    compare::RunOptions options;
-    options.dt = dt;
-    options.timing = false;
-    const auto result = compare::run_scenario(*simulator, model, spin, options);
+    const auto result = run("bullet-multibody", model, spin, dt);
     EXPECT_FALSE(result.diverged) << dt;
     const double linear = result.value("momentum_drift", "linear_max");
     const double angular = result.value("momentum_drift", "angular_max");
@@ -174,12 +175,7 @@ TEST(Multibody, SpinMomentumDriftIsFirstOrderInDt) {
 // the ragdoll's joints drift, but a hanging puppet stays within a centimetre
 TEST(Rigid, HangJointGapBelowOneCentimetre) {
   const Model model = load_model(kPinocchio);
-  auto simulator = compare::make_simulator("bullet-rigid", {});
-  compare::RunOptions options;
-  options.dt = kDt;
-  options.timing = false;
-  const auto result =
-      compare::run_scenario(*simulator, model, compare::make_scenario("hang", model), options);
+  const auto result = run("bullet-rigid", model, compare::make_scenario("hang", model));
   std::printf("[ gap      ] bullet-rigid hang: max joint gap %.2e m\n",
               result.value("joint_gap_m", "max"));
   ASSERT_FALSE(result.diverged);
@@ -190,13 +186,9 @@ TEST(Rigid, HangJointGapBelowOneCentimetre) {
 TEST(Scenarios, EveryScenarioEndsOrIsReportedDiverged) {
   const Model model = load_model(kPinocchio);
   for (const std::string solver : {"bullet-multibody", "bullet-rigid"}) {
-    auto simulator = compare::make_simulator(solver, {});
     for (const std::string& name : compare::scenario_names()) {
       const compare::Scenario scenario = compare::make_scenario(name, model);
-      compare::RunOptions options;
-      options.dt = kDt;
-      options.timing = false;
-      const auto result = compare::run_scenario(*simulator, model, scenario, options);
+      const auto result = run(solver, model, scenario);
       if (result.diverged) {
         EXPECT_GT(result.diverged_at, 0.0) << solver << " " << name;
         EXPECT_EQ(result.diverged_at, result.value("diverged_at_s", "value"));

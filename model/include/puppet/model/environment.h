@@ -28,6 +28,11 @@ struct BodyState {
   Vector3d w{0, 0, 0};
 };
 
+// every component is a finite number (solvers flag a state that is not as diverged)
+inline bool is_finite(const BodyState& b) {
+  return b.x.allFinite() && b.q.coeffs().allFinite() && b.v.allFinite() && b.w.allFinite();
+}
+
 // a point of a segment held at a world target (a user's drag, a marionette string)
 struct Pin {
   int segment = -1;
