@@ -9,25 +9,14 @@
 namespace puppet::compare {
 namespace {
 
-// steps per sample interval, or throws when dt does not divide it
-int steps_per_sample(double dt) {
-  const double ratio = kAccuracySampleInterval / dt;
-  const long steps = std::lround(ratio);
-  if (steps < 1 || std::abs(ratio - static_cast<double>(steps)) > 1e-9 * ratio) {
-    throw ScenarioError("accuracy: dt " + std::to_string(dt) + " s does not divide 1/30 s");
-  }
-  return static_cast<int>(steps);
-}
-
-bool finite(const std::vector<BodyState>& bodies) {
-  return std::all_of(bodies.begin(), bodies.end(), [](const BodyState& b) { return is_finite(b); });
-}
-
-// steps from `t0` for `sample_count` sample intervals, appending the state after each
-void advance(Simulator& simulator, const Scenario& scenario, double t0, double dt, int per_sample,
-             int sample_count, Trajectory& out) {
+// steps from `t0` for `sample_count` sample intervals, appending the state after each; stops at
+// the first sample that meets a divergence criterion
+void advance(Simulator& simulator, const Model& model, const Scenario& scenario, double t0,
+             double dt, int per_sample, int sample_count, Trajectory& out) {
   std::vector<Vector3d> targets;
   std::vector<BodyState> bodies(scenario.initial.size());
+  const std::vector<Pin> pins = scenario.initial_pins();
+  MetricsProbe probe(model, scenario.environment, pins, scenario.initial);
   for (int k = 0; k < sample_count && !out.diverged; ++k) {
     for (int s = 0; s < per_sample; ++s) {
       const int step = k * per_sample + s + 1;
@@ -36,7 +25,8 @@ void advance(Simulator& simulator, const Scenario& scenario, double t0, double d
       simulator.step(dt);
     }
     simulator.read_state(bodies);
-    if (simulator.diverged() || !finite(bodies)) {
+    const double t = t0 + (k + 1) * per_sample * dt;
+    if (simulator.diverged() || divergence_reason(probe.measure(t, bodies, targets))) {
       out.diverged = true;
       break;
     }
@@ -58,6 +48,19 @@ double mean_of_finite(const std::vector<double>& values) {
 
 }  // namespace
 
+bool divides_sample_interval(double dt) {
+  const double ratio = kAccuracySampleInterval / dt;
+  const double steps = std::round(ratio);
+  return steps >= 1.0 && std::abs(ratio - steps) <= 1e-9 * ratio;
+}
+
+int steps_per_sample(double dt) {
+  if (!divides_sample_interval(dt)) {
+    throw ScenarioError("accuracy: dt " + std::to_string(dt) + " s does not divide 1/30 s");
+  }
+  return static_cast<int>(std::lround(kAccuracySampleInterval / dt));
+}
+
 Trajectory record_trajectory(Simulator& simulator, const Model& model, const Scenario& scenario,
                              double dt, double duration) {
   const int per_sample = steps_per_sample(dt);
@@ -65,7 +68,7 @@ Trajectory record_trajectory(Simulator& simulator, const Model& model, const Sce
   Trajectory out;
   simulator.reset(model, scenario);
   out.samples.push_back(scenario.initial);
-  advance(simulator, scenario, 0.0, dt, per_sample, sample_count, out);
+  advance(simulator, model, scenario, 0.0, dt, per_sample, sample_count, out);
   return out;
 }
 
@@ -95,7 +98,7 @@ ReseededError reseeded_error(Simulator& simulator, const Model& model, const Sce
     simulator.set_pin_targets(targets);  // before set_state: the state starts at these targets
     simulator.set_state(truth.samples[k0]);
     Trajectory run;
-    advance(simulator, scenario, t0, dt, per_sample, horizon_samples, run);
+    advance(simulator, model, scenario, t0, dt, per_sample, horizon_samples, run);
     out.seed_times.push_back(t0);
     if (run.diverged) {
       out.pose_m.push_back(nan);
@@ -109,6 +112,53 @@ ReseededError reseeded_error(Simulator& simulator, const Model& model, const Sce
   out.mean_pose_m = mean_of_finite(out.pose_m);
   out.mean_joint_angle_deg = mean_of_finite(out.joint_angle_deg);
   return out;
+}
+
+std::vector<SummaryRow> accuracy_rows(Simulator& simulator, const Model& model,
+                                      const Scenario& scenario, double dt, const Trajectory& run,
+                                      const Trajectory& reference, const std::string& label) {
+  std::vector<SummaryRow> rows;
+  auto add = [&](const char* stat, double pose_m, double angle_deg) {
+    if (!std::isfinite(pose_m) || !std::isfinite(angle_deg)) return;
+    rows.push_back({"pose_err_m", stat, pose_m, "m", label});
+    rows.push_back({"joint_angle_err_deg", stat, angle_deg, "deg", label});
+  };
+  const ErrorSeries errors = trajectory_errors(model, run, reference);
+  const int samples = static_cast<int>(errors.pose_m.size());
+  constexpr struct {
+    const char* stat;
+    int sample;
+  } kAt[] = {{"at_0.267s", 8}, {"at_0.5s", 15}, {"at_1s", 30}};
+  for (const auto& at : kAt) {
+    if (at.sample < samples)
+      add(at.stat, errors.pose_m[at.sample], errors.joint_angle_deg[at.sample]);
+  }
+  constexpr int kFirstSecond = 30;
+  if (samples > kFirstSecond) {
+    double pose = 0.0, angle = 0.0;
+    for (int k = 1; k <= kFirstSecond; ++k) {
+      pose += errors.pose_m[k];
+      angle += errors.joint_angle_deg[k];
+    }
+    add("mean_1s", pose / kFirstSecond, angle / kFirstSecond);
+  }
+
+  const ReseededError reseeded = reseeded_error(simulator, model, scenario, reference, dt);
+  if (reseeded.seed_times.empty()) return rows;
+  add("reseeded_mean", reseeded.mean_pose_m, reseeded.mean_joint_angle_deg);
+  double worst_pose = -1.0, worst_angle = -1.0;
+  int diverged = 0;
+  for (size_t i = 0; i < reseeded.pose_m.size(); ++i) {
+    if (std::isnan(reseeded.pose_m[i])) {
+      ++diverged;
+      continue;
+    }
+    worst_pose = std::max(worst_pose, reseeded.pose_m[i]);
+    worst_angle = std::max(worst_angle, reseeded.joint_angle_deg[i]);
+  }
+  if (worst_pose >= 0.0) add("reseeded_max", worst_pose, worst_angle);
+  rows.push_back({"reseeded_diverged", "count", static_cast<double>(diverged), "1", label});
+  return rows;
 }
 
 }  // namespace puppet::compare

@@ -1,5 +1,6 @@
 #include "puppet/compare/output.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -9,14 +10,15 @@
 #include <thread>
 
 namespace puppet::compare {
-namespace {
 
-std::string number(double value) {
+std::string csv_number(double value) {
   if (std::isnan(value)) return "";
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.9g", value);
   return buffer;
 }
+
+namespace {
 
 std::string sanitise(const std::string& text) {
   std::string out = text;
@@ -28,8 +30,9 @@ std::string sanitise(const std::string& text) {
   return out;
 }
 
-// CSV fields here never need quoting except free text; keep commas and quotes out of it
-std::string field(const std::string& text) {
+}  // namespace
+
+std::string csv_field(const std::string& text) {
   std::string out = text;
   for (char& c : out) {
     if (c == ',' || c == '"' || c == '\n') c = ' ';
@@ -37,9 +40,7 @@ std::string field(const std::string& text) {
   return out;
 }
 
-}  // namespace
-
-std::string format_dt(double dt) { return number(dt); }
+std::string format_dt(double dt) { return csv_number(dt); }
 
 std::string trace_stem(const std::string& model, const RunResult& r) {
   return sanitise(model) + "__" + sanitise(r.scenario) + "__" + sanitise(r.solver) + "__" +
@@ -53,24 +54,31 @@ std::string summary_csv(const std::vector<RunResult>& results, const OutputConte
     const char* status = r.diverged ? "diverged" : "ok";
     for (const SummaryRow& row : r.summary) {
       out << r.scenario << ',' << r.solver << ',' << r.rule << ',' << format_dt(r.dt) << ','
-          << r.substeps << ',' << row.metric << ',' << row.stat << ',' << number(row.value) << ','
-          << row.unit << ',' << field(context.model) << ",," << status << ','
-          << field(context.git_sha) << ',' << field(context.machine) << '\n';
+          << r.substeps << ',' << row.metric << ',' << row.stat << ',' << csv_number(row.value)
+          << ',' << row.unit << ',' << csv_field(context.model) << ',' << row.reference << ','
+          << status << ',' << csv_field(context.git_sha) << ',' << csv_field(context.machine)
+          << '\n';
     }
   }
   return out.str();
 }
 
-std::string trace_csv(const RunResult& r) {
+std::string trace_csv(const RunResult& r, double sample_hz) {
+  const size_t stride =
+      sample_hz > 0.0
+          ? std::max<size_t>(1, static_cast<size_t>(std::lround(1.0 / (sample_hz * r.dt))))
+          : 1;
   std::ostringstream out;
   out << "t,joint_gap_max_m,joint_gap_rms_m,pin_gap_max_m,limit_violation_max_deg,energy_drift,"
          "momentum_linear_drift,momentum_angular_drift,penetration_m,peak_speed_mps\n";
-  for (const StepMetrics& m : r.trace) {
-    out << number(m.t) << ',' << number(m.joint_gap_max) << ',' << number(m.joint_gap_rms) << ','
-        << number(m.pin_gap_max) << ',' << number(m.limit_violation_max_deg) << ','
-        << number(m.energy_drift) << ',' << number(m.linear_momentum_drift) << ','
-        << number(m.angular_momentum_drift) << ',' << number(m.penetration) << ','
-        << number(m.peak_speed) << '\n';
+  for (size_t k = 0; k < r.trace.size(); ++k) {
+    if (k % stride != 0 && k + 1 != r.trace.size()) continue;
+    const StepMetrics& m = r.trace[k];
+    out << csv_number(m.t) << ',' << csv_number(m.joint_gap_max) << ','
+        << csv_number(m.joint_gap_rms) << ',' << csv_number(m.pin_gap_max) << ','
+        << csv_number(m.limit_violation_max_deg) << ',' << csv_number(m.energy_drift) << ','
+        << csv_number(m.linear_momentum_drift) << ',' << csv_number(m.angular_momentum_drift) << ','
+        << csv_number(m.penetration) << ',' << csv_number(m.peak_speed) << '\n';
   }
   return out.str();
 }
@@ -80,9 +88,10 @@ std::string poses_csv(const Model& model, const RunResult& r) {
   out << "t,segment,x,y,z,qw,qx,qy,qz\n";
   for (const PoseSample& p : r.poses) {
     const BodyState& b = p.body;
-    out << number(p.t) << ',' << model.segments[p.segment].name << ',' << number(b.x.x()) << ','
-        << number(b.x.y()) << ',' << number(b.x.z()) << ',' << number(b.q.w()) << ','
-        << number(b.q.x()) << ',' << number(b.q.y()) << ',' << number(b.q.z()) << '\n';
+    out << csv_number(p.t) << ',' << model.segments[p.segment].name << ',' << csv_number(b.x.x())
+        << ',' << csv_number(b.x.y()) << ',' << csv_number(b.x.z()) << ',' << csv_number(b.q.w())
+        << ',' << csv_number(b.q.x()) << ',' << csv_number(b.q.y()) << ',' << csv_number(b.q.z())
+        << '\n';
   }
   return out.str();
 }
@@ -128,7 +137,7 @@ std::string machine_description() {
       break;
     }
   }
-  return field(model) + " x" + std::to_string(std::thread::hardware_concurrency());
+  return csv_field(model) + " x" + std::to_string(std::thread::hardware_concurrency());
 }
 
 }  // namespace puppet::compare

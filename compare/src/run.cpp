@@ -38,7 +38,7 @@ void summarise(const Scenario& scenario, RunResult& result) {
   }
   const double n = static_cast<double>(std::max<size_t>(trace.size(), 1));
   auto add = [&](const char* metric, const char* stat, double value, const char* unit) {
-    result.summary.push_back({metric, stat, value, unit});
+    result.summary.push_back({metric, stat, value, unit, ""});
   };
   add("joint_gap_m", "max", gap_max, "m");
   add("joint_gap_m", "rms", std::sqrt(gap_sum2 / n), "m");
@@ -57,51 +57,6 @@ void summarise(const Scenario& scenario, RunResult& result) {
   if (scenario.environment.ground) add("penetration_m", "max", pen_max, "m");
   add("peak_speed_mps", "max", speed_max, "m/s");
   if (result.diverged) add("diverged_at_s", "value", result.diverged_at, "s");
-}
-
-// a pass that only steps and reads the clock: nothing else runs between the clock reads
-void timing_pass(Simulator& simulator, const Model& model, const Scenario& scenario,
-                 const RunOptions& options, int steps, RunResult& result) {
-  using Clock = std::chrono::steady_clock;
-  std::vector<Vector3d> targets;
-  std::vector<double> step_seconds;
-  step_seconds.reserve(steps);
-  simulator.set_stage_timing(false);
-  simulator.reset(model, scenario);
-  for (int k = 0; k < steps && !simulator.diverged(); ++k) {
-    scenario.targets_at((k + 1) * options.dt, targets);
-    simulator.set_pin_targets(targets);
-    const auto begin = Clock::now();
-    simulator.step(options.dt);
-    step_seconds.push_back(std::chrono::duration<double>(Clock::now() - begin).count());
-  }
-  if (step_seconds.empty()) return;
-  double total = 0.0;
-  for (double s : step_seconds) total += s;
-  result.summary.push_back({"step_us", "median", 1e6 * percentile(step_seconds, 0.5), "us"});
-  result.summary.push_back({"step_us", "p95", 1e6 * percentile(step_seconds, 0.95), "us"});
-  result.summary.push_back(
-      {"realtime_factor", "value", step_seconds.size() * options.dt / total, "1"});
-
-  // per stage, from its own pass (the stage clocks cost time of their own)
-  const auto names = simulator.stage_names();
-  if (names.empty()) return;
-  std::vector<std::vector<double>> stages(names.size());
-  simulator.set_stage_timing(true);
-  simulator.reset(model, scenario);
-  for (int k = 0; k < steps && !simulator.diverged(); ++k) {
-    scenario.targets_at((k + 1) * options.dt, targets);
-    simulator.set_pin_targets(targets);
-    simulator.step(options.dt);
-    const auto seconds = simulator.stage_seconds();
-    for (size_t s = 0; s < names.size(); ++s) stages[s].push_back(seconds[s]);
-  }
-  simulator.set_stage_timing(false);
-  for (size_t s = 0; s < names.size(); ++s) {
-    const std::string metric = std::string(names[s]) + "_us";
-    result.summary.push_back({metric, "median", 1e6 * percentile(stages[s], 0.5), "us"});
-    result.summary.push_back({metric, "p95", 1e6 * percentile(stages[s], 0.95), "us"});
-  }
 }
 
 }  // namespace
@@ -140,28 +95,81 @@ RunResult run_scenario(Simulator& simulator, const Model& model, const Scenario&
     for (int i = 0; i < model.segment_count(); ++i) result.poses.push_back({t, i, bodies[i]});
   };
   keep_poses(0.0);
+  const int per_sample = options.record_trajectory && divides_sample_interval(options.dt)
+                             ? steps_per_sample(options.dt)
+                             : 0;
+  if (per_sample) result.trajectory.samples.push_back(bodies);
 
   for (int k = 0; k < steps; ++k) {
+    result.steps = k + 1;
     const double t = (k + 1) * options.dt;
     scenario.targets_at(t, targets);
     simulator.set_pin_targets(targets);
     simulator.step(options.dt);
     simulator.read_state(bodies);
     const StepMetrics m = probe.measure(t, bodies, targets);
-    if (!m.finite || simulator.diverged() || m.joint_gap_max > kDivergedJointGap ||
-        m.energy_drift > kDivergedEnergyDrift) {
+    const char* reason = simulator.diverged() ? "non-finite" : divergence_reason(m);
+    if (reason) {
       result.diverged = true;
       result.diverged_at = t;
+      result.diverged_reason = reason;
+      result.trajectory.diverged = per_sample > 0;
       break;
     }
     result.trace.push_back(m);
     if ((k + 1) % sample_every == 0) keep_poses(t);
+    if (per_sample && (k + 1) % per_sample == 0) result.trajectory.samples.push_back(bodies);
   }
   summarise(scenario, result);
-  // a diverged run is timed only up to its divergence: what a solver does after it is noise
-  const int timed_steps = result.diverged ? static_cast<int>(result.trace.size()) : steps;
-  if (options.timing) timing_pass(simulator, model, scenario, options, timed_steps, result);
+  if (options.timing) time_scenario(simulator, model, scenario, options, result);
   return result;
+}
+
+// a pass that only steps and reads the clock: nothing else runs between the clock reads
+void time_scenario(Simulator& simulator, const Model& model, const Scenario& scenario,
+                   const RunOptions& options, RunResult& result) {
+  // a diverged run is timed only up to its divergence: what a solver does after it is noise
+  const int steps = result.steps;
+  using Clock = std::chrono::steady_clock;
+  std::vector<Vector3d> targets;
+  std::vector<double> step_seconds;
+  step_seconds.reserve(steps);
+  simulator.set_stage_timing(false);
+  simulator.reset(model, scenario);
+  for (int k = 0; k < steps && !simulator.diverged(); ++k) {
+    scenario.targets_at((k + 1) * options.dt, targets);
+    simulator.set_pin_targets(targets);
+    const auto begin = Clock::now();
+    simulator.step(options.dt);
+    step_seconds.push_back(std::chrono::duration<double>(Clock::now() - begin).count());
+  }
+  if (step_seconds.empty()) return;
+  double total = 0.0;
+  for (double s : step_seconds) total += s;
+  result.summary.push_back({"step_us", "median", 1e6 * percentile(step_seconds, 0.5), "us", ""});
+  result.summary.push_back({"step_us", "p95", 1e6 * percentile(step_seconds, 0.95), "us", ""});
+  result.summary.push_back(
+      {"realtime_factor", "value", step_seconds.size() * options.dt / total, "1", ""});
+
+  // per stage, from its own pass (the stage clocks cost time of their own)
+  const auto names = simulator.stage_names();
+  if (names.empty()) return;
+  std::vector<std::vector<double>> stages(names.size());
+  simulator.set_stage_timing(true);
+  simulator.reset(model, scenario);
+  for (int k = 0; k < steps && !simulator.diverged(); ++k) {
+    scenario.targets_at((k + 1) * options.dt, targets);
+    simulator.set_pin_targets(targets);
+    simulator.step(options.dt);
+    const auto seconds = simulator.stage_seconds();
+    for (size_t s = 0; s < names.size(); ++s) stages[s].push_back(seconds[s]);
+  }
+  simulator.set_stage_timing(false);
+  for (size_t s = 0; s < names.size(); ++s) {
+    const std::string metric = std::string(names[s]) + "_us";
+    result.summary.push_back({metric, "median", 1e6 * percentile(stages[s], 0.5), "us", ""});
+    result.summary.push_back({metric, "p95", 1e6 * percentile(stages[s], 0.95), "us", ""});
+  }
 }
 
 }  // namespace puppet::compare

@@ -2,17 +2,25 @@
 //
 // Bad input (an unknown name, a malformed flag, a bad model file, an unwritable folder) exits
 // with status 2 and one line naming the flag or file and the problem, before anything is written.
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <limits>
 #include <sstream>
+#include <thread>
 
+#include "puppet/compare/frontier.h"
 #include "puppet/compare/output.h"
 #include "puppet/compare/run.h"
 #include "puppet/compare/scenario.h"
 #include "puppet/compare/simulator.h"
+#include "puppet/compare/sweep.h"
 #include "puppet/model/model.h"
 #include "puppet/procedural/solver.h"
 
@@ -170,18 +178,150 @@ int command_validate(const std::string& path) {
 
 struct RunFlags {
   std::string model = "pinocchio", scenario = "all", solver = "all", rule = "all";
-  std::string dt = "1/240", duration, out = "results", pin, grab, gravity, air_drag, ground;
+  std::string dt = "1/30,1/60,1/120,1/240,1/480", duration, out = "results", pin, grab, gravity,
+              air_drag, ground;
   std::string tilt = "30", hz = "0.5", sample_hz = "0", iterations = "4", substeps = "1";
-  std::string bullet_iterations = "10";
+  std::string bullet_iterations = "10", jobs = std::to_string(default_jobs());
   bool no_velocities = false, no_tremble = false, no_timing = false, bullet_euler_limits = false;
+  bool no_accuracy = false;
+
+  static int default_jobs() {
+    return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  }
 };
 
-void print_table(const std::vector<RunResult>& results) {
-  std::printf("\n%-8s %-11s %-9s %-8s %11s %11s %11s %9s %9s\n", "scenario", "solver", "rule",
-              "status", "joint gap m", "pin gap m", "E drift", "limit deg", "us/step");
+// a one-line progress bar on a terminal, a line every tenth of the way otherwise
+class Progress {
+ public:
+  explicit Progress(std::string label)
+      : label_(std::move(label)), terminal_(isatty(fileno(stderr))), start_(Clock::now()) {}
+
+  void operator()(size_t done, size_t total) {
+    const double seconds = std::chrono::duration<double>(Clock::now() - start_).count();
+    const int tenth = static_cast<int>(10 * done / std::max<size_t>(total, 1));
+    if (!terminal_ && tenth == last_tenth_ && done != total) return;
+    last_tenth_ = tenth;
+    constexpr int kWidth = 30;
+    const int filled = static_cast<int>(kWidth * done / std::max<size_t>(total, 1));
+    std::fprintf(stderr, "%s%s [%s%s] %zu/%zu jobs, %.0f s%s", terminal_ ? "\r" : "",
+                 label_.c_str(), std::string(filled, '#').c_str(),
+                 std::string(kWidth - filled, '.').c_str(), done, total, seconds,
+                 terminal_ && done != total ? "" : "\n");
+    std::fflush(stderr);
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  std::string label_;
+  bool terminal_;
+  Clock::time_point start_;
+  int last_tenth_ = -1;
+};
+
+int parse_count(const std::string& flag, const std::string& text, int minimum) {
+  double value = 0.0;
+  if (!parse_finite(text, &value) || value < minimum || value != std::floor(value) || value > 1e6) {
+    throw UsageError(flag + ": expected an integer of at least " + std::to_string(minimum) +
+                     ", got \"" + text + "\"");
+  }
+  return static_cast<int>(value);
+}
+
+std::vector<double> parse_dts(const std::string& text) {
+  std::vector<double> dts;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) dts.push_back(parse_positive("--dt", item));
+  if (dts.empty()) throw UsageError("--dt: empty");
+  return dts;
+}
+
+ScenarioOptions parse_scenario_options(const RunFlags& f) {
+  ScenarioOptions options;
+  double tilt = 0.0;
+  if (!parse_finite(f.tilt, &tilt))
+    throw UsageError("--tilt: not a finite number: \"" + f.tilt + "\"");
+  options.tilt_deg = tilt;
+  options.hz = parse_positive("--hz", f.hz);
+  if (!f.pin.empty()) options.pin = parse_point("--pin", f.pin);
+  if (!f.grab.empty()) options.grab = parse_point("--grab", f.grab);
+  if (!f.gravity.empty()) options.gravity = parse_vector("--gravity", f.gravity);
+  if (!f.air_drag.empty()) options.air_drag = parse_non_negative("--air-drag", f.air_drag);
+  if (!f.ground.empty()) {
+    if (f.ground != "on" && f.ground != "off") {
+      throw UsageError("--ground: expected on or off, got \"" + f.ground + "\"");
+    }
+    options.ground = f.ground == "on";
+  }
+  return options;
+}
+
+// every solver of --solver, and for procedural every rule of --rule
+std::vector<SolverConfig> parse_solver_configs(const RunFlags& f) {
+  SolverOptions options;
+  options.iterations = parse_count("--iterations", f.iterations, 0);
+  options.substeps = parse_count("--substeps", f.substeps, 1);
+  options.bullet_iterations = parse_count("--bullet-iterations", f.bullet_iterations, 1);
+  options.bullet_euler_limits = f.bullet_euler_limits;
+  options.derive_velocities = !f.no_velocities;
+  options.tremble = !f.no_tremble;
+  const auto solvers = expand("--solver", f.solver, solver_names());
+  const auto rules = expand("--rule", f.rule, all_rules());
+  std::vector<SolverConfig> configs;
+  for (const auto& solver : solvers) {
+    if (solver == "procedural") {
+      for (const auto& rule : rules) {
+        SolverOptions o = options;
+        o.rule = rule;
+        configs.push_back({solver, o});
+      }
+    } else {
+      configs.push_back({solver, options});
+    }
+  }
+  return configs;
+}
+
+Model parse_model(const RunFlags& f) {
+  try {
+    return load_named_model(f.model);
+  } catch (const ModelError& error) {
+    throw UsageError(std::string("--model: ") + error.what());
+  }
+}
+
+// the output folder (and, with traces, its traces/ folder) must be writable before anything runs
+std::filesystem::path prepare_output(const std::string& folder, bool traces) {
+  namespace fs = std::filesystem;
+  const fs::path out(folder), target = traces ? out / "traces" : out;
+  std::error_code error;
+  fs::create_directories(target, error);
+  const fs::path probe = target / ".write-test";
+  if (error || !std::ofstream(probe)) throw UsageError("--out: cannot write to \"" + folder + "\"");
+  fs::remove(probe, error);
+  return out;
+}
+
+// the dt of the sweep shown in the table: the one nearest 1/240 s
+double table_dt(const std::vector<double>& dts) {
+  return *std::min_element(dts.begin(), dts.end(), [](double a, double b) {
+    return std::abs(std::log(a * 240)) < std::abs(std::log(b * 240));
+  });
+}
+
+void print_table(const std::vector<RunResult>& results, double dt) {
+  std::printf("\ndt = %s s (every dt is in summary.csv)\n", format_dt(dt).c_str());
+  std::printf("%-8s %-16s %-9s %-8s %11s %11s %11s %9s %9s %11s\n", "scenario", "solver", "rule",
+              "status", "joint gap m", "pin gap m", "E drift", "limit deg", "us/step",
+              "reseeded m");
   for (const RunResult& r : results) {
-    auto show = [&](const char* metric, const char* stat, const char* format) {
-      const double v = r.value(metric, stat);
+    if (r.dt != dt) continue;
+    auto show = [&](const char* metric, const char* stat, const char* format,
+                    const char* reference = "") {
+      double v = std::numeric_limits<double>::quiet_NaN();
+      for (const SummaryRow& row : r.summary) {
+        if (row.metric == metric && row.stat == stat && row.reference == reference) v = row.value;
+      }
       if (std::isnan(v)) return std::string("-");
       char cell[32];
       std::snprintf(cell, sizeof cell, format, v);
@@ -189,119 +329,120 @@ void print_table(const std::vector<RunResult>& results) {
     };
     const std::string status =
         r.diverged ? "div@" + show("diverged_at_s", "value", "%.2f") : std::string("ok");
-    std::printf("%-8s %-11s %-9s %-8s %11s %11s %11s %9s %9s\n", r.scenario.c_str(),
+    std::printf("%-8s %-16s %-9s %-8s %11s %11s %11s %9s %9s %11s\n", r.scenario.c_str(),
                 r.solver.c_str(), r.rule.empty() ? "-" : r.rule.c_str(), status.c_str(),
                 show("joint_gap_m", "max", "%.2e").c_str(),
                 show("pin_gap_m", "max", "%.2e").c_str(),
                 show("energy_drift", "final", "%+.2e").c_str(),
                 show("limit_violation_deg", "max", "%.1e").c_str(),
-                show("step_us", "median", "%.1f").c_str());
+                show("step_us", "median", "%.1f").c_str(),
+                show("pose_err_m", "reseeded_mean", "%.2e", "truth").c_str());
   }
 }
 
 int command_run(const RunFlags& f) {
   // every flag checked before anything runs or is written
-  RunOptions options;
-  options.dt = parse_positive("--dt", f.dt);
-  if (!f.duration.empty()) options.duration = parse_non_negative("--duration", f.duration);
-  options.sample_hz = parse_non_negative("--sample-hz", f.sample_hz);
-  options.timing = !f.no_timing;
-  ScenarioOptions scenario_options;
-  double tilt = 0.0;
-  if (!parse_finite(f.tilt, &tilt))
-    throw UsageError("--tilt: not a finite number: \"" + f.tilt + "\"");
-  scenario_options.tilt_deg = tilt;
-  scenario_options.hz = parse_positive("--hz", f.hz);
-  if (!f.pin.empty()) scenario_options.pin = parse_point("--pin", f.pin);
-  if (!f.grab.empty()) scenario_options.grab = parse_point("--grab", f.grab);
-  if (!f.gravity.empty()) scenario_options.gravity = parse_vector("--gravity", f.gravity);
-  if (!f.air_drag.empty()) scenario_options.air_drag = parse_non_negative("--air-drag", f.air_drag);
-  if (!f.ground.empty()) {
-    if (f.ground != "on" && f.ground != "off") {
-      throw UsageError("--ground: expected on or off, got \"" + f.ground + "\"");
-    }
-    scenario_options.ground = f.ground == "on";
-  }
-  SolverOptions solver_options;
-  double iterations = 0.0, substeps = 0.0;
-  if (!parse_finite(f.iterations, &iterations) || iterations < 0 ||
-      iterations != std::floor(iterations)) {
-    throw UsageError("--iterations: expected a non-negative integer, got \"" + f.iterations + "\"");
-  }
-  double bullet_iterations = 0.0;
-  if (!parse_finite(f.bullet_iterations, &bullet_iterations) || bullet_iterations < 1 ||
-      bullet_iterations != std::floor(bullet_iterations)) {
-    throw UsageError("--bullet-iterations: expected a positive integer, got \"" +
-                     f.bullet_iterations + "\"");
-  }
-  if (!parse_finite(f.substeps, &substeps) || substeps < 1 || substeps != std::floor(substeps)) {
-    throw UsageError("--substeps: expected a positive integer, got \"" + f.substeps + "\"");
-  }
-  solver_options.iterations = static_cast<int>(iterations);
-  solver_options.substeps = static_cast<int>(substeps);
-  solver_options.bullet_iterations = static_cast<int>(bullet_iterations);
-  solver_options.bullet_euler_limits = f.bullet_euler_limits;
-  solver_options.derive_velocities = !f.no_velocities;
-  solver_options.tremble = !f.no_tremble;
-
+  SweepSpec spec;
+  spec.dts = parse_dts(f.dt);
+  if (!f.duration.empty()) spec.run.duration = parse_non_negative("--duration", f.duration);
+  spec.run.sample_hz = parse_non_negative("--sample-hz", f.sample_hz);
+  spec.run.timing = !f.no_timing;
+  spec.accuracy = !f.no_accuracy;
+  spec.jobs = parse_count("--jobs", f.jobs, 1);
+  const ScenarioOptions scenario_options = parse_scenario_options(f);
+  spec.configs = parse_solver_configs(f);
   const auto scenarios = expand("--scenario", f.scenario, scenario_names());
-  const auto solvers = expand("--solver", f.solver, solver_names());
-  const auto rules = expand("--rule", f.rule, all_rules());
-
-  Model model;
-  try {
-    model = load_named_model(f.model);
-  } catch (const ModelError& error) {
-    throw UsageError(std::string("--model: ") + error.what());
+  const Model model = parse_model(f);
+  spec.model = &model;
+  for (const auto& name : scenarios) {
+    spec.scenarios.push_back(make_scenario(name, model, scenario_options));
   }
-  std::vector<Scenario> built;
-  for (const auto& name : scenarios) built.push_back(make_scenario(name, model, scenario_options));
-  std::vector<std::unique_ptr<Simulator>> simulators;
-  for (const auto& solver : solvers) {
-    if (solver == "procedural") {
-      for (const auto& rule : rules) {
-        SolverOptions o = solver_options;
-        o.rule = rule;
-        simulators.push_back(make_simulator(solver, o));
-      }
-    } else {
-      simulators.push_back(make_simulator(solver, solver_options));
+  const std::filesystem::path out = prepare_output(f.out, true), traces = out / "traces";
+
+  for (double dt : spec.dts) {
+    if (spec.accuracy && !divides_sample_interval(dt)) {
+      std::fprintf(stderr, "testbed: dt %s s does not divide 1/30 s: no accuracy rows for it\n",
+                   format_dt(dt).c_str());
     }
   }
+  const double sample_hz = spec.run.sample_hz;
+  spec.on_run = [&](const RunResult& r) {
+    const std::string stem = (traces / trace_stem(model.name, r)).string();
+    write_file_atomically(stem + ".csv", trace_csv(r, sample_hz));
+    write_file_atomically(stem + "__poses.csv", poses_csv(model, r));
+  };
+  spec.on_progress = Progress("run");
+  const std::vector<RunResult> results = run_sweep(spec);
 
-  // the output folder must be writable before any run starts
-  namespace fs = std::filesystem;
-  const fs::path out(f.out), traces = out / "traces";
-  std::error_code error;
-  fs::create_directories(traces, error);
-  const fs::path probe = traces / ".write-test";
-  if (error || !std::ofstream(probe)) {
-    throw UsageError("--out: cannot write to \"" + f.out + "\"");
-  }
-  fs::remove(probe, error);
-
-  std::vector<RunResult> results;
-  const size_t total = built.size() * simulators.size();
-  for (const Scenario& scenario : built) {
-    for (auto& simulator : simulators) {
-      std::fprintf(stderr, "[%zu/%zu] %s %s %s dt=%s\n", results.size() + 1, total,
-                   scenario.name.c_str(), simulator->name().c_str(), simulator->rule().c_str(),
-                   format_dt(options.dt).c_str());
-      results.push_back(run_scenario(*simulator, model, scenario, options));
-      RunResult& r = results.back();
-      const std::string stem = (traces / trace_stem(model.name, r)).string();
-      write_file_atomically(stem + ".csv", trace_csv(r));
-      write_file_atomically(stem + "__poses.csv", poses_csv(model, r));
-      r.trace = {};
-      r.poses = {};
-    }
-  }
   const OutputContext context{model.name, current_git_sha(), machine_description()};
   write_file_atomically((out / "summary.csv").string(), summary_csv(results, context));
-  print_table(results);
-  std::printf("\nwrote %s and %zu traces under %s\n", (out / "summary.csv").c_str(),
-              2 * results.size(), traces.c_str());
+  print_table(results, table_dt(spec.dts));
+  const size_t runs = spec.scenarios.size() * spec.configs.size() * spec.dts.size();
+  std::printf("\nwrote %s and %zu traces under %s\n", (out / "summary.csv").c_str(), 2 * runs,
+              traces.c_str());
   return 0;
+}
+
+int command_frontier(const RunFlags& f) {
+  FrontierSpec spec;
+  spec.scenario = parse_scenario_options(f);
+  spec.configs = parse_solver_configs(f);
+  spec.jobs = parse_count("--jobs", f.jobs, 1);
+  const Model model = parse_model(f);
+  spec.model = &model;
+  make_scenario("yank", model, spec.scenario);  // a bad --grab fails here, before any run
+  const std::filesystem::path out = prepare_output(f.out, false);
+  spec.on_progress = Progress("frontier");
+  const std::vector<FrontierRow> rows = find_frontier(spec);
+
+  const OutputContext context{model.name, current_git_sha(), machine_description()};
+  write_file_atomically((out / "frontier.csv").string(), frontier_csv(rows, context));
+  std::printf(
+      "\nyank, no air drag: the largest circle frequency (at dt = %s s) and the largest dt "
+      "(at %s Hz) that stay ok\n",
+      format_dt(spec.hz_dt).c_str(), format_dt(spec.scenario.hz).c_str());
+  std::printf("%-16s %-9s %-9s %12s %14s  %s\n", "solver", "rule", "quantity", "largest ok",
+              "first diverged", "reason");
+  for (const FrontierRow& r : rows) {
+    auto cell = [](const std::optional<double>& v, bool inverse) {
+      if (!v) return std::string("-");
+      char text[32];
+      std::snprintf(text, sizeof text, inverse ? "1/%.0f" : "%.3g", inverse ? 1.0 / *v : *v);
+      return std::string(text);
+    };
+    const bool dt = r.quantity == "dt";
+    std::printf("%-16s %-9s %-9s %12s %14s  %s\n", r.solver.c_str(),
+                r.rule.empty() ? "-" : r.rule.c_str(), r.quantity.c_str(),
+                cell(r.largest_ok, dt).c_str(), cell(r.first_diverged, dt).c_str(),
+                r.reason.c_str());
+  }
+  std::printf("\nwrote %s\n", (out / "frontier.csv").c_str());
+  return 0;
+}
+
+void add_solver_flags(CLI::App* command, RunFlags& f) {
+  command->add_option("--model", f.model, "model file, pinocchio, or chain:N")
+      ->capture_default_str();
+  command->add_option("--solver", f.solver, "solver name, comma list, or all")
+      ->capture_default_str();
+  command->add_option("--rule", f.rule, "adjust rule (procedural), comma list, or all")
+      ->capture_default_str();
+  command->add_option("--out", f.out, "output folder")->capture_default_str();
+  command->add_option("--jobs", f.jobs, "worker threads")->capture_default_str();
+  command->add_option("--grab", f.grab, "dragged point SEGMENT[:x,y,z] (segment frame)");
+  command->add_option("--gravity", f.gravity, "gravity X,Y,Z (m/s^2)");
+  command->add_option("--iterations", f.iterations, "relaxed: two-sided sweeps")
+      ->capture_default_str();
+  command
+      ->add_option("--bullet-iterations", f.bullet_iterations,
+                   "Bullet: sequential-impulse sweeps per step")
+      ->capture_default_str();
+  command->add_flag("--bullet-euler-limits", f.bullet_euler_limits,
+                    "bullet-multibody: Bullet's own ball limits (a box of Euler angles)");
+  command->add_option("--substeps", f.substeps, "procedural substeps per step")
+      ->capture_default_str();
+  command->add_flag("--no-velocities", f.no_velocities,
+                    "procedural: do not derive velocities from poses");
 }
 
 }  // namespace
@@ -317,39 +458,38 @@ int main(int argc, char** argv) {
   validate->add_option("MODEL", validate_path, "model file, pinocchio, or chain:N")->required();
 
   RunFlags f;
-  auto* run = app.add_subcommand("run", "run scenarios and write summary.csv and traces");
-  run->add_option("--model", f.model, "model file, pinocchio, or chain:N")->capture_default_str();
+  auto* run = app.add_subcommand(
+      "run",
+      "run scenarios x solvers x rules x dts (default: all of them, the main job) and write "
+      "summary.csv and traces");
+  add_solver_flags(run, f);
   run->add_option("--scenario", f.scenario, "scenario name, comma list, or all")
       ->capture_default_str();
-  run->add_option("--solver", f.solver, "solver name, comma list, or all")->capture_default_str();
-  run->add_option("--rule", f.rule, "adjust rule (procedural), comma list, or all")
-      ->capture_default_str();
-  run->add_option("--dt", f.dt, "time step in seconds (a fraction such as 1/240 is accepted)")
+  run->add_option("--dt", f.dt, "time steps in seconds, comma list (fractions such as 1/240 too)")
       ->capture_default_str();
   run->add_option("--duration", f.duration, "seconds to simulate (default: the scenario's)");
-  run->add_option("--out", f.out, "output folder")->capture_default_str();
   run->add_option("--pin", f.pin, "hanging point SEGMENT[:x,y,z] (segment frame)");
-  run->add_option("--grab", f.grab, "dragged point SEGMENT[:x,y,z] (segment frame)");
-  run->add_option("--gravity", f.gravity, "gravity X,Y,Z (m/s^2)");
   run->add_option("--air-drag", f.air_drag, "air drag k_air (1/s)");
   run->add_option("--ground", f.ground, "ground plane on|off");
   run->add_option("--tilt", f.tilt, "initial tilt of hang and the scenarios built on it (deg)")
       ->capture_default_str();
   run->add_option("--hz", f.hz, "circle frequency of drag and yank (Hz)")->capture_default_str();
-  run->add_option("--sample-hz", f.sample_hz, "poses kept per simulated second (0: every step)")
+  run->add_option("--sample-hz", f.sample_hz,
+                  "trace rows and poses kept per simulated second (0: every step)")
       ->capture_default_str();
-  run->add_option("--iterations", f.iterations, "relaxed: two-sided sweeps")->capture_default_str();
-  run->add_option("--bullet-iterations", f.bullet_iterations,
-                  "Bullet: sequential-impulse sweeps per step")
-      ->capture_default_str();
-  run->add_flag("--bullet-euler-limits", f.bullet_euler_limits,
-                "bullet-multibody: Bullet's own ball limits (a box of Euler angles)");
-  run->add_option("--substeps", f.substeps, "procedural substeps per step")->capture_default_str();
-  run->add_flag("--no-velocities", f.no_velocities,
-                "procedural: do not derive velocities from poses");
   run->add_flag("--no-tremble", f.no_tremble,
                 "procedural: no tremble even in the tremble scenario");
   run->add_flag("--no-timing", f.no_timing, "skip the separate timing pass");
+  run->add_flag("--no-accuracy", f.no_accuracy,
+                "skip the truth (bullet-multibody at 1/3840 s) and the accuracy rows");
+
+  auto* frontier = app.add_subcommand(
+      "frontier",
+      "bisect, per solver and rule, the largest circle frequency and dt at which yank stays ok; "
+      "write frontier.csv");
+  add_solver_flags(frontier, f);
+  frontier->add_option("--hz", f.hz, "circle frequency held during the dt search (Hz)")
+      ->capture_default_str();
 
   try {
     app.parse(argc, argv);
@@ -365,6 +505,7 @@ int main(int argc, char** argv) {
   try {
     if (app.got_subcommand("list")) return command_list();
     if (app.got_subcommand("validate")) return command_validate(validate_path);
+    if (app.got_subcommand("frontier")) return command_frontier(f);
     return command_run(f);
   } catch (const UsageError& e) {
     std::cerr << "testbed: " << e.what() << '\n';

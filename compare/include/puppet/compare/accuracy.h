@@ -2,8 +2,10 @@
 // run and re-seeded from the truth (Erez, Tassa & Todorov 2015; shared/DESIGN.md, "Metrics").
 #pragma once
 
+#include <string>
 #include <vector>
 
+#include "puppet/compare/metrics.h"
 #include "puppet/compare/scenario.h"
 #include "puppet/compare/simulator.h"
 
@@ -11,6 +13,11 @@ namespace puppet::compare {
 
 // errors are taken at multiples of this: every dt of the sweeps divides it
 constexpr double kAccuracySampleInterval = 1.0 / 30.0;
+
+// whether dt divides the sample interval, and how many steps make one sample interval (throws
+// ScenarioError when dt does not divide it)
+bool divides_sample_interval(double dt);
+int steps_per_sample(double dt);
 
 // a run's states at t = k · kAccuracySampleInterval, k = 0, 1, ... (shorter when it diverged)
 struct Trajectory {
@@ -32,6 +39,7 @@ ErrorSeries trajectory_errors(const Model& model, const Trajectory& run, const T
 // Re-seeded error: from `seeds` states evenly spread along the truth (the first at t = 0, the
 // last `horizon` before its end), the simulator is set to the truth's state, runs `horizon`
 // seconds under the scenario's pin targets, and its error against the truth is taken at the end.
+// A re-seeded run that meets a divergence criterion of DESIGN.md ("status") counts as diverged.
 struct ReseededError {
   std::vector<double> seed_times;
   std::vector<double> pose_m, joint_angle_deg;           // per seed; NaN when that run diverged
@@ -40,5 +48,18 @@ struct ReseededError {
 ReseededError reseeded_error(Simulator& simulator, const Model& model, const Scenario& scenario,
                              const Trajectory& truth, double dt, int seeds = 8,
                              double horizon = 0.5);
+
+// The accuracy rows of summary.csv for one run (metrics pose_err_m, joint_angle_err_deg):
+//   at_0.267s, at_0.5s, at_1s   the error at that sample (0.25 s is not a multiple of 1/30 s, so
+//                               the sample nearest to it after it stands in)
+//   mean_1s                     the mean over the samples of the first second, t = 0 excluded
+//   reseeded_mean               the re-seeded mean: the headline figure
+//   reseeded_max                the worst seed
+// and reseeded_diverged/count, the number of re-seeded runs that diverged. A stat the run did not
+// reach (it diverged, or is shorter) is left out. `reference` labels the rows ("truth" or
+// "pairwise"); the simulator is used for the re-seeded runs.
+std::vector<SummaryRow> accuracy_rows(Simulator& simulator, const Model& model,
+                                      const Scenario& scenario, double dt, const Trajectory& run,
+                                      const Trajectory& reference, const std::string& label);
 
 }  // namespace puppet::compare

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <span>
+#include <string>
 #include <vector>
 
 #include "puppet/model/environment.h"
@@ -56,6 +57,26 @@ struct StepMetrics {
   double penetration = 0.0;
   double peak_speed = 0.0;
   bool finite = true;
+};
+
+// the divergence criteria of DESIGN.md ("status")
+constexpr double kDivergedJointGap = 0.5;    // m
+constexpr double kDivergedEnergyDrift = 10;  // × E_ref
+// why a state counts as diverged, or nullptr when it does not
+inline const char* divergence_reason(const StepMetrics& m) {
+  if (!m.finite) return "non-finite";
+  if (m.joint_gap_max > kDivergedJointGap) return "joint gap";
+  if (m.energy_drift > kDivergedEnergyDrift) return "energy";
+  return nullptr;
+}
+
+// one observation of summary.csv (DESIGN.md, "Outputs"); reference is "truth", "pairwise" or
+// empty
+struct SummaryRow {
+  std::string metric, stat;
+  double value = 0.0;
+  std::string unit;
+  std::string reference;
 };
 
 // evaluates StepMetrics along a run; buffers sized once

@@ -20,13 +20,19 @@ inline constexpr const char* kSummaryHeader =
     "scenario,solver,rule,dt,substeps,metric,stat,value,unit,model,reference,status,git_sha,"
     "machine";
 
+// a number with 9 significant digits, empty for NaN
+std::string csv_number(double value);
+// free text as one CSV field: commas, quotes and newlines become spaces
+std::string csv_field(const std::string& text);
 // dt as a decimal with 9 significant digits
 std::string format_dt(double dt);
 // <model>__<scenario>__<solver>__<rule>__<dt>, safe as a file name ("-" for an empty rule)
 std::string trace_stem(const std::string& model, const RunResult& result);
 
 std::string summary_csv(const std::vector<RunResult>& results, const OutputContext& context);
-std::string trace_csv(const RunResult& result);
+// the metrics of every step; with sample_hz > 0 thinned to that many rows per simulated second
+// (the last row always kept)
+std::string trace_csv(const RunResult& result, double sample_hz = 0.0);
 std::string poses_csv(const Model& model, const RunResult& result);
 
 // throws std::runtime_error naming the file on failure

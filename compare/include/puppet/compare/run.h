@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "puppet/compare/accuracy.h"
 #include "puppet/compare/metrics.h"
 #include "puppet/compare/scenario.h"
 #include "puppet/compare/simulator.h"
@@ -16,16 +17,8 @@ struct RunOptions {
   double duration = -1.0;  // < 0: the scenario's own
   double sample_hz = 0.0;  // poses kept per second of simulated time; 0: every step
   bool timing = true;      // add a separate timing pass (step_us, stage times, realtime factor)
-};
-
-// the divergence criteria of DESIGN.md ("status")
-constexpr double kDivergedJointGap = 0.5;    // m
-constexpr double kDivergedEnergyDrift = 10;  // × E_ref
-
-struct SummaryRow {
-  std::string metric, stat;
-  double value = 0.0;
-  std::string unit;
+  // keep the states at multiples of kAccuracySampleInterval (when dt divides it)
+  bool record_trajectory = false;
 };
 
 struct PoseSample {
@@ -39,16 +32,26 @@ struct RunResult {
   double dt = 0.0;
   int substeps = 1;
   bool diverged = false;
+  int steps = 0;                   // steps taken, the one that diverged included
   double diverged_at = 0.0;        // s
+  std::string diverged_reason;     // "non-finite", "joint gap" or "energy"
   std::vector<StepMetrics> trace;  // one per step, plus t = 0
   std::vector<PoseSample> poses;
   std::vector<SummaryRow> summary;
+  Trajectory trajectory;  // with RunOptions::record_trajectory
 
   // the summary value of a metric/stat, NaN when absent
   double value(const std::string& metric, const std::string& stat) const;
 };
 
+// the measured run, then (with options.timing) the timing pass
 RunResult run_scenario(Simulator& simulator, const Model& model, const Scenario& scenario,
                        const RunOptions& options);
+
+// The timing pass alone: steps the scenario again (only up to the divergence of a diverged
+// result) and appends step_us, realtime_factor and the per-stage times to result.summary. Run it
+// with nothing else busy on the machine: sweeps run their jobs in parallel and time them after.
+void time_scenario(Simulator& simulator, const Model& model, const Scenario& scenario,
+                   const RunOptions& options, RunResult& result);
 
 }  // namespace puppet::compare
