@@ -1,9 +1,13 @@
 #!/usr/bin/env bash
-# The main job: set up, build (release), and run every scenario with the procedural solver on
-# the built-in Pinocchio; results in results/, a summary table on stdout.
+# The main job: set up, build (release), then on the built-in Pinocchio run every scenario in
+# every solver, rule and dt with accuracy against the truth (testbed run), the stability frontier
+# (testbed frontier), and the plots and REPORT.md (scripts/plot.py), all into results/. Extra
+# arguments go to testbed run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
 cmake --preset release >/dev/null
 cmake --build --preset release
-./build/release/testbed run --model pinocchio --out results --sample-hz 60 "$@"
+./build/release/testbed run --model pinocchio --out results --sample-hz 30 "$@"
+./build/release/testbed frontier --model pinocchio --out results
+/usr/bin/python3 scripts/plot.py results

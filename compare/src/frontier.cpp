@@ -10,6 +10,7 @@ struct Outcome {
   bool ok = false;
   std::string reason;
   double diverged_at = 0.0;
+  double pin_gap = 0.0;  // m, max
 };
 
 // one run of yank with no air drag at circle frequency hz and step dt
@@ -24,7 +25,8 @@ Outcome run_yank(const FrontierSpec& spec, const SolverConfig& config, double hz
   run.sample_hz = 1.0;  // the poses are not used
   auto simulator = make_simulator(config.solver, config.options);
   const RunResult result = run_scenario(*simulator, *spec.model, yank, run);
-  return {!result.diverged, result.diverged_reason, result.diverged_at};
+  return {!result.diverged, result.diverged_reason, result.diverged_at,
+          result.value("pin_gap_m", "max")};
 }
 
 // bisection in log space for the largest x in [low, high] where ok(x), assuming one boundary
@@ -44,10 +46,12 @@ FrontierRow bisect(const std::string& quantity, const std::string& unit, double 
     fail(low, at_low);
     return row;
   }
+  row.pin_gap_at_largest_ok = at_low.pin_gap;
   ++row.runs;
   const Outcome at_high = ok(high);
   if (at_high.ok) {
     row.largest_ok = high;
+    row.pin_gap_at_largest_ok = at_high.pin_gap;
     return row;
   }
   fail(high, at_high);
@@ -57,6 +61,7 @@ FrontierRow bisect(const std::string& quantity, const std::string& unit, double 
     const Outcome outcome = ok(middle);
     if (outcome.ok) {
       low = middle;
+      row.pin_gap_at_largest_ok = outcome.pin_gap;
     } else {
       high = middle;
       fail(high, outcome);
@@ -103,8 +108,9 @@ std::string frontier_csv(const std::vector<FrontierRow>& rows, const OutputConte
   for (const FrontierRow& r : rows) {
     out << r.solver << ',' << r.rule << ',' << r.quantity << ',' << r.unit << ','
         << csv_number(r.held) << ',' << optional(r.largest_ok) << ',' << optional(r.first_diverged)
-        << ',' << r.reason << ',' << (r.first_diverged ? csv_number(r.diverged_at) : "") << ','
-        << r.runs << ',' << csv_field(context.model) << ',' << csv_field(context.git_sha) << ','
+        << ',' << (r.largest_ok ? csv_number(r.pin_gap_at_largest_ok) : "") << ',' << r.reason
+        << ',' << (r.first_diverged ? csv_number(r.diverged_at) : "") << ',' << r.runs << ','
+        << csv_field(context.model) << ',' << csv_field(context.git_sha) << ','
         << csv_field(context.machine) << '\n';
   }
   return out.str();

@@ -401,8 +401,8 @@ int command_frontier(const RunFlags& f) {
       "\nyank, no air drag: the largest circle frequency (at dt = %s s) and the largest dt "
       "(at %s Hz) that stay ok\n",
       format_dt(spec.hz_dt).c_str(), format_dt(spec.scenario.hz).c_str());
-  std::printf("%-16s %-9s %-9s %12s %14s  %s\n", "solver", "rule", "quantity", "largest ok",
-              "first diverged", "reason");
+  std::printf("%-16s %-9s %-9s %12s %14s %10s  %s\n", "solver", "rule", "quantity", "largest ok",
+              "first diverged", "pin gap m", "reason");
   for (const FrontierRow& r : rows) {
     auto cell = [](const std::optional<double>& v, bool inverse) {
       if (!v) return std::string("-");
@@ -411,9 +411,11 @@ int command_frontier(const RunFlags& f) {
       return std::string(text);
     };
     const bool dt = r.quantity == "dt";
-    std::printf("%-16s %-9s %-9s %12s %14s  %s\n", r.solver.c_str(),
+    char pin_gap[32] = "-";
+    if (r.largest_ok) std::snprintf(pin_gap, sizeof pin_gap, "%.3f", r.pin_gap_at_largest_ok);
+    std::printf("%-16s %-9s %-9s %12s %14s %10s  %s\n", r.solver.c_str(),
                 r.rule.empty() ? "-" : r.rule.c_str(), r.quantity.c_str(),
-                cell(r.largest_ok, dt).c_str(), cell(r.first_diverged, dt).c_str(),
+                cell(r.largest_ok, dt).c_str(), cell(r.first_diverged, dt).c_str(), pin_gap,
                 r.reason.c_str());
   }
   std::printf("\nwrote %s\n", (out / "frontier.csv").c_str());

@@ -82,6 +82,12 @@ TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
   expect_bad("run --frobnicate" + o, "--frobnicate");
   expect_bad("run --bullet-iterations 0" + o, "--bullet-iterations");
   expect_bad("run --bullet-iterations 2.5" + o, "--bullet-iterations");
+  expect_bad("run --dt 1/60,abc" + o, "--dt");
+  expect_bad("run --jobs 0" + o, "--jobs");
+  expect_bad("frontier --jobs x" + o, "--jobs");
+  expect_bad("frontier --solver ode" + o, "--solver");
+  expect_bad("frontier --grab tail" + o, "--grab");
+  EXPECT_FALSE(fs::exists(out / "frontier.csv"));
   EXPECT_FALSE(fs::exists(out / "summary.csv"));
   expect_bad("run --scenario hang --duration 0.1 --out /proc/forbidden", "--out");
 }

@@ -34,6 +34,9 @@ struct FrontierRow {
   std::string unit;      // "Hz" or "s"
   double held = 0.0;     // the other quantity, fixed: dt for the hz search, hz for the dt search
   std::optional<double> largest_ok, first_diverged;
+  // the hand pin's largest gap in the largest_ok run (m): a soft pin that lets go of the hand
+  // keeps a run ok without following the yank
+  double pin_gap_at_largest_ok = 0.0;
   std::string reason;        // why the first_diverged run diverged
   double diverged_at = 0.0;  // s, when it did
   int runs = 0;              // runs of yank the search took
@@ -42,7 +45,8 @@ struct FrontierRow {
 std::vector<FrontierRow> find_frontier(const FrontierSpec& spec);
 
 inline constexpr const char* kFrontierHeader =
-    "solver,rule,quantity,unit,held,largest_ok,first_diverged,reason,diverged_at_s,runs,model,"
+    "solver,rule,quantity,unit,held,largest_ok,first_diverged,pin_gap_at_largest_ok_m,reason,"
+    "diverged_at_s,runs,model,"
     "git_sha,machine";
 std::string frontier_csv(const std::vector<FrontierRow>& rows, const OutputContext& context);
 

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# The main job's pipeline on a small run in a temporary folder: testbed run, testbed frontier,
+# then scripts/plot.py, which must write every plot and a REPORT.md with its sections; and
+# plot.py's own bad input exits 2.
+#   report_test.sh TESTBED SOURCE_DIR
+set -euo pipefail
+testbed=$1
+plot="/usr/bin/python3 $2/scripts/plot.py"
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+fail() { echo "report_test: $*" >&2; exit 1; }
+
+"$testbed" run --scenario drop --solver all --rule literal,relaxed --dt 1/60,1/120 \
+  --duration 1 --sample-hz 30 --out "$out" >"$out/run.log" 2>&1 || fail "testbed run: $(tail -3 "$out/run.log")"
+"$testbed" frontier --solver procedural --rule literal --out "$out" >"$out/frontier.log" 2>&1 ||
+  fail "testbed frontier: $(tail -3 "$out/frontier.log")"
+$plot "$out" || fail "plot.py failed"
+
+for png in joint_gap error_vs_dt angle_error_vs_dt speed_accuracy stage_time frontier; do
+  file="$out/plots/$png.png"
+  [ -s "$file" ] || fail "$file missing"
+  [ "$(head -c 4 "$file" | tail -c 3)" = "PNG" ] || fail "$file is not a PNG"
+  grep -q "(plots/$png.png)" "$out/REPORT.md" || fail "REPORT.md does not show $png.png"
+done
+for section in "## What was run" "## How far the truth can be trusted" "## Accuracy" \
+  "## Joint gaps and divergence" "## Time per step" "## Stability frontier" "## Findings"; do
+  grep -qF "$section" "$out/REPORT.md" || fail "REPORT.md has no \"$section\""
+done
+grep -q "| drop | " "$out/REPORT.md" || fail "REPORT.md has no row for drop"
+grep -q "tracks the truth best" "$out/REPORT.md" || fail "REPORT.md names no best rule"
+
+# bad input: one message, status 2, nothing written
+empty=$(mktemp -d "$out/empty.XXXX")
+set +e
+message=$($plot "$empty" 2>&1); status=$?
+set -e
+[ "$status" -eq 2 ] || fail "plot.py on an empty folder: status $status"
+[[ "$message" == *"summary.csv: not found"* ]] || fail "plot.py on an empty folder said: $message"
+echo "scenario,solver" >"$empty/summary.csv"
+set +e
+message=$($plot "$empty" 2>&1); status=$?
+set -e
+[ "$status" -eq 2 ] || fail "plot.py on a malformed summary: status $status"
+[[ "$message" == *"unexpected header"* ]] || fail "plot.py on a malformed summary said: $message"
+[ ! -e "$empty/REPORT.md" ] || fail "plot.py wrote a report from a malformed summary"
+echo "report_test: ok"

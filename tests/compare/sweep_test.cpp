@@ -1,0 +1,133 @@
+// sweep.cpp: the sweep's summary in the tidy schema with its accuracy rows, the same whatever the
+// number of threads; accuracy.cpp's rows of the truth against itself.
+#include "puppet/compare/sweep.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "puppet/compare/output.h"
+
+namespace puppet::compare {
+namespace {
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream in(line);
+  std::string cell;
+  while (std::getline(in, cell, ',')) out.push_back(cell);
+  if (!line.empty() && line.back() == ',') out.emplace_back();
+  return out;
+}
+
+// a small sweep: a four-link chain hanging, three solvers, two dts, 1.2 s (enough for every
+// accuracy stat and for 8 re-seeded runs of 0.5 s)
+SweepSpec small_sweep(const Model& model, int jobs, bool timing) {
+  SweepSpec spec;
+  spec.model = &model;
+  spec.scenarios = {make_scenario("hang", model)};
+  spec.configs = {{"procedural", {}}, {"bullet-multibody", {}}, {"bullet-rigid", {}}};
+  spec.dts = {1.0 / 60, 1.0 / 120};
+  spec.run.duration = 1.2;
+  spec.run.timing = timing;
+  spec.jobs = jobs;
+  return spec;
+}
+
+TEST(Sweep, SummaryHasEveryRunItsAccuracyAndStableUnits) {
+  const Model model = make_chain(4);
+  const std::vector<RunResult> results = run_sweep(small_sweep(model, 2, true));
+  ASSERT_EQ(results.size(), 3u * 2u + 1u);  // the runs, then the truth's check
+  const std::string csv = summary_csv(results, {"chain:4", "abc", "machine"});
+  std::stringstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  ASSERT_EQ(line, kSummaryHeader);
+  const std::map<std::string, std::string> units = {
+      {"joint_gap_m", "m"},           {"pin_gap_m", "m"},        {"limit_violation_deg", "deg"},
+      {"energy_drift", "1"},          {"peak_speed_mps", "m/s"}, {"step_us", "us"},
+      {"realtime_factor", "1"},       {"update_us", "us"},       {"adjust_us", "us"},
+      {"contacts_us", "us"},          {"velocities_us", "us"},   {"pose_err_m", "m"},
+      {"joint_angle_err_deg", "deg"}, {"reseeded_diverged", "1"}};
+  // (solver, dt, reference) → the accuracy stats seen
+  std::map<std::tuple<std::string, std::string, std::string>, std::set<std::string>> accuracy;
+  std::set<std::pair<std::string, std::string>> timed;
+  while (std::getline(in, line)) {
+    const auto cells = split(line);
+    ASSERT_EQ(cells.size(), 14u) << line;
+    ASSERT_TRUE(units.count(cells[5])) << cells[5];
+    EXPECT_EQ(cells[8], units.at(cells[5])) << line;
+    EXPECT_TRUE(std::isfinite(std::stod(cells[7]))) << line;
+    EXPECT_TRUE(cells[10].empty() || cells[10] == "truth" || cells[10] == "pairwise") << line;
+    EXPECT_EQ(cells[11], "ok") << line;
+    if (cells[5] == "pose_err_m") accuracy[{cells[1], cells[3], cells[10]}].insert(cells[6]);
+    if (cells[5] == "step_us") timed.insert({cells[1], cells[3]});
+  }
+  const std::set<std::string> all = {"at_0.267s", "at_0.5s",       "at_1s",
+                                     "mean_1s",   "reseeded_mean", "reseeded_max"};
+  for (const std::string dt : {"0.0166666667", "0.00833333333"}) {
+    for (const std::string solver : {"procedural", "bullet-multibody", "bullet-rigid"}) {
+      EXPECT_EQ((accuracy[{solver, dt, "truth"}]), all) << solver << " " << dt;
+      EXPECT_TRUE(timed.count({solver, dt})) << solver << " " << dt;
+      // pairwise against bullet-multibody at the same dt, for the others only
+      const bool paired = solver != "bullet-multibody";
+      EXPECT_EQ(accuracy.count({solver, dt, "pairwise"}), paired ? 1u : 0u) << solver;
+    }
+  }
+  // the truth's own check: bullet-multibody at 1/7680 s against the truth, never timed
+  EXPECT_EQ((accuracy[{"bullet-multibody", "0.000130208333", "truth"}]), all);
+  EXPECT_FALSE(timed.count({"bullet-multibody", "0.000130208333"}));
+
+  // bullet-multibody is first order: halving dt roughly halves its error against the truth, and
+  // the truth's check is far below both
+  auto reseeded = [&](const RunResult& r) {
+    for (const SummaryRow& row : r.summary) {
+      if (row.metric == "pose_err_m" && row.stat == "reseeded_mean" && row.reference == "truth") {
+        return row.value;
+      }
+    }
+    return std::numeric_limits<double>::quiet_NaN();
+  };
+  const double coarse = reseeded(results[2]), fine = reseeded(results[3]),
+               check = reseeded(results[6]);
+  EXPECT_EQ(results[2].solver, "bullet-multibody");
+  std::printf(
+      "[ sweep ] chain:4 hang bullet-multibody re-seeded: %.2e m (1/60) %.2e m (1/120), "
+      "truth check %.2e m\n",
+      coarse, fine, check);
+  EXPECT_GT(coarse / fine, 1.4);
+  EXPECT_LT(coarse / fine, 2.8);
+  EXPECT_LT(10 * check, fine);
+}
+
+TEST(Sweep, ParallelJobsGiveTheSameSummary) {
+  const Model model = make_chain(4);
+  const OutputContext context{"chain:4", "abc", "machine"};
+  const std::string one = summary_csv(run_sweep(small_sweep(model, 1, false)), context);
+  const std::string two = summary_csv(run_sweep(small_sweep(model, 2, false)), context);
+  EXPECT_EQ(one, two);
+}
+
+TEST(Sweep, TheTruthAgainstItselfHasZeroError) {
+  const Model model = make_chain(4);
+  const Scenario hang = make_scenario("hang", model);
+  auto simulator = make_simulator(kTruthSolver, {});
+  const Trajectory truth = record_trajectory(*simulator, model, hang, kTruthDt, 1.2);
+  const auto rows = accuracy_rows(*simulator, model, hang, kTruthDt, truth, truth, "truth");
+  ASSERT_EQ(rows.size(), 2u * 6u + 1u);
+  for (const SummaryRow& row : rows) {
+    if (row.stat.rfind("reseeded", 0) == 0) {
+      // re-seeding goes through set_state, which rounds the joint coordinates
+      EXPECT_LT(row.value, 1e-9) << row.metric << " " << row.stat;
+    } else {
+      EXPECT_EQ(row.value, 0.0) << row.metric << " " << row.stat;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace puppet::compare
