@@ -8,6 +8,6 @@ cd "$(dirname "$0")/.."
 scripts/setup.sh
 cmake --preset release >/dev/null
 cmake --build --preset release
-./build/release/testbed run --model pinocchio --out results --sample-hz 30 "$@"
+./build/release/testbed run --model pinocchio --out results "$@"
 ./build/release/testbed frontier --model pinocchio --out results
 /usr/bin/python3 scripts/plot.py results

@@ -180,7 +180,7 @@ struct RunFlags {
   std::string model = "pinocchio", scenario = "all", solver = "all", rule = "all";
   std::string dt = "1/30,1/60,1/120,1/240,1/480", duration, out = "results", pin, grab, gravity,
               air_drag, ground;
-  std::string tilt = "30", hz = "0.5", sample_hz = "0", iterations = "4", substeps = "1";
+  std::string tilt = "30", hz = "0.5", sample_hz = "30", iterations = "4", substeps = "1";
   std::string bullet_iterations = "10", jobs = std::to_string(default_jobs());
   bool no_velocities = false, no_tremble = false, no_timing = false, bullet_euler_limits = false;
   bool no_accuracy = false;
