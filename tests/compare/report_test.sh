@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The main job's pipeline on a small run in a temporary folder: testbed run, testbed frontier,
+# The main job's pipeline on a small run (a four-link chain, to stay quick under the
+# sanitizers) in a temporary folder: testbed run, testbed frontier,
 # then scripts/plot.py, which must write every plot and a REPORT.md with its sections; and
 # plot.py's own bad input exits 2.
 #   report_test.sh TESTBED SOURCE_DIR
@@ -10,9 +11,9 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 fail() { echo "report_test: $*" >&2; exit 1; }
 
-"$testbed" run --scenario drop --solver all --rule literal,relaxed --dt 1/60,1/120 \
+"$testbed" run --model chain:4 --scenario drop --solver all --rule literal,relaxed --dt 1/60,1/120 \
   --duration 1 --sample-hz 30 --out "$out" >"$out/run.log" 2>&1 || fail "testbed run: $(tail -3 "$out/run.log")"
-"$testbed" frontier --solver procedural --rule literal --out "$out" >"$out/frontier.log" 2>&1 ||
+"$testbed" frontier --model chain:4 --solver procedural --rule literal --out "$out" >"$out/frontier.log" 2>&1 ||
   fail "testbed frontier: $(tail -3 "$out/frontier.log")"
 $plot "$out" || fail "plot.py failed"
 
