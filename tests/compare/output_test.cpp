@@ -7,20 +7,12 @@
 #include <sstream>
 
 #include "puppet/compare/run.h"
+#include "support/csv.h"
 
 namespace puppet::compare {
 namespace {
 
 const std::string kPinocchio = std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json";
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream in(line);
-  std::string cell;
-  while (std::getline(in, cell, ',')) out.push_back(cell);
-  if (!line.empty() && line.back() == ',') out.emplace_back();
-  return out;
-}
 
 RunResult short_hang() {
   const Model model = load_model(kPinocchio);
@@ -46,7 +38,7 @@ TEST(Output, SummaryIsTidyWithStableUnits) {
       {"contacts_us", "us"},    {"velocities_us", "us"}};
   std::map<std::string, int> seen;
   while (std::getline(in, line)) {
-    const auto cells = split(line);
+    const auto cells = test::split_csv_line(line);
     ASSERT_EQ(cells.size(), 14u) << line;
     EXPECT_EQ(cells[0], "hang");
     EXPECT_EQ(cells[1], "procedural");

@@ -11,18 +11,10 @@
 #include <sstream>
 
 #include "puppet/compare/output.h"
+#include "support/csv.h"
 
 namespace puppet::compare {
 namespace {
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream in(line);
-  std::string cell;
-  while (std::getline(in, cell, ',')) out.push_back(cell);
-  if (!line.empty() && line.back() == ',') out.emplace_back();
-  return out;
-}
 
 // a small sweep: a four-link chain hanging, three solvers, two dts, 1.2 s (enough for every
 // accuracy stat and for 8 re-seeded runs of 0.5 s)
@@ -57,7 +49,7 @@ TEST(Sweep, SummaryHasEveryRunItsAccuracyAndStableUnits) {
   std::map<std::tuple<std::string, std::string, std::string>, std::set<std::string>> accuracy;
   std::set<std::pair<std::string, std::string>> timed;
   while (std::getline(in, line)) {
-    const auto cells = split(line);
+    const auto cells = test::split_csv_line(line);
     ASSERT_EQ(cells.size(), 14u) << line;
     ASSERT_TRUE(units.count(cells[5])) << cells[5];
     EXPECT_EQ(cells[8], units.at(cells[5])) << line;
