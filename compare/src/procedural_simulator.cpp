@@ -15,16 +15,15 @@ class ProceduralSnapshot : public Snapshot {
 
 class ProceduralSimulator : public Simulator {
  public:
-  explicit ProceduralSimulator(const procedural::Settings& settings, bool allow_tremble)
-      : settings_(settings), allow_tremble_(allow_tremble) {}
+  explicit ProceduralSimulator(const SolverOptions& options, const procedural::Settings& settings)
+      : options_(options), settings_(settings) {}
 
   std::string name() const override { return "procedural"; }
   std::string rule() const override { return std::string(procedural::rule_name(settings_.rule)); }
   int substeps() const override { return settings_.substeps; }
 
   void reset(const Model& model, const Scenario& scenario) override {
-    procedural::Settings settings = settings_;
-    settings.tremble = allow_tremble_ && scenario.tremble;
+    procedural::Settings settings = procedural_settings(options_, scenario);
     settings.time_stages = time_stages_;
     solver_.emplace(model, settings, scenario.environment);
     solver_->reset(scenario.initial);
@@ -67,13 +66,13 @@ class ProceduralSimulator : public Simulator {
   }
 
  private:
-  procedural::Settings settings_;
-  bool allow_tremble_;
+  SolverOptions options_;
+  procedural::Settings settings_;  // without the scenario's
   bool time_stages_ = false;
   std::optional<procedural::Solver> solver_;
 };
 
-std::unique_ptr<Simulator> make_procedural_simulator(const SolverOptions& options) {
+procedural::Settings settings_without_scenario(const SolverOptions& options) {
   const auto rule = procedural::parse_rule(options.rule);
   if (!rule) throw ScenarioError("--rule: unknown rule \"" + options.rule + "\"");
   procedural::Settings settings;
@@ -83,10 +82,20 @@ std::unique_ptr<Simulator> make_procedural_simulator(const SolverOptions& option
   settings.derive_velocities = options.derive_velocities;
   const std::string problem = procedural::validate(settings);
   if (!problem.empty()) throw ScenarioError(problem);
-  return std::make_unique<ProceduralSimulator>(settings, options.tremble);
+  return settings;
+}
+
+std::unique_ptr<Simulator> make_procedural_simulator(const SolverOptions& options) {
+  return std::make_unique<ProceduralSimulator>(options, settings_without_scenario(options));
 }
 
 }  // namespace
+
+procedural::Settings procedural_settings(const SolverOptions& options, const Scenario& scenario) {
+  procedural::Settings settings = settings_without_scenario(options);
+  settings.tremble = options.tremble && scenario.tremble;
+  return settings;
+}
 
 // reference_simulator.cpp
 std::unique_ptr<Simulator> make_reference_simulator(const std::string& solver,

@@ -209,4 +209,12 @@ Scenario make_scenario(const std::string& name, const Model& model,
   return s;
 }
 
+std::string builtin_model_path() {
+  return std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json";
+}
+
+Model load_named_model(const std::string& name) {
+  return load_model(name == "pinocchio" ? builtin_model_path() : name);
+}
+
 }  // namespace puppet::compare

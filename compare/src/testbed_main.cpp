@@ -35,15 +35,6 @@ struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-std::string default_model_path() {
-  return std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json";
-}
-
-// "pinocchio" names the built-in figure; anything else is a file or chain:N
-Model load_named_model(const std::string& name) {
-  return load_model(name == "pinocchio" ? default_model_path() : name);
-}
-
 bool parse_finite(const std::string& text, double* out) {
   std::istringstream in(text);
   double value = 0.0;
@@ -136,7 +127,7 @@ int command_list() {
   for (const auto& s : solver_names()) std::cout << ' ' << s;
   std::cout << "\nrules:    ";
   for (const auto& r : all_rules()) std::cout << ' ' << r;
-  std::cout << " (procedural only; default relaxed)\nmodels:    pinocchio (" << default_model_path()
+  std::cout << " (procedural only; default relaxed)\nmodels:    pinocchio (" << builtin_model_path()
             << "), chain:N, or any model file\n";
   return 0;
 }

@@ -31,16 +31,21 @@ double submerged_fraction(const Segment& segment, const Environment& environment
 Wrench environment_wrench(const Segment& segment, const Environment& environment,
                           const BodyState& body) {
   Wrench wrench;
-  const Matrix3d inertia = world_inertia(segment, body.q);
-  wrench.force = segment.mass * environment.gravity - environment.air_drag * segment.mass * body.v;
-  wrench.torque = -environment.air_drag * (inertia * body.w);
   const double f = submerged_fraction(segment, environment, body);
+  // air drag −c·m·v and −c·I·ω; in water, drag −k·f·m·v and −k·f·I·ω by the same reading
+  const double drag = environment.air_drag + (f > 0.0 ? environment.water_drag * f : 0.0);
+  wrench.force = segment.mass * environment.gravity - drag * segment.mass * body.v;
   if (f > 0.0) {
-    // buoyancy ρ·V·f·|g| against gravity; drag −k·f·m·v, and −k·f·I·ω by the same reading
+    // buoyancy ρ·V·f·|g| against gravity
     wrench.force -=
         environment.water_density * shape_volume(segment.shape) * f * environment.gravity;
-    wrench.force -= environment.water_drag * f * segment.mass * body.v;
-    wrench.torque -= environment.water_drag * f * (inertia * body.w);
+  }
+  if (drag != 0.0) {
+    // I·ω = q (I_body (q⁻¹ ω)): two rotations instead of a world inertia matrix
+    const Vector3d w_body = body.q.conjugate() * body.w;
+    wrench.torque = -drag * (body.q * segment.inertia.cwiseProduct(w_body));
+  } else {
+    wrench.torque.setZero();
   }
   return wrench;
 }

@@ -23,6 +23,12 @@
 namespace puppet::procedural {
 namespace {
 
+Matrix3d skew(const Vector3d& v) {
+  Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
 Matrix3d skew_square_term(const Vector3d& r, double mass) {
   // m (|r|² E − r rᵀ): the parallel-axis term
   return mass * (r.squaredNorm() * Matrix3d::Identity() - r * r.transpose());
@@ -58,35 +64,36 @@ MovingBody composite_body(const Workspace& ws, int k, const Motion& motion) {
   const Matrix3d about_centre = ws.subtree_second[k] - skew_square_term(centre, body.mass);
   const Matrix3d rotation = motion.q.toRotationMatrix();
   body.centre = motion.apply(centre);
+  body.frame = Quaterniond::Identity();  // a composite's inertia is kept in world
   body.inertia = rotation * about_centre * rotation.transpose();
   body.inertia_inv = body.inertia.inverse();
   return body;
 }
 
 // close the joint of link k and clamp its limits; returns the motion applied to b
-Motion close_link(const Model& model, Rule rule, const AnchorOrder::Link& link,
-                  const MovingBody& body, const BodyState& a, const BodyState& b_current,
-                  double h) {
+Motion close_link(const Model& model, const Workspace& ws, Rule rule, const AnchorOrder::Link& link,
+                  const MovingBody& body, const BodyState& a, const BodyState& b_current) {
   const Joint& joint = model.joints[link.joint];
   const Vector3d& local_a = link.b_is_child ? joint.anchor_in_parent : joint.anchor_in_child;
   const Vector3d& local_b = link.b_is_child ? joint.anchor_in_child : joint.anchor_in_parent;
   const Vector3d c_a = world_point(a, local_a);
-  const Motion closing = close_point(rule, body, world_point(b_current, local_b), c_a, h);
+  const Motion closing = close_point(rule, body, world_point(b_current, local_b), c_a);
 
   // eq. 4: clamp to the limits, rotating b about the (now closed) joint point
-  const Quaterniond b_closed = closing.q * b_current.q;
-  const Quaterniond clamp = limit_correction(joint, link.b_is_child, a.q, b_closed);
-  return Motion::about(clamp, c_a).after(closing);
+  const Quaterniond b_closed = closing.rotates() ? closing.q * b_current.q : b_current.q;
+  const Quaterniond clamp =
+      limit_correction(joint, ws.limit_free_w[link.joint], link.b_is_child, a.q, b_closed);
+  const Motion clamping = Motion::about(clamp, c_a);
+  return clamping.rotates() ? clamping.after(closing) : closing;
 }
 
-void close_secondary_pins(const Model& model, Rule rule, const PinTargets& targets, State& state,
-                          double h) {
+void close_secondary_pins(const Model& model, Rule rule, const PinTargets& targets, State& state) {
   const Rule single = rule == Rule::kSubtree ? Rule::kWeighted : rule;
   for (int i = 1; i < state.pin_count; ++i) {
     const Pin& pin = state.pins[i];
     BodyState& body = state.bodies[pin.segment];
     const MovingBody moving = single_body(model.segments[pin.segment], body);
-    close_point(single, moving, world_point(body, pin.local_point), targets[i], h).apply(body);
+    close_point(single, moving, world_point(body, pin.local_point), targets[i]).apply(body);
   }
 }
 
@@ -94,42 +101,50 @@ void close_secondary_pins(const Model& model, Rule rule, const PinTargets& targe
 void share_point_correction(const Model& model, int a, int b, const Vector3d& c_a,
                             const Vector3d& c_b, State& state) {
   BodyState& body_b = state.bodies[b];
-  const MovingBody moving_b = single_body(model.segments[b], body_b);
+  const Segment& segment_b = model.segments[b];
   const Vector3d r_b = c_b - body_b.x;
-  Matrix3d k = point_mass_matrix(moving_b, r_b);
-  MovingBody moving_a;
+  const Matrix3d inv_b = world_inertia_inv(segment_b, body_b.q);
+  // K = E/m − [r]× I⁻¹ [r]× for each side, in world
+  const Matrix3d rx_b = skew(r_b);
+  Matrix3d k = Matrix3d::Identity() / segment_b.mass - rx_b * inv_b * rx_b;
+  Matrix3d inv_a;
   Vector3d r_a{0, 0, 0};
   if (a >= 0) {
-    moving_a = single_body(model.segments[a], state.bodies[a]);
-    r_a = c_a - state.bodies[a].x;
-    k += point_mass_matrix(moving_a, r_a);
+    const BodyState& body_a = state.bodies[a];
+    inv_a = world_inertia_inv(model.segments[a], body_a.q);
+    r_a = c_a - body_a.x;
+    const Matrix3d rx_a = skew(r_a);
+    k += Matrix3d::Identity() / model.segments[a].mass - rx_a * inv_a * rx_a;
   }
   const Vector3d lambda = k.inverse() * (c_a - c_b);
-  body_b.x += lambda / moving_b.mass;
-  body_b.q = (quat_exp(moving_b.inertia_inv * r_b.cross(lambda)) * body_b.q).normalized();
+  body_b.x += lambda / segment_b.mass;
+  body_b.q = (quat_exp(inv_b * r_b.cross(lambda)) * body_b.q).normalized();
   if (a >= 0) {
     BodyState& body_a = state.bodies[a];
-    body_a.x -= lambda / moving_a.mass;
-    body_a.q = (quat_exp(-(moving_a.inertia_inv * r_a.cross(lambda))) * body_a.q).normalized();
+    body_a.x -= lambda / model.segments[a].mass;
+    body_a.q = (quat_exp(-(inv_a * r_a.cross(lambda))) * body_a.q).normalized();
   }
 }
 
 // relaxed: a limit's angular correction shared through I_a⁻¹ + I_b⁻¹
-void share_limit_correction(const Model& model, const Joint& joint, State& state) {
+void share_limit_correction(const Model& model, const Workspace& ws, int j, State& state) {
+  const Joint& joint = model.joints[j];
   BodyState& parent = state.bodies[joint.parent];
   BodyState& child = state.bodies[joint.child];
-  const Quaterniond correction = limit_correction(joint, true, parent.q, child.q);
+  const Quaterniond correction =
+      limit_correction(joint, ws.limit_free_w[j], true, parent.q, child.q);
   if (correction.w() == 1.0) return;
   const Vector3d error = quat_log(correction);  // rotation the child needs, parent fixed
-  const MovingBody p = single_body(model.segments[joint.parent], parent);
-  const MovingBody c = single_body(model.segments[joint.child], child);
-  const Vector3d impulse = (p.inertia_inv + c.inertia_inv).inverse() * error;
-  child.q = (quat_exp(c.inertia_inv * impulse) * child.q).normalized();
-  parent.q = (quat_exp(-(p.inertia_inv * impulse)) * parent.q).normalized();
+  const Matrix3d inv_p = world_inertia_inv(model.segments[joint.parent], parent.q);
+  const Matrix3d inv_c = world_inertia_inv(model.segments[joint.child], child.q);
+  const Vector3d impulse = (inv_p + inv_c).inverse() * error;
+  child.q = (quat_exp(inv_c * impulse) * child.q).normalized();
+  parent.q = (quat_exp(-(inv_p * impulse)) * parent.q).normalized();
 }
 
 void relaxed_sweeps(const Model& model, const Settings& settings, const Environment& environment,
-                    const AnchorOrder& order, const PinTargets& targets, State& state, double h) {
+                    const AnchorOrder& order, const PinTargets& targets, State& state,
+                    const Workspace& ws) {
   for (int iteration = 0; iteration < settings.iterations; ++iteration) {
     for (int i = 0; i < state.pin_count; ++i) {
       const Pin& pin = state.pins[i];
@@ -141,11 +156,11 @@ void relaxed_sweeps(const Model& model, const Settings& settings, const Environm
       share_point_correction(model, joint.parent, joint.child,
                              world_point(state.bodies[joint.parent], joint.anchor_in_parent),
                              world_point(state.bodies[joint.child], joint.anchor_in_child), state);
-      share_limit_correction(model, joint, state);
+      share_limit_correction(model, ws, link.joint, state);
     }
     if (environment.ground) {
       for (int s = 0; s < model.segment_count(); ++s) {
-        push_out_of_ground(model, environment, s, state, h);
+        push_out_of_ground(model, environment, s, state);
       }
     }
   }
@@ -154,9 +169,9 @@ void relaxed_sweeps(const Model& model, const Settings& settings, const Environm
 }  // namespace
 
 void one_sided_pass(const Model& model, Rule rule, const AnchorOrder& order, bool with_pins,
-                    const PinTargets& targets, State& state, Workspace& ws, double h) {
+                    const PinTargets& targets, State& state, Workspace& ws) {
   const bool pinned = with_pins && state.pin_count > 0 && state.pins[0].segment == order.anchor;
-  if (with_pins) close_secondary_pins(model, rule, targets, state, h);
+  if (with_pins) close_secondary_pins(model, rule, targets, state);
   const bool subtree = rule == Rule::kSubtree;
   if (subtree) build_subtrees(model, order, state, ws);
 
@@ -167,7 +182,7 @@ void one_sided_pass(const Model& model, Rule rule, const AnchorOrder& order, boo
     const Pin& pin = state.pins[0];
     const MovingBody body = subtree ? composite_body(ws, 0, Motion())
                                     : single_body(model.segments[order.anchor], anchor);
-    anchor_motion = close_point(rule, body, world_point(anchor, pin.local_point), targets[0], h);
+    anchor_motion = close_point(rule, body, world_point(anchor, pin.local_point), targets[0]);
     anchor_motion.apply(anchor);
   }
   if (subtree) {
@@ -187,15 +202,15 @@ void one_sided_pass(const Model& model, Rule rule, const AnchorOrder& order, boo
       const Motion inherited{ws.motion_q[parent], ws.motion_t[parent]};
       BodyState current = b;
       inherited.apply(current);
-      motion = close_link(model, rule, link, composite_body(ws, position, inherited),
-                          state.bodies[link.a], current, h);
+      motion = close_link(model, ws, rule, link, composite_body(ws, position, inherited),
+                          state.bodies[link.a], current);
       const Motion total = motion.after(inherited);
       ws.motion_q[position] = total.q;
       ws.motion_t[position] = total.t;
       b = current;
     } else {
-      motion = close_link(model, rule, link, single_body(model.segments[link.b], b),
-                          state.bodies[link.a], b, h);
+      motion = close_link(model, ws, rule, link, single_body(model.segments[link.b], b),
+                          state.bodies[link.a], b);
     }
     motion.apply(b);
   }
@@ -212,13 +227,13 @@ void adjust(const Model& model, const Settings& settings, const Environment& env
     state.pin_force[i] = 2.0 * model.segments[pin.segment].mass * gap / (h * h);
   }
   if (settings.rule != Rule::kRelaxed) {
-    one_sided_pass(model, settings.rule, orders[anchor], true, targets, state, ws, h);
+    one_sided_pass(model, settings.rule, orders[anchor], true, targets, state, ws);
     return;
   }
   // relaxed: the sweeps share every correction, then the one-sided pass closes the joints
   // exactly from the anchor
-  relaxed_sweeps(model, settings, environment, orders[anchor], targets, state, h);
-  one_sided_pass(model, Rule::kWeighted, orders[anchor], true, targets, state, ws, h);
+  relaxed_sweeps(model, settings, environment, orders[anchor], targets, state, ws);
+  one_sided_pass(model, Rule::kWeighted, orders[anchor], true, targets, state, ws);
 }
 
 }  // namespace puppet::procedural

@@ -49,7 +49,7 @@ Vector3d contact_candidate(const Shape& shape, const BodyState& body, int c) {
 }  // namespace
 
 double push_out_of_ground(const Model& model, const Environment& environment, int segment,
-                          State& state, double h) {
+                          State& state) {
   const Segment& seg = model.segments[segment];
   BodyState& body = state.bodies[segment];
   const int count = candidate_count(seg.shape);
@@ -72,17 +72,17 @@ double push_out_of_ground(const Model& model, const Environment& environment, in
       const double stick = environment.friction * depth;
       target -= slide_norm <= stick ? slide : (stick / slide_norm) * slide;
 
-      close_point(Rule::kWeighted, single_body(seg, body), p, target, h).apply(body);
+      close_point(Rule::kWeighted, single_body(seg, body), p, target).apply(body);
     }
   }
   return deepest;
 }
 
-int resolve_contacts(const Model& model, const Environment& environment, State& state, double h) {
+int resolve_contacts(const Model& model, const Environment& environment, State& state) {
   int lowest = -1;
   double deepest = 0.0;
   for (int s = 0; s < model.segment_count(); ++s) {
-    const double depth = push_out_of_ground(model, environment, s, state, h);
+    const double depth = push_out_of_ground(model, environment, s, state);
     if (depth > deepest) {
       deepest = depth;
       lowest = s;

@@ -18,6 +18,7 @@
 //   relaxed   its final one-sided pass is weighted
 //
 // seed: when r ∥ s there is no rotation axis; R = identity and the joint closes by translation.
+#include <algorithm>
 #include <cmath>
 
 #include "puppet/model/rotation.h"
@@ -27,6 +28,8 @@ namespace puppet::procedural {
 namespace {
 
 constexpr double kParallel = 1e-12;  // |r × s| (m²) below which r ∥ s
+// exp(−x) is exactly 0 in double precision above this: the literal rotation is none at all
+constexpr double kExpUnderflow = 746.0;
 
 Matrix3d skew(const Vector3d& v) {
   Matrix3d m;
@@ -34,64 +37,74 @@ Matrix3d skew(const Vector3d& v) {
   return m;
 }
 
+// the moment of inertia about the unit axis (world) of `cross`
+double inertia_about(const MovingBody& body, const Vector3d& cross, double cross_norm) {
+  const Vector3d axis = body.to_frame(cross / cross_norm);
+  return axis.dot(body.inertia * axis);
+}
+
 Quaterniond literal_rotation(const MovingBody& body, const Vector3d& r, const Vector3d& s,
-                             const Vector3d& cross, double cross_norm, double h) {
-  const Vector3d axis = cross / cross_norm;
+                             const Vector3d& cross, double cross_norm) {
+  // h/τ = [2m/(I_b dt²)] / [|r × 2m s/dt²|] = 1/(I_b |r × s|): dt and m cancel
+  const double decay_rate = 1.0 / (inertia_about(body, cross, cross_norm) * cross_norm);
+  if (decay_rate > kExpUnderflow) return Quaterniond::Identity();  // θ = φ·0
   const double phi = std::atan2(cross_norm, r.dot(s));
-  const double inertia_b = axis.dot(body.inertia * axis);
-  const double torque = 2.0 * body.mass * cross_norm / (h * h);  // |r × f|, f = 2 m s / dt²
-  const double h_seed = 2.0 * body.mass / (inertia_b * h * h);   // the seed's h
-  const double theta = phi * std::exp(-h_seed / torque);
-  return Quaterniond(Eigen::AngleAxisd(theta, axis));
+  const double theta = phi * std::exp(-decay_rate);
+  return quat_exp((theta / cross_norm) * cross);
 }
 
 Quaterniond smoothed_rotation(const MovingBody& body, const Vector3d& r, const Vector3d& s,
                               const Vector3d& cross, double cross_norm) {
-  const Vector3d axis = cross / cross_norm;
-  const double inertia_b = axis.dot(body.inertia * axis);
-  const double theta_raw = body.mass * cross_norm / inertia_b;  // ½ α dt², eq. 2
-  const double phi_max = std::atan2(r.cross(r + s).norm(), r.dot(r + s));
+  const double theta_raw = body.mass * cross_norm / inertia_about(body, cross, cross_norm);
+  // φ_max = ∠(r, r + s); r × (r + s) = r × s
+  const double phi_max = std::atan2(cross_norm, r.dot(r + s));
   if (phi_max <= 0.0) return Quaterniond::Identity();
   const double theta = phi_max * (1.0 - std::exp(-theta_raw / phi_max));
-  return Quaterniond(Eigen::AngleAxisd(theta, axis));
+  return quat_exp((theta / cross_norm) * cross);
 }
 
 Quaterniond weighted_rotation(const MovingBody& body, const Vector3d& r, const Vector3d& s) {
-  const Vector3d lambda = point_mass_matrix(body, r).inverse() * s;
-  return quat_exp(body.inertia_inv * r.cross(lambda));
+  // in the body's frame, where a segment's inertia is diagonal
+  const Vector3d r_frame = body.to_frame(r);
+  const Vector3d lambda = point_mass_matrix(body, r_frame).inverse() * body.to_frame(s);
+  return quat_exp(body.to_world(body.inertia_inv * r_frame.cross(lambda)));
 }
 
 }  // namespace
 
 MovingBody single_body(const Segment& segment, const BodyState& body) {
-  const Matrix3d rotation = body.q.toRotationMatrix();
   MovingBody out;
   out.mass = segment.mass;
   out.centre = body.x;
-  out.inertia = rotation * segment.inertia.asDiagonal() * rotation.transpose();
-  out.inertia_inv = rotation * segment.inertia.cwiseInverse().asDiagonal() * rotation.transpose();
+  out.frame = body.q;
+  out.inertia = segment.inertia.asDiagonal();
+  out.inertia_inv = segment.inertia.cwiseInverse().asDiagonal();
   return out;
 }
 
-Matrix3d point_mass_matrix(const MovingBody& body, const Vector3d& r) {
-  const Matrix3d rx = skew(r);
+Matrix3d point_mass_matrix(const MovingBody& body, const Vector3d& r_frame) {
+  const Matrix3d rx = skew(r_frame);
   return Matrix3d::Identity() / body.mass - rx * body.inertia_inv * rx;
 }
 
-Motion close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, const Vector3d& c_a,
-                   double h) {
+Matrix3d world_inertia_inv(const Segment& segment, const Quaterniond& q) {
+  const Matrix3d rotation = q.toRotationMatrix();
+  return rotation * segment.inertia.cwiseInverse().asDiagonal() * rotation.transpose();
+}
+
+Motion close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, const Vector3d& c_a) {
   const Vector3d r = c_b - body.centre;
   const Vector3d s = c_a - c_b;
   const Vector3d cross = r.cross(s);
-  const double cross_norm = cross.norm();
+  const double cross_norm2 = cross.squaredNorm();
   Quaterniond rotation = Quaterniond::Identity();
-  if (cross_norm >= kParallel) {
+  if (cross_norm2 >= kParallel * kParallel) {
     switch (rule) {
       case Rule::kLiteral:
-        rotation = literal_rotation(body, r, s, cross, cross_norm, h);
+        rotation = literal_rotation(body, r, s, cross, std::sqrt(cross_norm2));
         break;
       case Rule::kSmoothed:
-        rotation = smoothed_rotation(body, r, s, cross, cross_norm);
+        rotation = smoothed_rotation(body, r, s, cross, std::sqrt(cross_norm2));
         break;
       case Rule::kWeighted:
       case Rule::kSubtree:
@@ -101,15 +114,25 @@ Motion close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, const
     }
   }
   // eq. 5: x ↦ x + T with T = (I − R) r + s; every point p ↦ x + T + R (p − x)
+  const Motion closing{rotation, Vector3d::Zero()};
+  if (!closing.rotates()) return {rotation, s};
   const Vector3d translation = r - rotation * r + s;
   return {rotation, body.centre + translation - rotation * body.centre};
 }
 
-Quaterniond limit_correction(const Joint& joint, bool b_is_child, const Quaterniond& q_a,
-                             const Quaterniond& q_b) {
+double limit_free_w(const Joint& joint) {
+  if (joint.type != JointType::kBall) return 2.0;  // a hinge removes every other direction
+  // a rotation by ρ has twist ≤ ρ and swing ≤ ρ: inside when ρ is below every half-angle
+  const double free_angle = std::min({joint.twist, joint.swing_x, joint.swing_y});
+  return free_angle > 0.0 ? std::cos(0.5 * free_angle) : 2.0;
+}
+
+Quaterniond limit_correction(const Joint& joint, double free_w, bool b_is_child,
+                             const Quaterniond& q_a, const Quaterniond& q_b) {
   const Quaterniond& q_parent = b_is_child ? q_a : q_b;
   const Quaterniond& q_child = b_is_child ? q_b : q_a;
   const Quaterniond q_rel = joint_relative_rotation(joint, q_parent, q_child);
+  if (std::abs(q_rel.w()) > free_w) return Quaterniond::Identity();
   const Quaterniond clamped = clamp_to_limits(joint, q_rel);
   if (clamped.coeffs() == q_rel.coeffs()) return Quaterniond::Identity();
   // rebuild b from a and the clamped q_rel (inverted when b is the parent), never from a

@@ -103,6 +103,7 @@ Solver::Solver(const Model& model, const Settings& settings, const Environment& 
   workspace_.motion_q.resize(n);
   workspace_.motion_t.resize(n);
   workspace_.tremble_delta.assign(n, Vector3d::Zero());
+  for (const Joint& joint : model.joints) workspace_.limit_free_w.push_back(limit_free_w(joint));
   orders_.resize(n);
   order_for(0);
   // a contact may re-anchor the pass at any segment: build every order now, not in step()
@@ -171,58 +172,68 @@ void Solver::step(double dt) {
 }
 
 void Solver::substep(double h, double target_fraction) {
-  using Clock = std::chrono::steady_clock;
-  const bool timed = settings_.time_stages;
-  Clock::time_point mark = timed ? Clock::now() : Clock::time_point();
-  auto lap = [&](Stage stage) {
-    if (!timed) return;
-    const Clock::time_point now = Clock::now();
-    stage_seconds_[stage] += std::chrono::duration<double>(now - mark).count();
-    mark = now;
-  };
-
   // the pins' targets at the end of this substep
-  PinTargets targets{};
   for (int i = 0; i < state_.pin_count; ++i) {
-    targets[i] = state_.pin_previous_target[i] +
-                 target_fraction * (state_.pins[i].target - state_.pin_previous_target[i]);
+    substep_targets_[i] = state_.pin_previous_target[i] +
+                          target_fraction * (state_.pins[i].target - state_.pin_previous_target[i]);
   }
-  const int anchor = state_.pin_count > 0 ? state_.pins[0].segment : 0;
-
-  update(model_, environment_, state_, h);
-  if (settings_.tremble) {
-    tremble(model_, settings_, state_, h, workspace_.tremble_delta);
-  }
-  lap(kUpdate);
-
-  adjust(model_, settings_, environment_, orders_, anchor, targets, state_, workspace_, h);
-  lap(kAdjust);
-
-  if (environment_.ground) {
-    const int lowest = resolve_contacts(model_, environment_, state_, h);
-    // a contact move may reopen joints: one-pass rules re-run their pass from the segment that
-    // hit deepest. seed: relaxed has resolved contacts inside its sweeps; re-anchoring its final
-    // pass at a foot made the whole body swing on the ankle's limit (measured: 100 m/s in
-    // `drop`), so what this push-out leaves open is reported as joint gap instead.
-    if (lowest >= 0 && settings_.rule != Rule::kRelaxed) {
-      one_sided_pass(model_, settings_.rule, orders_[lowest], false, targets, state_, workspace_,
-                     h);
+  if (!settings_.time_stages) {
+    for (int stage = 0; stage < kStageCount; ++stage) run_stage(static_cast<Stage>(stage), h);
+  } else {
+    using Clock = std::chrono::steady_clock;
+    Clock::time_point mark = Clock::now();
+    for (int stage = 0; stage < kStageCount; ++stage) {
+      run_stage(static_cast<Stage>(stage), h);
+      const Clock::time_point now = Clock::now();
+      stage_seconds_[stage] += std::chrono::duration<double>(now - mark).count();
+      mark = now;
     }
   }
-  lap(kContacts);
-
-  if (settings_.derive_velocities) {
-    derive_velocities(model_, state_, workspace_.tremble_delta, h);
-  }
-  lap(kVelocities);
-
   state_.time += h;
+  check_finite();
+}
+
+void Solver::run_stage(Stage stage, double h) {
+  const int anchor = state_.pin_count > 0 ? state_.pins[0].segment : 0;
+  switch (stage) {
+    case kUpdate:
+      update(model_, environment_, state_, h);
+      if (settings_.tremble) tremble(model_, settings_, state_, h, workspace_.tremble_delta);
+      break;
+    case kAdjust:
+      adjust(model_, settings_, environment_, orders_, anchor, substep_targets_, state_,
+             workspace_, h);
+      break;
+    case kContacts:
+      if (environment_.ground) {
+        const int lowest = resolve_contacts(model_, environment_, state_);
+        // a contact move may reopen joints: one-sided rules re-run their pass from the segment
+        // that hit deepest. seed: relaxed has resolved contacts inside its sweeps; re-anchoring
+        // its final pass at a foot made the whole body swing on the ankle's limit (measured:
+        // 100 m/s in `drop`), so what this push-out leaves open is reported as joint gap instead.
+        if (lowest >= 0 && settings_.rule != Rule::kRelaxed) {
+          one_sided_pass(model_, settings_.rule, orders_[lowest], false, substep_targets_, state_,
+                         workspace_);
+        }
+      }
+      break;
+    case kVelocities:
+      if (settings_.derive_velocities) {
+        derive_velocities(model_, state_, workspace_.tremble_delta, h);
+      }
+      break;
+    case kStageCount:
+      break;
+  }
+}
+
+void Solver::check_finite() {
   // numerical health: flag, never throw
   for (const BodyState& body : state_.bodies) {
     if (!is_finite(body)) {
       state_.diverged = true;
       state_.diverged_time = state_.time;
-      break;
+      return;
     }
   }
 }

@@ -8,47 +8,68 @@
 
 namespace puppet::procedural {
 
-// a rigid motion p ↦ q·p + t, applied to a whole segment (or a subtree of them)
+// a rigid motion p ↦ q·p + t, applied to a whole segment (or a subtree of them). Most
+// corrections are pure translations (the literal rule's, a limit that holds): those skip every
+// quaternion product.
 struct Motion {
   Quaterniond q = Quaterniond::Identity();
   Vector3d t{0, 0, 0};
 
-  Vector3d apply(const Vector3d& p) const { return q * p + t; }
+  bool rotates() const { return q.x() != 0.0 || q.y() != 0.0 || q.z() != 0.0; }
+  Vector3d apply(const Vector3d& p) const { return rotates() ? Vector3d(q * p + t) : p + t; }
   void apply(BodyState& body) const {
+    if (!rotates()) {
+      body.x += t;
+      return;
+    }
     body.x = q * body.x + t;
     body.q = (q * body.q).normalized();
   }
   // (this ∘ inner)(p) = this(inner(p))
-  Motion after(const Motion& inner) const { return {q * inner.q, q * inner.t + t}; }
+  Motion after(const Motion& inner) const { return {q * inner.q, apply(inner.t)}; }
   // rotation `rotation` about the point `centre`
   static Motion about(const Quaterniond& rotation, const Vector3d& centre) {
     return {rotation, centre - rotation * centre};
   }
 };
 
-// the side of a joint that a correction moves: one segment, or a composite subtree
+// The side of a joint that a correction moves: one segment, or a composite subtree. Its inertia
+// is kept in `frame`: a segment's own orientation, where it is diagonal and constant (no world
+// tensor is built per correction), or the world for a composite.
 struct MovingBody {
   double mass = 0.0;
   Vector3d centre{0, 0, 0};                 // centre of mass, world
-  Matrix3d inertia = Matrix3d::Zero();      // world, about the centre
+  Quaterniond frame = Quaterniond::Identity();
+  Matrix3d inertia = Matrix3d::Zero();      // about the centre, in frame
   Matrix3d inertia_inv = Matrix3d::Zero();  // its inverse
+
+  Vector3d to_frame(const Vector3d& world) const { return frame.conjugate() * world; }
+  Vector3d to_world(const Vector3d& local) const { return frame * local; }
 };
 
 MovingBody single_body(const Segment& segment, const BodyState& body);
 
-// the 3×3 effective mass of a point at offset r from the centre: K = E/m − [r]× I⁻¹ [r]×
-Matrix3d point_mass_matrix(const MovingBody& body, const Vector3d& r);
+// the 3×3 effective mass of a point at offset r (in the body's frame) from the centre:
+// K = E/m − [r]× I⁻¹ [r]×, in the body's frame
+Matrix3d point_mass_matrix(const MovingBody& body, const Vector3d& r_frame);
+
+// a segment's inverse inertia in world, R I⁻¹ Rᵀ (relaxed's two-sided corrections)
+Matrix3d world_inertia_inv(const Segment& segment, const Quaterniond& q);
 
 // The correction that moves point c_b of `body` onto c_a: the rule's forced rotation R about
 // the body's centre (eqs. 2–3 or their readings), then the forced translation of eq. 5,
 // T = (I − R)·r + s, which closes the gap exactly.
-Motion close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, const Vector3d& c_a,
-                   double h);
+// (The literal rule's dt and mass cancel out of eqs. 2–3: no rule needs the step length.)
+Motion close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, const Vector3d& c_a);
 
 // The rotation of b about the joint point that brings the joint back inside its limits (eq. 4),
 // evaluated on q_rel = (parent frame)⁻¹(child frame) whichever side b is; identity when inside.
-Quaterniond limit_correction(const Joint& joint, bool b_is_child, const Quaterniond& q_a,
-                             const Quaterniond& q_b);
+// free_w: |w| of q_rel above which the joint is surely inside its limits (limit_free_w)
+Quaterniond limit_correction(const Joint& joint, double free_w, bool b_is_child,
+                             const Quaterniond& q_a, const Quaterniond& q_b);
+// cos(ρ/2) for the largest angle ρ that no limit of the joint can reach in any direction (> 1
+// when there is none): a relative rotation by less than ρ needs no swing–twist decomposition
+double limit_free_w(const Joint& joint);
 
 // world position of a point given in a segment's frame
 inline Vector3d world_point(const BodyState& body, const Vector3d& local) {
@@ -69,14 +90,14 @@ void adjust(const Model& model, const Settings& settings, const Environment& env
             State& state, Workspace& workspace, double h);
 // one-sided pass of `rule` over `order`; pins closed only when with_pins
 void one_sided_pass(const Model& model, Rule rule, const AnchorOrder& order, bool with_pins,
-                    const PinTargets& targets, State& state, Workspace& workspace, double h);
+                    const PinTargets& targets, State& state, Workspace& workspace);
 // stage 3: push shape points out of the ground with friction; returns the deepest-penetrating
 // segment before correction, or -1 without contact
-int resolve_contacts(const Model& model, const Environment& environment, State& state, double h);
+int resolve_contacts(const Model& model, const Environment& environment, State& state);
 // push one segment out of the ground (shared by resolve_contacts and relaxed sweeps); returns
 // the deepest penetration (m) found before the correction
 double push_out_of_ground(const Model& model, const Environment& environment, int segment,
-                          State& state, double h);
+                          State& state);
 // stage 4: velocities from the corrected poses and the previous ones
 void derive_velocities(const Model& model, State& state, const std::vector<Vector3d>& tremble_delta,
                        double h);

@@ -53,10 +53,13 @@ void update(const Model& model, const Environment& environment, State& state, do
 
     // angular: torque impulse, then the implicit gyroscopic step, in the body frame
     Vector3d w_body = body.q.conjugate() * body.w;
-    w_body += h * (body.q.conjugate() * wrench.torque).cwiseQuotient(segment.inertia);
+    if (!wrench.torque.isZero(0.0)) {
+      w_body += h * (body.q.conjugate() * wrench.torque).cwiseQuotient(segment.inertia);
+    }
     w_body = gyroscopic_step(segment.inertia, w_body, h);
     body.w = body.q * w_body;
-    body.q = (quat_exp(h * body.w) * body.q).normalized();
+    // exp(h ω) ⊗ q = q ⊗ exp(h ω_body)
+    body.q = (body.q * quat_exp(h * w_body)).normalized();
   }
 }
 

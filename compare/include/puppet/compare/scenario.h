@@ -77,4 +77,9 @@ Scenario make_scenario(const std::string& name, const Model& model,
 int default_pin_segment(const Model& model);
 int default_grab_segment(const Model& model, const std::string& scenario);
 
+// the built-in Pinocchio's model file, in the source tree
+std::string builtin_model_path();
+// "pinocchio" names the built-in figure; anything else is a model file or chain:N (load_model)
+Model load_named_model(const std::string& name);
+
 }  // namespace puppet::compare

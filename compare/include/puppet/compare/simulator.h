@@ -11,6 +11,7 @@
 #include "puppet/compare/scenario.h"
 #include "puppet/model/environment.h"
 #include "puppet/model/model.h"
+#include "puppet/procedural/solver.h"
 
 namespace puppet::compare {
 
@@ -64,5 +65,8 @@ struct SolverOptions {
 };
 // throws ScenarioError for an unknown solver or rule
 std::unique_ptr<Simulator> make_simulator(const std::string& solver, const SolverOptions& options);
+// the settings make_simulator("procedural", options) gives its solver in this scenario, for code
+// that drives procedural::Solver directly (benchmarks of its stages, crowds); throws ScenarioError
+procedural::Settings procedural_settings(const SolverOptions& options, const Scenario& scenario);
 
 }  // namespace puppet::compare

@@ -80,8 +80,9 @@ struct AnchorOrder {
 };
 AnchorOrder make_anchor_order(const Model& model, int anchor);
 
-// scratch space sized once for the model; nothing in it outlives a step
+// sized and filled once for the model; apart from limit_free_w nothing in it outlives a step
 struct Workspace {
+  std::vector<double> limit_free_w;  // per joint: see limit_free_w() in stages.h
   // composite mass properties of each preorder subtree (rule `subtree`)
   std::vector<double> subtree_mass;
   std::vector<Vector3d> subtree_moment;  // Σ m·x
@@ -105,6 +106,9 @@ class Solver {
   // move the pins' targets (world) for the end of the next step
   void set_pin_targets(std::span<const Vector3d> targets);
   void step(double dt);
+  // One stage of a substep of length h on the current state, with the pins' targets of the last
+  // substep: step() runs kUpdate … kVelocities in order; benchmarks time them one at a time.
+  void run_stage(Stage stage, double h);
 
   const Model& model() const { return model_; }
   const Settings& settings() const { return settings_; }
@@ -116,6 +120,7 @@ class Solver {
 
  private:
   void substep(double h, double target_fraction);
+  void check_finite();
   const AnchorOrder& order_for(int anchor);
 
   const Model& model_;
@@ -125,6 +130,7 @@ class Solver {
   Workspace workspace_;
   std::vector<AnchorOrder> orders_;  // by anchor segment; built outside step()
   std::array<double, kStageCount> stage_seconds_{};
+  std::array<Vector3d, kMaxPins> substep_targets_{};  // pins' targets at the end of the substep
 };
 
 }  // namespace puppet::procedural

@@ -1,0 +1,79 @@
+#include "bench_support.h"
+
+#include <map>
+#include <memory>
+
+namespace puppet::bench {
+
+std::vector<SolverConfig> solver_configs() {
+  std::vector<SolverConfig> configs;
+  for (procedural::Rule rule : procedural::kAllRules) {
+    compare::SolverOptions options;
+    options.rule = std::string(procedural::rule_name(rule));
+    configs.push_back({options.rule, "procedural", options});
+  }
+  configs.push_back({"bullet-multibody", "bullet-multibody", {}});
+  configs.push_back({"bullet-rigid", "bullet-rigid", {}});
+  return configs;
+}
+
+Workload make_workload(const Model& model, const std::string& scenario, int batch_steps) {
+  Workload workload;
+  workload.model = &model;
+  workload.scenario = compare::make_scenario(scenario, model);
+  workload.warm_up_steps = static_cast<int>(kWarmUpSeconds / kDt + 0.5);
+  workload.batch_targets.resize(batch_steps);
+  for (int k = 0; k < batch_steps; ++k) {
+    workload.scenario.targets_at((workload.warm_up_steps + k + 1) * kDt,
+                                 workload.batch_targets[k]);
+  }
+  return workload;
+}
+
+const Model& pinocchio() {
+  static const Model model = compare::load_named_model("pinocchio");
+  return model;
+}
+
+const Model& chain(int n) {
+  static std::map<int, Model> models;
+  auto it = models.find(n);
+  if (it == models.end()) {
+    it = models.emplace(n, compare::load_named_model("chain:" + std::to_string(n))).first;
+  }
+  return it->second;
+}
+
+bool warm_up(benchmark::State& state, compare::Simulator& simulator, const Workload& workload) {
+  simulator.reset(*workload.model, workload.scenario);
+  std::vector<Vector3d> targets;
+  for (int k = 0; k < workload.warm_up_steps && !simulator.diverged(); ++k) {
+    workload.scenario.targets_at((k + 1) * kDt, targets);
+    simulator.set_pin_targets(targets);
+    simulator.step(kDt);
+  }
+  if (simulator.diverged()) {
+    state.SkipWithError("diverged during the warm-up");
+    return false;
+  }
+  return true;
+}
+
+void run_batches(benchmark::State& state, compare::Simulator& simulator, const Workload& workload) {
+  if (!warm_up(state, simulator, workload)) return;
+  const std::unique_ptr<compare::Snapshot> snapshot = simulator.snapshot();
+  const int steps = static_cast<int>(workload.batch_targets.size());
+  for (auto _ : state) {
+    simulator.restore(*snapshot);
+    state.SetIterationTime(seconds_of([&] {
+      for (int k = 0; k < steps; ++k) {
+        simulator.set_pin_targets(workload.batch_targets[k]);
+        simulator.step(kDt);
+      }
+    }));
+  }
+  if (simulator.diverged()) state.SkipWithError("diverged in a timed batch");
+  state.SetItemsProcessed(state.iterations() * steps);
+}
+
+}  // namespace puppet::bench

@@ -1,0 +1,67 @@
+// What every benchmark shares: the scenarios of compare/ at a warmed-up instant, and batches of
+// steps timed by hand so that restoring the snapshot between batches is never timed.
+//
+// Each benchmark iteration restores the snapshot taken after the warm-up, then times kBatchSteps
+// steps (0.25 s of simulated time at 1/240 s) with the scenario's pin targets precomputed.
+// Items are steps, so items_per_second is steps per second and 1/items_per_second the time of
+// one step.
+#pragma once
+
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "puppet/compare/scenario.h"
+#include "puppet/compare/simulator.h"
+
+namespace puppet::bench {
+
+inline constexpr double kDt = 1.0 / 240.0;
+inline constexpr int kBatchSteps = 60;
+// the scenarios that gate the speed claims (the hang, drag, drop)
+inline const std::vector<std::string> kStepScenarios = {"hang", "drag", "drop"};
+
+// every solver configuration the comparison runs: one per procedural rule, then the references
+struct SolverConfig {
+  std::string label;  // "literal", …, "bullet-multibody", "bullet-rigid"
+  std::string solver;
+  compare::SolverOptions options;
+};
+std::vector<SolverConfig> solver_configs();
+
+// seconds stepped before the snapshot: past the targets' 0.5 s ramp, and in `drop` past the
+// landing (the lowest point starts 1 m up: it lands at 0.45 s), so contacts are timed
+inline constexpr double kWarmUpSeconds = 1.0;
+
+// a scenario on a model, with the pin targets of one batch of steps from the warm-up instant
+struct Workload {
+  const Model* model = nullptr;
+  compare::Scenario scenario;
+  int warm_up_steps = 0;
+  std::vector<std::vector<Vector3d>> batch_targets;  // [step of the batch][pin]
+};
+Workload make_workload(const Model& model, const std::string& scenario, int batch_steps);
+
+// the built-in Pinocchio, loaded once
+const Model& pinocchio();
+// chain:N, loaded once per N
+const Model& chain(int n);
+
+// Resets the simulator into the workload and steps the warm-up; false (and the benchmark
+// skipped with the reason) when it diverged on the way.
+bool warm_up(benchmark::State& state, compare::Simulator& simulator, const Workload& workload);
+
+// the time of `body` in seconds, for UseManualTime()
+template <typename Body>
+double seconds_of(Body&& body) {
+  const auto begin = std::chrono::steady_clock::now();
+  body();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+}
+
+// The standard loop: restore, then one timed batch of the workload's steps per iteration.
+void run_batches(benchmark::State& state, compare::Simulator& simulator, const Workload& workload);
+
+}  // namespace puppet::bench
