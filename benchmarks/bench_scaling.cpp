@@ -3,11 +3,12 @@
 //   scaling/<solver or rule>/N   one step of chain:N (N capsules hanging from ball joints) in
 //                                `hang`, N = 4 … 1024, with the complexity fitted over N;
 //                                counter segment_s: seconds per segment and step
-//   crowd/<rule>/K/threads:T     K independent Pinocchios in `drag` stepped once by a
+//   crowd/<rule>/puppets:K/threads:T   K independent Pinocchios in `drag` stepped once by a
 //                                procedural::Crowd on T threads; items are puppet-steps
 #include <memory>
 
 #include "bench_support.h"
+#include "puppet/procedural/crowd.h"
 
 using namespace puppet;
 using namespace puppet::bench;
@@ -22,9 +23,49 @@ void scaling_benchmark(benchmark::State& state, const SolverConfig& config) {
   const auto simulator = compare::make_simulator(config.solver, config.options);
   run_batches(state, *simulator, workload);
   state.SetComplexityN(n);
-  state.counters["segment_s"] = benchmark::Counter(static_cast<double>(n) * kScalingBatchSteps,
-                                                benchmark::Counter::kIsIterationInvariantRate |
-                                                    benchmark::Counter::kInvert);
+  state.counters["segment_s"] = benchmark::Counter(
+      static_cast<double>(n) * kScalingBatchSteps,
+      benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
+// K Pinocchios in `drag`, all in the state one of them reached after the warm-up, stepped on
+// and on (no restore: copying 20,000 states would dominate); each follows its own pin target
+void crowd_benchmark(benchmark::State& state, const std::string& rule) {
+  const int puppets = static_cast<int>(state.range(0));
+  const int threads = static_cast<int>(state.range(1));
+  compare::SolverOptions options;
+  options.rule = rule;
+  const Workload workload = make_workload(pinocchio(), "drag", 0);
+  const compare::Scenario& scenario = workload.scenario;
+  const procedural::Settings settings = compare::procedural_settings(options, scenario);
+
+  procedural::Solver lone(pinocchio(), settings, scenario.environment);
+  lone.reset(scenario.initial);
+  lone.set_pins(scenario.initial_pins());
+  std::vector<Vector3d> targets;
+  int step = 0;
+  for (; step < workload.warm_up_steps; ++step) {
+    scenario.targets_at((step + 1) * kDt, targets);
+    lone.set_pin_targets(targets);
+    lone.step(kDt);
+  }
+  procedural::Crowd crowd(pinocchio(), settings, scenario.environment, puppets, threads);
+  for (int k = 0; k < puppets; ++k) {
+    crowd.puppet(k).set_pins(scenario.initial_pins());
+    crowd.puppet(k).mutable_state() = lone.state();
+  }
+  for (auto _ : state) {
+    scenario.targets_at((++step) * kDt, targets);
+    for (int k = 0; k < puppets; ++k) crowd.puppet(k).set_pin_targets(targets);
+    crowd.step(kDt);
+  }
+  for (int k = 0; k < puppets; ++k) {
+    if (crowd.puppet(k).state().diverged) {
+      state.SkipWithError("a puppet diverged");
+      break;
+    }
+  }
+  state.SetItemsProcessed(state.iterations() * puppets);
 }
 
 }  // namespace
@@ -33,15 +74,23 @@ int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   for (const SolverConfig& config : solver_configs()) {
-    benchmark::RegisterBenchmark(("scaling/" + config.label).c_str(),
-                                 [config](benchmark::State& state) {
-                                   scaling_benchmark(state, config);
-                                 })
+    benchmark::RegisterBenchmark(
+        ("scaling/" + config.label).c_str(),
+        [config](benchmark::State& state) { scaling_benchmark(state, config); })
         ->RangeMultiplier(4)
         ->Range(4, 1024)
         ->Complexity()
         ->UseManualTime()
         ->Unit(benchmark::kMicrosecond);
+  }
+  for (procedural::Rule rule : procedural::kAllRules) {
+    const std::string name(procedural::rule_name(rule));
+    benchmark::RegisterBenchmark(("crowd/" + name).c_str(),
+                                 [name](benchmark::State& state) { crowd_benchmark(state, name); })
+        ->ArgNames({"puppets", "threads"})
+        ->ArgsProduct({{1000, 20000}, {1, 2}})
+        ->UseRealTime()
+        ->Unit(benchmark::kMillisecond);
   }
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

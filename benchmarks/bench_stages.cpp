@@ -73,18 +73,17 @@ int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   for (const std::string& scenario : kStepScenarios) {
-    benchmark::RegisterBenchmark(("floor/" + scenario).c_str(),
-                                 [scenario](benchmark::State& state) {
-                                   floor_benchmark(state, scenario);
-                                 })
+    benchmark::RegisterBenchmark(
+        ("floor/" + scenario).c_str(),
+        [scenario](benchmark::State& state) { floor_benchmark(state, scenario); })
         ->UseManualTime()
         ->Unit(benchmark::kMicrosecond);
     for (procedural::Rule rule : procedural::kAllRules) {
       const std::string rule_name(procedural::rule_name(rule));
       for (int s = 0; s < procedural::kStageCount; ++s) {
         const auto stage = static_cast<procedural::Stage>(s);
-        const std::string name = "stage/" + scenario + "/" + rule_name + "/" +
-                                 std::string(procedural::kStageNames[s]);
+        const std::string name =
+            "stage/" + scenario + "/" + rule_name + "/" + std::string(procedural::kStageNames[s]);
         benchmark::RegisterBenchmark(name.c_str(),
                                      [scenario, rule_name, stage](benchmark::State& state) {
                                        stage_benchmark(state, scenario, rule_name, stage);

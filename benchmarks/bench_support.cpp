@@ -24,8 +24,7 @@ Workload make_workload(const Model& model, const std::string& scenario, int batc
   workload.warm_up_steps = static_cast<int>(kWarmUpSeconds / kDt + 0.5);
   workload.batch_targets.resize(batch_steps);
   for (int k = 0; k < batch_steps; ++k) {
-    workload.scenario.targets_at((workload.warm_up_steps + k + 1) * kDt,
-                                 workload.batch_targets[k]);
+    workload.scenario.targets_at((workload.warm_up_steps + k + 1) * kDt, workload.batch_targets[k]);
   }
   return workload;
 }

@@ -11,6 +11,7 @@ packages=(
   libbullet-dev      # the references (its bullet-float64 variant: double precision)
   pkg-config         # finds bullet-float64
   libgtest-dev       # tests
+  libbenchmark-dev   # benchmarks/ and the performance gate
   python3-matplotlib # scripts/plot.py: plots and REPORT.md
 )
 

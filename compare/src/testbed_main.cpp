@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "puppet/compare/frontier.h"
+#include "puppet/compare/gate.h"
 #include "puppet/compare/output.h"
 #include "puppet/compare/run.h"
 #include "puppet/compare/scenario.h"
@@ -440,6 +441,25 @@ void add_solver_flags(CLI::App* command, RunFlags& f) {
 
 }  // namespace
 
+// exit 0 when every gate passes, 1 when one fails, 2 on bad input
+int command_gate(const std::vector<std::string>& bench_files, const std::string& thresholds,
+                 const std::string& csv) {
+  const std::vector<GateSpec> specs = read_gate_specs(thresholds);
+  std::vector<BenchTime> times;
+  for (const std::string& file : bench_files) {
+    for (const BenchTime& time : read_bench_times(file)) times.push_back(time);
+  }
+  const std::vector<GateResult> results = evaluate_gates(specs, times);
+  std::cout << gate_table(results);
+  if (!csv.empty()) {
+    write_file_atomically(csv, bench_csv(times));
+    std::cout << "wrote " << csv << '\n';
+  }
+  const bool passed = gate_passed(results);
+  std::cout << (passed ? "gate: pass\n" : "gate: FAIL\n");
+  return passed ? 0 : 1;
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"testbed: the seed's procedural solver for articulated bodies, measured"};
   app.require_subcommand(1);
@@ -484,6 +504,16 @@ int main(int argc, char** argv) {
   frontier->add_option("--hz", f.hz, "circle frequency held during the dt search (Hz)")
       ->capture_default_str();
 
+  std::vector<std::string> gate_files;
+  std::string gate_thresholds = "results/gate.json", gate_csv;
+  auto* gate = app.add_subcommand(
+      "gate",
+      "check speed ratios from Google Benchmark JSON (>= 9 repetitions, medians) against "
+      "thresholds; exit 1 when one fails");
+  gate->add_option("BENCH.json", gate_files, "Google Benchmark JSON output(s)")->required();
+  gate->add_option("--thresholds", gate_thresholds, "the gates (JSON)")->capture_default_str();
+  gate->add_option("--csv", gate_csv, "also write every benchmark's median to this CSV");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -499,6 +529,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("list")) return command_list();
     if (app.got_subcommand("validate")) return command_validate(validate_path);
     if (app.got_subcommand("frontier")) return command_frontier(f);
+    if (app.got_subcommand("gate")) return command_gate(gate_files, gate_thresholds, gate_csv);
     return command_run(f);
   } catch (const UsageError& e) {
     std::cerr << "testbed: " << e.what() << '\n';
@@ -506,6 +537,8 @@ int main(int argc, char** argv) {
     std::cerr << "testbed: " << e.what() << '\n';
   } catch (const ScenarioError& e) {
     std::cerr << "testbed: " << e.what() << '\n';
+  } catch (const GateError& e) {
+    std::cerr << "testbed gate: " << e.what() << '\n';
   } catch (const std::exception& e) {
     std::cerr << "testbed: " << e.what() << '\n';
     return 1;

@@ -1,6 +1,7 @@
 #include "puppet/model/environment.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace puppet {
 
@@ -15,9 +16,25 @@ std::vector<BodyState> rest_pose(const Model& model) {
 
 void vertical_extent(const Segment& segment, const Quaterniond& q, const Vector3d& x, double* low,
                      double* high) {
-  const Vector3d up_local = q.conjugate() * Vector3d::UnitZ();
-  *high = x.z() + (q * support_point(segment.shape, up_local)).z();
-  *low = x.z() + (q * support_point(segment.shape, -up_local)).z();
+  // the world's up in the segment's frame is the third row of its rotation matrix; the shape's
+  // half height along it is its support distance
+  const Vector3d up(2.0 * (q.x() * q.z() - q.w() * q.y()), 2.0 * (q.y() * q.z() + q.w() * q.x()),
+                    1.0 - 2.0 * (q.x() * q.x() + q.y() * q.y()));
+  const Shape& shape = segment.shape;
+  double half = 0.0;
+  switch (shape.type) {
+    case ShapeType::kSphere:
+      half = shape.radius;
+      break;
+    case ShapeType::kCapsule:
+      half = std::abs(up.z()) * shape.half_length + shape.radius;
+      break;
+    case ShapeType::kBox:
+      half = up.cwiseAbs().dot(shape.half_extents);
+      break;
+  }
+  *low = x.z() - half;
+  *high = x.z() + half;
 }
 
 double submerged_fraction(const Segment& segment, const Environment& environment,

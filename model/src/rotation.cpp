@@ -43,7 +43,8 @@ Vector3d quat_log(const Quaterniond& q) {
     const double y2 = s2 / (w * w);
     const double atan_ratio =
         1.0 - y2 * (1.0 / 3.0 -
-                     y2 * (1.0 / 5.0 - y2 * (1.0 / 7.0 - y2 * (1.0 / 9.0 - y2 * (1.0 / 11.0 - y2 / 13.0)))));
+                    y2 * (1.0 / 5.0 -
+                          y2 * (1.0 / 7.0 - y2 * (1.0 / 9.0 - y2 * (1.0 / 11.0 - y2 / 13.0)))));
     return (2.0 * atan_ratio / w) * v;
   }
   const double s = std::sqrt(s2);

@@ -201,8 +201,8 @@ void Solver::run_stage(Stage stage, double h) {
       if (settings_.tremble) tremble(model_, settings_, state_, h, workspace_.tremble_delta);
       break;
     case kAdjust:
-      adjust(model_, settings_, environment_, orders_, anchor, substep_targets_, state_,
-             workspace_, h);
+      adjust(model_, settings_, environment_, orders_, anchor, substep_targets_, state_, workspace_,
+             h);
       break;
     case kContacts:
       if (environment_.ground) {

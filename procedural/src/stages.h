@@ -38,7 +38,7 @@ struct Motion {
 // tensor is built per correction), or the world for a composite.
 struct MovingBody {
   double mass = 0.0;
-  Vector3d centre{0, 0, 0};                 // centre of mass, world
+  Vector3d centre{0, 0, 0};  // centre of mass, world
   Quaterniond frame = Quaterniond::Identity();
   Matrix3d inertia = Matrix3d::Zero();      // about the centre, in frame
   Matrix3d inertia_inv = Matrix3d::Zero();  // its inverse

@@ -60,6 +60,11 @@ TEST(TestbedCli, Validate) {
   expect_bad("validate " + std::string(PUPPET_SOURCE_DIR) + "/tests/data/bad/negative_mass.json",
              "negative_mass.json: segment \"lower\": field \"mass\" must be positive");
   expect_bad("validate /no/such/file.json", "/no/such/file.json: cannot open");
+  expect_bad("gate /no/such/bench.json --thresholds " + std::string(PUPPET_SOURCE_DIR) +
+                 "/results/gate.json",
+             "/no/such/bench.json: cannot open");
+  expect_bad("gate /no/such/bench.json --thresholds /no/such/gate.json",
+             "/no/such/gate.json: cannot open");
 }
 
 TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {

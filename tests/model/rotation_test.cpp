@@ -9,6 +9,18 @@ Quaterniond about(const Vector3d& axis, double angle) {
   return Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()));
 }
 
+// the small-angle series agree with sin, cos and atan2 to rounding on both sides of the switch
+TEST(Rotation, SeriesMatchTheClosedFormsAtTheSwitch) {
+  for (double angle : {1e-9, 1e-3, 0.05, 0.0999999, 0.1000001, 0.3}) {
+    const Vector3d axis = Vector3d(1, -2, 0.5).normalized();
+    const Quaterniond q = quat_exp(angle * axis);
+    const Quaterniond expected(Eigen::AngleAxisd(angle, axis));
+    EXPECT_NEAR(q.w(), expected.w(), 1e-16) << angle;
+    EXPECT_LT((q.vec() - expected.vec()).norm(), 2e-17 + 1e-15 * angle) << angle;
+    EXPECT_LT((quat_log(expected) - angle * axis).norm(), 1e-15 * angle) << angle;
+  }
+}
+
 TEST(Rotation, ExpLogRoundTrip) {
   for (const Vector3d& v : {Vector3d(0.3, -0.2, 0.1), Vector3d(1e-10, 0, 0), Vector3d(0, 3.0, 0)}) {
     EXPECT_LT((quat_log(quat_exp(v)) - v).norm(), 1e-12);

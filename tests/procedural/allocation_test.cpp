@@ -6,6 +6,7 @@
 #include <new>
 
 #include "puppet/compare/scenario.h"
+#include "puppet/procedural/crowd.h"
 #include "puppet/procedural/solver.h"
 
 namespace {
@@ -54,6 +55,27 @@ TEST(Allocation, NoneInsideAStep) {
     }
   }
   EXPECT_GT(g_allocations.load(), 0);  // the counter counts
+}
+
+TEST(Allocation, NoneInsideACrowdStep) {
+  const Model model = load_model(std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json");
+  const compare::Scenario scenario = compare::make_scenario("drag", model);
+  Crowd crowd(model, Settings{}, scenario.environment, 6, 2);
+  for (int k = 0; k < crowd.size(); ++k) {
+    crowd.puppet(k).reset(scenario.initial);
+    crowd.puppet(k).set_pins(scenario.initial_pins());
+  }
+  std::vector<Vector3d> targets;
+  targets.reserve(8);
+  long during = 0;
+  for (int step = 0; step < 20; ++step) {
+    scenario.targets_at((step + 1) / 60.0, targets);
+    const long before = g_allocations.load();
+    for (int k = 0; k < crowd.size(); ++k) crowd.puppet(k).set_pin_targets(targets);
+    crowd.step(1.0 / 60.0);
+    during += g_allocations.load() - before;
+  }
+  EXPECT_EQ(during, 0);
 }
 
 }  // namespace

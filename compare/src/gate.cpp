@@ -1,0 +1,215 @@
+#include "puppet/compare/gate.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "puppet/compare/output.h"
+
+namespace puppet::compare {
+namespace {
+
+using nlohmann::json;
+
+json read_json(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw GateError(path + ": cannot open");
+  try {
+    return json::parse(in);
+  } catch (const json::exception& e) {
+    throw GateError(path + ": not JSON (" + std::string(e.what()) + ")");
+  }
+}
+
+std::optional<double> optional_number(const json& gate, const char* key, const std::string& where) {
+  if (!gate.contains(key)) return std::nullopt;
+  if (!gate[key].is_number()) throw GateError(where + ": \"" + key + "\" must be a number");
+  const double value = gate[key].get<double>();
+  if (!std::isfinite(value)) throw GateError(where + ": \"" + key + "\" must be finite");
+  return value;
+}
+
+std::string required_string(const json& gate, const char* key, const std::string& where) {
+  if (!gate.contains(key) || !gate[key].is_string() || gate[key].get<std::string>().empty()) {
+    throw GateError(where + ": \"" + key + "\" (a benchmark name) is required");
+  }
+  return gate[key].get<std::string>();
+}
+
+std::string status_text(GateStatus status) {
+  switch (status) {
+    case GateStatus::kPass:
+      return "pass";
+    case GateStatus::kFail:
+      return "FAIL";
+    case GateStatus::kKnownFailure:
+      return "known failure";
+    case GateStatus::kUnexpectedPass:
+      return "pass (remove known_failure)";
+    case GateStatus::kMissing:
+      return "MISSING";
+  }
+  return "?";
+}
+
+std::string format(const char* pattern, double value) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, pattern, value);
+  return buffer;
+}
+
+}  // namespace
+
+std::vector<GateSpec> read_gate_specs(const std::string& path) {
+  const json root = read_json(path);
+  if (!root.is_object() || !root.contains("gates") || !root["gates"].is_array()) {
+    throw GateError(path + ": expected an object with a \"gates\" array");
+  }
+  std::vector<GateSpec> specs;
+  for (size_t i = 0; i < root["gates"].size(); ++i) {
+    const json& gate = root["gates"][i];
+    const std::string where = path + ": gates[" + std::to_string(i) + "]";
+    if (!gate.is_object()) throw GateError(where + ": expected an object");
+    GateSpec spec;
+    spec.name = gate.value("name", "");
+    if (spec.name.empty()) throw GateError(where + ": \"name\" is required");
+    spec.numerator = required_string(gate, "numerator", where);
+    spec.denominator = required_string(gate, "denominator", where);
+    spec.numerator_per = optional_number(gate, "numerator_per", where).value_or(1.0);
+    spec.denominator_per = optional_number(gate, "denominator_per", where).value_or(1.0);
+    if (!(spec.numerator_per > 0.0) || !(spec.denominator_per > 0.0)) {
+      throw GateError(where + ": \"_per\" counts must be > 0");
+    }
+    spec.min = optional_number(gate, "min", where);
+    spec.max = optional_number(gate, "max", where);
+    spec.floor = optional_number(gate, "floor", where);
+    spec.measured = optional_number(gate, "measured", where);
+    if (spec.min.has_value() == spec.max.has_value()) {
+      throw GateError(where + " (" + spec.name + "): exactly one of \"min\" and \"max\"");
+    }
+    if (spec.floor && spec.min && *spec.min < *spec.floor) {
+      throw GateError(where + " (" + spec.name + "): min " + format("%g", *spec.min) +
+                      " is below its floor " + format("%g", *spec.floor));
+    }
+    if (spec.floor && spec.max && *spec.max > *spec.floor) {
+      throw GateError(where + " (" + spec.name + "): max " + format("%g", *spec.max) +
+                      " is above its floor " + format("%g", *spec.floor));
+    }
+    if (gate.contains("known_failure")) {
+      if (!gate["known_failure"].is_string()) {
+        throw GateError(where + ": \"known_failure\" must be a string (the reason)");
+      }
+      spec.known_failure = gate["known_failure"].get<std::string>();
+    }
+    specs.push_back(spec);
+  }
+  return specs;
+}
+
+std::vector<BenchTime> read_bench_times(const std::string& path) {
+  const json root = read_json(path);
+  if (!root.is_object() || !root.contains("benchmarks") || !root["benchmarks"].is_array()) {
+    throw GateError(path + ": not Google Benchmark JSON (no \"benchmarks\" array)");
+  }
+  std::vector<BenchTime> times;
+  for (const json& entry : root["benchmarks"]) {
+    if (entry.value("run_type", "") != "aggregate" || entry.value("aggregate_name", "") != "median")
+      continue;
+    if (entry.contains("error_occurred") && entry["error_occurred"].get<bool>()) continue;
+    // "/manual_time" and "/real_time" say how a benchmark is timed, not what it is
+    std::string name = entry.value("run_name", "");
+    for (const std::string suffix : {"/manual_time", "/real_time"}) {
+      if (name.size() > suffix.size() && name.ends_with(suffix)) {
+        name.resize(name.size() - suffix.size());
+      }
+    }
+    if (!entry.contains("items_per_second") || !entry["items_per_second"].is_number()) {
+      throw GateError(path + ": " + name + " has no items_per_second");
+    }
+    BenchTime time;
+    time.name = name;
+    time.seconds = 1.0 / entry["items_per_second"].get<double>();
+    time.repetitions = entry.value("repetitions", 0);
+    if (time.repetitions < kGateRepetitions) {
+      throw GateError(path + ": " + name + " has " + std::to_string(time.repetitions) +
+                      " repetitions; the gate needs at least " + std::to_string(kGateRepetitions) +
+                      " (--benchmark_repetitions)");
+    }
+    times.push_back(time);
+  }
+  if (times.empty()) {
+    throw GateError(path + ": no median aggregates (run with --benchmark_repetitions=" +
+                    std::to_string(kGateRepetitions) + ")");
+  }
+  return times;
+}
+
+std::vector<GateResult> evaluate_gates(const std::vector<GateSpec>& specs,
+                                       const std::vector<BenchTime>& times) {
+  std::map<std::string, double> seconds;
+  for (const BenchTime& time : times) seconds[time.name] = time.seconds;
+  std::vector<GateResult> results;
+  for (const GateSpec& spec : specs) {
+    GateResult result{spec, std::nan(""), GateStatus::kMissing};
+    const auto numerator = seconds.find(spec.numerator);
+    const auto denominator = seconds.find(spec.denominator);
+    if (numerator != seconds.end() && denominator != seconds.end()) {
+      result.ratio =
+          (numerator->second / spec.numerator_per) / (denominator->second / spec.denominator_per);
+      const bool ok = spec.min ? result.ratio >= *spec.min : result.ratio <= *spec.max;
+      if (spec.known_failure.empty()) {
+        result.status = ok ? GateStatus::kPass : GateStatus::kFail;
+      } else {
+        result.status = ok ? GateStatus::kUnexpectedPass : GateStatus::kKnownFailure;
+      }
+    }
+    results.push_back(result);
+  }
+  return results;
+}
+
+std::string gate_table(const std::vector<GateResult>& results) {
+  std::ostringstream out;
+  char line[512];
+  std::snprintf(line, sizeof line, "%-52s %9s %11s %9s %9s  %s\n", "gate", "ratio", "threshold",
+                "floor", "measured", "status");
+  out << line;
+  for (const GateResult& r : results) {
+    const std::string threshold =
+        r.spec.min ? format(">= %.2f", *r.spec.min) : format("<= %.2f", *r.spec.max);
+    const std::string floor = r.spec.floor ? format("%.2f", *r.spec.floor) : "-";
+    const std::string measured = r.spec.measured ? format("%.2f", *r.spec.measured) : "-";
+    const std::string ratio = std::isnan(r.ratio) ? "-" : format("%.2f", r.ratio);
+    std::snprintf(line, sizeof line, "%-52s %9s %11s %9s %9s  %s\n", r.spec.name.c_str(),
+                  ratio.c_str(), threshold.c_str(), floor.c_str(), measured.c_str(),
+                  status_text(r.status).c_str());
+    out << line;
+    if (r.status == GateStatus::kMissing) {
+      out << "    missing benchmark: "
+          << (std::isnan(r.ratio) ? r.spec.numerator + " or " + r.spec.denominator : "") << '\n';
+    }
+    if (r.status == GateStatus::kKnownFailure) out << "    known: " << r.spec.known_failure << '\n';
+  }
+  return out.str();
+}
+
+bool gate_passed(const std::vector<GateResult>& results) {
+  for (const GateResult& r : results) {
+    if (r.status == GateStatus::kFail || r.status == GateStatus::kMissing) return false;
+  }
+  return true;
+}
+
+std::string bench_csv(const std::vector<BenchTime>& times) {
+  std::string csv = "benchmark,repetitions,median_s_per_item,items_per_second\n";
+  for (const BenchTime& time : times) {
+    csv += csv_field(time.name) + "," + std::to_string(time.repetitions) + "," +
+           csv_number(time.seconds) + "," + csv_number(1.0 / time.seconds) + "\n";
+  }
+  return csv;
+}
+
+}  // namespace puppet::compare

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Build and run the benchmarks, then the performance gate (testbed gate, results/gate.json).
+#
+#   scripts/bench.sh           every benchmark, 9 repetitions in random interleaving; writes the
+#                              JSON to results/bench/ and results/bench/<machine>.csv (medians)
+#   scripts/bench.sh --quick   only what the gate reads, with shorter runs (CI, ~2 min);
+#                              writes to build/release/bench/
+#
+# Exit status: the gate's (0 pass, 1 a ratio below its threshold, 2 bad input).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+mode=full
+if [ "${1:-}" = "--quick" ]; then mode=quick; fi
+scripts/setup.sh
+cmake --preset release >/dev/null
+cmake --build --preset release
+
+bin=build/release/benchmarks
+common=(--benchmark_repetitions=9 --benchmark_enable_random_interleaving=true
+  --benchmark_report_aggregates_only=true --benchmark_out_format=json)
+machine=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | tr -cs 'A-Za-z0-9' '-' |
+  tr 'A-Z' 'a-z' | sed 's/^-//; s/-$//')-$(nproc)cpu
+
+if [ "$mode" = quick ]; then
+  out=build/release/bench
+  mkdir -p "$out"
+  quick=(--benchmark_min_time=0.05)
+  "$bin/bench_step" "${common[@]}" "${quick[@]}" --benchmark_out="$out/bench_step.json" \
+    --benchmark_filter='^step/(hang|drag|drop)/(literal|smoothed|weighted|subtree|relaxed|bullet-multibody)/'
+  "$bin/bench_stages" "${common[@]}" "${quick[@]}" --benchmark_out="$out/bench_stages.json" \
+    --benchmark_filter='^floor/hang/'
+  "$bin/bench_scaling" "${common[@]}" "${quick[@]}" --benchmark_out="$out/bench_scaling.json" \
+    --benchmark_filter='^scaling/(literal|smoothed|weighted|subtree|relaxed)/(16|1024)/'
+  ./build/release/testbed gate "$out"/bench_step.json "$out"/bench_stages.json \
+    "$out"/bench_scaling.json --thresholds results/gate.json
+else
+  out=results/bench
+  mkdir -p "$out"
+  for b in bench_step bench_stages bench_scaling; do
+    "$bin/$b" "${common[@]}" --benchmark_out="$out/$b.json"
+  done
+  ./build/release/testbed gate "$out"/bench_step.json "$out"/bench_stages.json \
+    "$out"/bench_scaling.json --thresholds results/gate.json --csv "$out/$machine.csv"
+fi

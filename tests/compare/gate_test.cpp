@@ -1,0 +1,102 @@
+#include "puppet/compare/gate.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+namespace puppet::compare {
+namespace {
+
+// a file in a fresh temporary folder
+std::string write_temp(const std::string& name, const std::string& text) {
+  const auto dir = std::filesystem::temp_directory_path() / "puppet_gate_test";
+  std::filesystem::create_directories(dir);
+  const auto path = dir / name;
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+// Google Benchmark JSON with one median aggregate per (name, items per second)
+std::string bench_json(const std::vector<std::pair<std::string, double>>& medians,
+                       int repetitions = 9) {
+  std::string json = R"({"context": {}, "benchmarks": [)";
+  for (size_t i = 0; i < medians.size(); ++i) {
+    const auto& [name, rate] = medians[i];
+    if (i) json += ",";
+    // the mean differs from the median: the gate must read the median
+    json += R"({"name": ")" + name + R"(/manual_time_mean", "run_name": ")" + name +
+            R"(/manual_time", "run_type": "aggregate", "aggregate_name": "mean", "repetitions": )" +
+            std::to_string(repetitions) + R"(, "items_per_second": )" + std::to_string(rate / 2) +
+            "},";
+    json +=
+        R"({"name": ")" + name + R"(/manual_time_median", "run_name": ")" + name +
+        R"(/manual_time", "run_type": "aggregate", "aggregate_name": "median", "repetitions": )" +
+        std::to_string(repetitions) + R"(, "items_per_second": )" + std::to_string(rate) + "}";
+  }
+  return json + "]}";
+}
+
+TEST(Gate, RatiosOfMediansPerItemAgainstThresholds) {
+  const auto times = read_bench_times(write_temp("b.json", bench_json({{"step/hang/slow", 1000.0},
+                                                                       {"step/hang/fast", 25000.0},
+                                                                       {"chain/1024", 100.0},
+                                                                       {"chain/16", 5000.0}})));
+  ASSERT_EQ(times.size(), 4u);
+  EXPECT_EQ(times[0].name, "step/hang/slow");  // "/manual_time" is dropped
+  EXPECT_DOUBLE_EQ(times[0].seconds, 1e-3);
+
+  const auto specs = read_gate_specs(write_temp("g.json", R"({"gates": [
+      {"name": "speedup", "numerator": "step/hang/slow", "denominator": "step/hang/fast",
+       "min": 20, "floor": 10},
+      {"name": "too slow", "numerator": "step/hang/slow", "denominator": "step/hang/fast",
+       "min": 30, "floor": 10},
+      {"name": "per segment", "numerator": "chain/1024", "numerator_per": 1024,
+       "denominator": "chain/16", "denominator_per": 16, "max": 1.5},
+      {"name": "known", "numerator": "step/hang/slow", "denominator": "step/hang/fast",
+       "min": 40, "known_failure": "not yet"},
+      {"name": "gone", "numerator": "step/hang/none", "denominator": "step/hang/fast", "min": 1}
+    ]})"));
+  const auto results = evaluate_gates(specs, times);
+  ASSERT_EQ(results.size(), 5u);
+  EXPECT_DOUBLE_EQ(results[0].ratio, 25.0);
+  EXPECT_EQ(results[0].status, GateStatus::kPass);
+  EXPECT_EQ(results[1].status, GateStatus::kFail);
+  // (1/100 s / 1024) / (1/5000 s / 16) = 50·16/1024
+  EXPECT_DOUBLE_EQ(results[2].ratio, 50.0 * 16.0 / 1024.0);
+  EXPECT_EQ(results[2].status, GateStatus::kPass);
+  EXPECT_EQ(results[3].status, GateStatus::kKnownFailure);
+  EXPECT_TRUE(std::isnan(results[4].ratio));
+  EXPECT_EQ(results[4].status, GateStatus::kMissing);
+  EXPECT_FALSE(gate_passed(results));
+  EXPECT_TRUE(gate_passed({results[0], results[2], results[3]}));
+  EXPECT_NE(gate_table(results).find("FAIL"), std::string::npos);
+}
+
+TEST(Gate, BadInputNamesTheFileAndTheProblem) {
+  auto error_of = [](auto read, const std::string& file) -> std::string {
+    try {
+      read(file);
+    } catch (const GateError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const std::string few = write_temp("few.json", bench_json({{"a", 1.0}}, 3));
+  EXPECT_NE(error_of(read_bench_times, few).find("3 repetitions"), std::string::npos);
+  const std::string broken = write_temp("broken.json", "{\"benchmarks\": [");
+  EXPECT_NE(error_of(read_bench_times, broken).find("broken.json: not JSON"), std::string::npos);
+  EXPECT_NE(error_of(read_bench_times, "/nonexistent.json").find("cannot open"), std::string::npos);
+  const std::string loose = write_temp(
+      "loose.json",
+      R"({"gates": [{"name": "x", "numerator": "a", "denominator": "b", "min": 5, "floor": 10}]})");
+  EXPECT_NE(error_of(read_gate_specs, loose).find("below its floor"), std::string::npos);
+  const std::string both = write_temp(
+      "both.json",
+      R"({"gates": [{"name": "x", "numerator": "a", "denominator": "b", "min": 5, "max": 6}]})");
+  EXPECT_NE(error_of(read_gate_specs, both).find("exactly one"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace puppet::compare
