@@ -5,53 +5,6 @@
 
 namespace puppet {
 
-namespace {
-
-// below this rotation angle (rad) exp and log use their Taylor series: the first omitted term is
-// < 1e-19 relative, below the rounding of libm's sin, cos and atan2, and a step of dt ≤ 1/30 s
-// at |ω| ≤ 3 rad/s stays under it
-constexpr double kSeriesAngle = 0.1;
-
-}  // namespace
-
-Quaterniond quat_exp(const Vector3d& rotation_vector) {
-  const double angle2 = rotation_vector.squaredNorm();
-  double c, k;  // cos(angle/2) and sin(angle/2)/angle
-  if (angle2 < kSeriesAngle * kSeriesAngle) {
-    // series in x = (angle/2)²: no sqrt, sin or cos for the small rotations of a step
-    const double x = 0.25 * angle2;
-    c = 1.0 - x / 2.0 * (1.0 - x / 12.0 * (1.0 - x / 30.0 * (1.0 - x / 56.0 * (1.0 - x / 90.0))));
-    k = 0.5 * (1.0 - x / 6.0 * (1.0 - x / 20.0 * (1.0 - x / 42.0 * (1.0 - x / 72.0))));
-  } else {
-    const double angle = std::sqrt(angle2);
-    c = std::cos(0.5 * angle);
-    k = std::sin(0.5 * angle) / angle;
-  }
-  return Quaterniond(c, k * rotation_vector.x(), k * rotation_vector.y(), k * rotation_vector.z());
-}
-
-Vector3d quat_log(const Quaterniond& q) {
-  // fold to w ≥ 0 so the result is the shortest arc
-  const double sign = q.w() < 0.0 ? -1.0 : 1.0;
-  const Vector3d v = sign * q.vec();
-  const double w = sign * q.w();
-  const double s2 = v.squaredNorm();
-  // 2·atan2(s, w)/s; for small half-angles (s/w < tan(kSeriesAngle/2)) the series of
-  // atan(y)/y in y² = (s/w)²
-  const double limit = 0.5 * kSeriesAngle;
-  if (s2 < limit * limit * w * w) {
-    const double y2 = s2 / (w * w);
-    const double atan_ratio =
-        1.0 - y2 * (1.0 / 3.0 -
-                    y2 * (1.0 / 5.0 -
-                          y2 * (1.0 / 7.0 - y2 * (1.0 / 9.0 - y2 * (1.0 / 11.0 - y2 / 13.0)))));
-    return (2.0 * atan_ratio / w) * v;
-  }
-  const double s = std::sqrt(s2);
-  if (s == 0.0) return Vector3d::Zero();  // only a zero quaternion gets here
-  return (2.0 * std::atan2(s, w) / s) * v;
-}
-
 double angle_between(const Quaterniond& a, const Quaterniond& b) {
   return quat_log(a.conjugate() * b).norm();
 }

@@ -2,14 +2,54 @@
 // swing–twist decomposition, and a joint's relative rotation and limit violation.
 #pragma once
 
+#include <cmath>
+
 #include "puppet/model/model.h"
 
 namespace puppet {
 
+// Below this rotation angle (rad) exp and log use their Taylor series: the first omitted term is
+// < 1e-19 relative, below the rounding of libm's sin, cos and atan2. A step's rotations are
+// that small, so the solvers' inner loops (inlined from here) call no trigonometry for them.
+inline constexpr double kSeriesAngle = 0.1;
+
 // exp of a rotation vector (axis · angle) as a unit quaternion
-Quaterniond quat_exp(const Vector3d& rotation_vector);
+inline Quaterniond quat_exp(const Vector3d& rotation_vector) {
+  const double angle2 = rotation_vector.squaredNorm();
+  double c, k;  // cos(angle/2) and sin(angle/2)/angle
+  if (angle2 < kSeriesAngle * kSeriesAngle) {
+    // series in x = (angle/2)²: no sqrt, sin or cos
+    const double x = 0.25 * angle2;
+    c = 1.0 - x / 2.0 * (1.0 - x / 12.0 * (1.0 - x / 30.0 * (1.0 - x / 56.0 * (1.0 - x / 90.0))));
+    k = 0.5 * (1.0 - x / 6.0 * (1.0 - x / 20.0 * (1.0 - x / 42.0 * (1.0 - x / 72.0))));
+  } else {
+    const double angle = std::sqrt(angle2);
+    c = std::cos(0.5 * angle);
+    k = std::sin(0.5 * angle) / angle;
+  }
+  return Quaterniond(c, k * rotation_vector.x(), k * rotation_vector.y(), k * rotation_vector.z());
+}
+
 // exact logarithm, shortest arc: 2·atan2(|v|, w)·v̂ with the sign of w folded in
-Vector3d quat_log(const Quaterniond& q);
+inline Vector3d quat_log(const Quaterniond& q) {
+  const double sign = q.w() < 0.0 ? -1.0 : 1.0;
+  const Vector3d v = sign * q.vec();
+  const double w = sign * q.w();
+  const double s2 = v.squaredNorm();
+  // small half-angles (s/w < tan(kSeriesAngle/2)): the series of atan(y)/y in y² = (s/w)²
+  const double limit = 0.5 * kSeriesAngle;
+  if (s2 < limit * limit * w * w) {
+    const double y2 = s2 / (w * w);
+    const double atan_ratio =
+        1.0 - y2 * (1.0 / 3.0 -
+                    y2 * (1.0 / 5.0 -
+                          y2 * (1.0 / 7.0 - y2 * (1.0 / 9.0 - y2 * (1.0 / 11.0 - y2 / 13.0)))));
+    return (2.0 * atan_ratio / w) * v;
+  }
+  const double s = std::sqrt(s2);
+  if (s == 0.0) return Vector3d::Zero();  // only a zero quaternion gets here
+  return (2.0 * std::atan2(s, w) / s) * v;
+}
 // geodesic angle between two orientations (rad, in [0, π])
 double angle_between(const Quaterniond& a, const Quaterniond& b);
 // a unit vector orthogonal to v
