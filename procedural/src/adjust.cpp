@@ -23,12 +23,6 @@
 namespace puppet::procedural {
 namespace {
 
-Matrix3d skew(const Vector3d& v) {
-  Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-
 Matrix3d skew_square_term(const Vector3d& r, double mass) {
   // m (|r|² E − r rᵀ): the parallel-axis term
   return mass * (r.squaredNorm() * Matrix3d::Identity() - r * r.transpose());
@@ -97,33 +91,49 @@ void close_secondary_pins(const Model& model, Rule rule, const PinTargets& targe
   }
 }
 
+// relaxed: one side of a shared point correction, a segment with its point at world offset r;
+// its effective mass is built in its own frame (diagonal inertia) and turned into world once
+struct SharedSide {
+  SharedSide(const Segment& segment, const BodyState& body, const Vector3d& offset)
+      : rotation(body.q.toRotationMatrix()),
+        inertia_inv(segment.inertia.cwiseInverse()),
+        inv_mass(1.0 / segment.mass),
+        r(offset) {}
+  Matrix3d point_mass() const {
+    return rotation *
+           diagonal_point_mass_matrix(1.0 / inv_mass, inertia_inv, rotation.transpose() * r) *
+           rotation.transpose();
+  }
+  // the rotation vector of an impulse λ at the point: I⁻¹ (r × λ), in world
+  Vector3d rotation_of(const Vector3d& lambda) const {
+    return rotation * inertia_inv.cwiseProduct(rotation.transpose() * r.cross(lambda));
+  }
+  Matrix3d rotation;
+  Vector3d inertia_inv;
+  double inv_mass;
+  Vector3d r;
+};
+
 // relaxed: one two-sided correction of a point shared by segments a and b (a = −1: the world)
 void share_point_correction(const Model& model, int a, int b, const Vector3d& c_a,
                             const Vector3d& c_b, State& state) {
   BodyState& body_b = state.bodies[b];
-  const Segment& segment_b = model.segments[b];
-  const Vector3d r_b = c_b - body_b.x;
-  const Matrix3d inv_b = world_inertia_inv(segment_b, body_b.q);
-  // K = E/m − [r]× I⁻¹ [r]× for each side, in world
-  const Matrix3d rx_b = skew(r_b);
-  Matrix3d k = Matrix3d::Identity() / segment_b.mass - rx_b * inv_b * rx_b;
-  Matrix3d inv_a;
-  Vector3d r_a{0, 0, 0};
-  if (a >= 0) {
-    const BodyState& body_a = state.bodies[a];
-    inv_a = world_inertia_inv(model.segments[a], body_a.q);
-    r_a = c_a - body_a.x;
-    const Matrix3d rx_a = skew(r_a);
-    k += Matrix3d::Identity() / model.segments[a].mass - rx_a * inv_a * rx_a;
+  const SharedSide side_b(model.segments[b], body_b, c_b - body_b.x);
+  Matrix3d k = side_b.point_mass();
+  if (a < 0) {
+    const Vector3d lambda = solve3(k, c_a - c_b);
+    body_b.x += side_b.inv_mass * lambda;
+    body_b.q = (quat_exp(side_b.rotation_of(lambda)) * body_b.q).normalized();
+    return;
   }
-  const Vector3d lambda = k.inverse() * (c_a - c_b);
-  body_b.x += lambda / segment_b.mass;
-  body_b.q = (quat_exp(inv_b * r_b.cross(lambda)) * body_b.q).normalized();
-  if (a >= 0) {
-    BodyState& body_a = state.bodies[a];
-    body_a.x -= lambda / model.segments[a].mass;
-    body_a.q = (quat_exp(-(inv_a * r_a.cross(lambda))) * body_a.q).normalized();
-  }
+  BodyState& body_a = state.bodies[a];
+  const SharedSide side_a(model.segments[a], body_a, c_a - body_a.x);
+  k += side_a.point_mass();
+  const Vector3d lambda = solve3(k, c_a - c_b);
+  body_b.x += side_b.inv_mass * lambda;
+  body_b.q = (quat_exp(side_b.rotation_of(lambda)) * body_b.q).normalized();
+  body_a.x -= side_a.inv_mass * lambda;
+  body_a.q = (quat_exp(-side_a.rotation_of(lambda)) * body_a.q).normalized();
 }
 
 // relaxed: a limit's angular correction shared through I_a⁻¹ + I_b⁻¹
@@ -137,7 +147,7 @@ void share_limit_correction(const Model& model, const Workspace& ws, int j, Stat
   const Vector3d error = quat_log(correction);  // rotation the child needs, parent fixed
   const Matrix3d inv_p = world_inertia_inv(model.segments[joint.parent], parent.q);
   const Matrix3d inv_c = world_inertia_inv(model.segments[joint.child], child.q);
-  const Vector3d impulse = (inv_p + inv_c).inverse() * error;
+  const Vector3d impulse = solve3(inv_p + inv_c, error);
   child.q = (quat_exp(inv_c * impulse) * child.q).normalized();
   parent.q = (quat_exp(-(inv_p * impulse)) * parent.q).normalized();
 }

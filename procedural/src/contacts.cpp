@@ -12,7 +12,8 @@
 namespace puppet::procedural {
 namespace {
 
-constexpr int kContactPasses = 2;  // a capsule lying flat touches with both caps
+constexpr int kContactPasses = 2;    // a capsule lying flat touches with both caps
+constexpr double kClearance = 1e-9;  // m: above this no candidate point can be below z = 0
 
 // how many candidate contact points a shape has
 int candidate_count(const Shape& shape) {
@@ -52,6 +53,10 @@ double push_out_of_ground(const Model& model, const Environment& environment, in
                           State& state) {
   const Segment& seg = model.segments[segment];
   BodyState& body = state.bodies[segment];
+  // a segment clear of the ground by more than rounding has no candidate below it
+  double low = 0.0, high = 0.0;
+  vertical_extent(seg, body.q, body.x, &low, &high);
+  if (low > kClearance) return 0.0;
   const int count = candidate_count(seg.shape);
   double deepest = 0.0;
   for (int pass = 0; pass < kContactPasses; ++pass) {

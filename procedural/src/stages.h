@@ -34,17 +34,27 @@ struct Motion {
 };
 
 // The side of a joint that a correction moves: one segment, or a composite subtree. Its inertia
-// is kept in `frame`: a segment's own orientation, where it is diagonal and constant (no world
-// tensor is built per correction), or the world for a composite.
+// is kept in `frame`: a segment's own orientation, where it is diagonal and constant (no tensor
+// is built per correction), or the world for a composite, where it is a full tensor.
 struct MovingBody {
   double mass = 0.0;
   Vector3d centre{0, 0, 0};  // centre of mass, world
   Quaterniond frame = Quaterniond::Identity();
-  Matrix3d inertia = Matrix3d::Zero();      // about the centre, in frame
+  bool diagonal = false;                    // a segment: the two diagonals below
+  Vector3d inertia_diag{0, 0, 0};           // about the centre, in frame
+  Vector3d inertia_inv_diag{0, 0, 0};       // its inverse
+  Matrix3d inertia = Matrix3d::Zero();      // a composite: the tensor, in frame (world)
   Matrix3d inertia_inv = Matrix3d::Zero();  // its inverse
 
   Vector3d to_frame(const Vector3d& world) const { return frame.conjugate() * world; }
   Vector3d to_world(const Vector3d& local) const { return frame * local; }
+  // aᵀ I a and I⁻¹ v, in frame
+  double inertia_along(const Vector3d& a) const {
+    return diagonal ? a.cwiseAbs2().dot(inertia_diag) : a.dot(inertia * a);
+  }
+  Vector3d inverse_inertia_times(const Vector3d& v) const {
+    return diagonal ? Vector3d(inertia_inv_diag.cwiseProduct(v)) : Vector3d(inertia_inv * v);
+  }
 };
 
 MovingBody single_body(const Segment& segment, const BodyState& body);
@@ -53,7 +63,9 @@ MovingBody single_body(const Segment& segment, const BodyState& body);
 // K = E/m − [r]× I⁻¹ [r]×, in the body's frame
 Matrix3d point_mass_matrix(const MovingBody& body, const Vector3d& r_frame);
 
-// a segment's inverse inertia in world, R I⁻¹ Rᵀ (relaxed's two-sided corrections)
+// the same for a segment in its own frame, where D⁻¹ = diag(inertia_inv)
+Matrix3d diagonal_point_mass_matrix(double mass, const Vector3d& inertia_inv, const Vector3d& r);
+// a segment's inverse inertia in world, R I⁻¹ Rᵀ (relaxed's two-sided limit corrections)
 Matrix3d world_inertia_inv(const Segment& segment, const Quaterniond& q);
 
 // The correction that moves point c_b of `body` onto c_a: the rule's forced rotation R about
@@ -74,6 +86,14 @@ double limit_free_w(const Joint& joint);
 // world position of a point given in a segment's frame
 inline Vector3d world_point(const BodyState& body, const Vector3d& local) {
   return body.x + body.q * local;
+}
+
+// m⁻¹ y for an invertible 3×3 m, by Cramer's rule on m's columns: one division, ~40 flops
+inline Vector3d solve3(const Matrix3d& m, const Vector3d& y) {
+  const Vector3d c0 = m.col(0), c1 = m.col(1), c2 = m.col(2);
+  const Vector3d c12 = c1.cross(c2);
+  const double inv_det = 1.0 / c0.dot(c12);
+  return inv_det * Vector3d(y.dot(c12), c0.dot(y.cross(c2)), c0.dot(c1.cross(y)));
 }
 
 // per-substep pin targets (already interpolated across substeps)

@@ -17,16 +17,22 @@ namespace {
 constexpr double kGroundStiffness = 987.0;  // (2π·5 Hz)², per unit mass (1/s²)
 
 // implicit gyroscopic step in the body frame: solve I(ω' − ω) + h ω' × Iω' = 0 by one Newton
-// step from ω' = ω
+// step from ω' = ω. With I = diag(I₁, I₂, I₃) and ω = (p, q, r) the Jacobian
+// J = I + h([ω]× I − [Iω]×) has columns
+//   c₀ = (I₁, h r (I₁ − I₃), h q (I₂ − I₁)), c₁ = (h r (I₃ − I₂), I₂, h p (I₂ − I₁)),
+//   c₂ = (h q (I₃ − I₂), h p (I₁ − I₃), I₃),
+// and J δ = h ω × Iω is solved by Cramer's rule (one division, no 3×3 inverse).
 Vector3d gyroscopic_step(const Vector3d& inertia, const Vector3d& w_body, double h) {
-  const Vector3d iw = inertia.cwiseProduct(w_body);
-  const Vector3d residual = h * w_body.cross(iw);
-  Matrix3d skew_w, skew_iw;
-  skew_w << 0, -w_body.z(), w_body.y(), w_body.z(), 0, -w_body.x(), -w_body.y(), w_body.x(), 0;
-  skew_iw << 0, -iw.z(), iw.y(), iw.z(), 0, -iw.x(), -iw.y(), iw.x(), 0;
-  const Matrix3d jacobian =
-      Matrix3d(inertia.asDiagonal()) + h * (skew_w * inertia.asDiagonal() - skew_iw);
-  return w_body - jacobian.inverse() * residual;
+  const double p = w_body.x(), q = w_body.y(), r = w_body.z();
+  const double i1 = inertia.x(), i2 = inertia.y(), i3 = inertia.z();
+  const Vector3d c0(i1, h * r * (i1 - i3), h * q * (i2 - i1));
+  const Vector3d c1(h * r * (i3 - i2), i2, h * p * (i2 - i1));
+  const Vector3d c2(h * q * (i3 - i2), h * p * (i1 - i3), i3);
+  const Vector3d residual = h * w_body.cross(inertia.cwiseProduct(w_body));
+  const Vector3d c12 = c1.cross(c2);
+  const double inv_det = 1.0 / c0.dot(c12);
+  const Vector3d delta(residual.dot(c12), c0.dot(residual.cross(c2)), c0.dot(c1.cross(residual)));
+  return w_body - inv_det * delta;
 }
 
 }  // namespace
