@@ -28,7 +28,10 @@ void Crowd::step_range(int thread, double dt) {
   const int n = size(), parts = threads();
   const int begin = static_cast<int>(static_cast<long>(n) * thread / parts);
   const int end = static_cast<int>(static_cast<long>(n) * (thread + 1) / parts);
-  for (int k = begin; k < end; ++k) puppets_[k]->step(dt);
+  for (int k = begin; k < end; ++k) {
+    if (k + 2 < end) puppets_[k + 2]->prefetch();
+    puppets_[k]->step(dt);
+  }
 }
 
 void Crowd::work(int thread) {

@@ -227,6 +227,31 @@ void Solver::run_stage(Stage stage, double h) {
   }
 }
 
+namespace {
+
+template <typename T>
+void prefetch_range(const std::vector<T>& values) {
+  const char* begin = reinterpret_cast<const char*>(values.data());
+  const char* end = begin + values.size() * sizeof(T);
+  for (const char* p = begin; p < end; p += 64) __builtin_prefetch(p);
+}
+
+}  // namespace
+
+void Solver::prefetch() const {
+  const char* self = reinterpret_cast<const char*>(this);
+  for (size_t offset = 0; offset < sizeof(*this); offset += 64) __builtin_prefetch(self + offset);
+  prefetch_range(state_.bodies);
+  prefetch_range(state_.x_prev);
+  prefetch_range(state_.q_prev);
+  prefetch_range(state_.user_force);
+  prefetch_range(state_.user_torque);
+  prefetch_range(workspace_.tremble_delta);
+  prefetch_range(workspace_.limit_free_w);
+  const int anchor = state_.pin_count > 0 ? state_.pins[0].segment : 0;
+  prefetch_range(orders_[anchor].links);
+}
+
 void Solver::check_finite() {
   // numerical health: flag, never throw
   for (const BodyState& body : state_.bodies) {

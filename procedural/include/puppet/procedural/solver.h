@@ -109,6 +109,9 @@ class Solver {
   // One stage of a substep of length h on the current state, with the pins' targets of the last
   // substep: step() runs kUpdate … kVelocities in order; benchmarks time them one at a time.
   void run_stage(Stage stage, double h);
+  // asks the cache for everything step() reads, without waiting for it: a crowd issues this for
+  // the next puppet while it steps the current one
+  void prefetch() const;
 
   const Model& model() const { return model_; }
   const Settings& settings() const { return settings_; }
