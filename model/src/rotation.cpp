@@ -37,7 +37,24 @@ Quaterniond joint_relative_rotation(const Joint& joint, const Quaterniond& paren
 
 namespace {
 
+// Surely inside the limits, decided without trigonometry: the twist angle 2·atan(|p|/|w|) and
+// the swing angle 2·atan(|v_s|/w_s) are at most 2|p|/|w| and 2|v_s|/w_s (atan y ≤ y), so when
+// those bounds are inside, so are the angles. It never says inside when the exact test would not.
+bool surely_inside_ball(const Joint& joint, const Quaterniond& q_rel) {
+  const double w = std::abs(q_rel.w()), p = std::abs(q_rel.z());
+  if (!(2.0 * p <= joint.twist * w)) return false;
+  if (!(joint.swing_x > 0.0 && joint.swing_y > 0.0)) return false;
+  // swing = q ⊗ twist⁻¹ with twist = (w, 0, 0, z)/n: w_s = n, v_s = (x w − y z, y w + x z, 0)/n
+  const double x = q_rel.x(), y = q_rel.y(), z = q_rel.z();
+  const double n2 = q_rel.w() * q_rel.w() + z * z;
+  const double sx = x * q_rel.w() - y * z, sy = y * q_rel.w() + x * z;  // n·v_s
+  // (2|v_s|/w_s)² (n_x²/a² + n_y²/b²) ≤ 1  ⟺  4 (sx²/a² + sy²/b²) ≤ n⁴
+  const double ex = sx / joint.swing_x, ey = sy / joint.swing_y;
+  return 4.0 * (ex * ex + ey * ey) <= n2 * n2;
+}
+
 Quaterniond clamp_ball(const Joint& joint, const Quaterniond& q_rel) {
+  if (surely_inside_ball(joint, q_rel)) return q_rel;
   const SwingTwist st = decompose_swing_twist(q_rel, Vector3d::UnitZ());
   bool changed = false;
 

@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdint>
+
 #include "puppet/model/rotation.h"
 
 namespace puppet {
@@ -59,6 +62,36 @@ TEST(Rotation, BallLimitsAlongTheAxes) {
   // the clamped rotation sits on the boundary
   const Quaterniond clamped = clamp_to_limits(j, about(Vector3d(1, 0, 0), 40 * d));
   EXPECT_NEAR(angle_between(clamped, about(Vector3d(1, 0, 0), 30 * d)), 0.0, 1e-12);
+}
+
+// the trigonometry-free early "inside" of a ball limit agrees with the exact swing–twist test on
+// random rotations around the limits (an asymmetric ellipse, both signs of w)
+TEST(Rotation, BallInsideShortcutAgreesWithTheExactTest) {
+  Joint j;
+  j.type = JointType::kBall;
+  j.swing_x = 0.3;
+  j.swing_y = 0.8;
+  j.twist = 0.4;
+  uint64_t seed = 12345;
+  auto uniform = [&seed] {
+    seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(seed >> 11) * 0x1.0p-53;
+  };
+  int inside = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const Vector3d v(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5);
+    Quaterniond q = quat_exp(2.0 * v);  // up to ~1.7 rad
+    if (k % 2) q.coeffs() *= -1.0;
+    const SwingTwist st = decompose_swing_twist(q, Vector3d::UnitZ());
+    const Vector3d swing = quat_log(st.swing);
+    const bool exact_inside = std::abs(st.twist_angle) <= j.twist &&
+                              std::hypot(swing.x() / j.swing_x, swing.y() / j.swing_y) <= 1.0;
+    const bool kept = clamp_to_limits(j, q).coeffs() == q.coeffs();
+    EXPECT_EQ(kept, exact_inside) << q.coeffs().transpose();
+    inside += exact_inside;
+  }
+  EXPECT_GT(inside, 1000);  // both outcomes are sampled
+  EXPECT_LT(inside, 19000);
 }
 
 TEST(Rotation, HingeKeepsOnlyItsAxis) {
