@@ -26,7 +26,9 @@ SwingTwist decompose_swing_twist(const Quaterniond& q, const Vector3d& axis) {
   double angle = 2.0 * std::atan2(projection / norm, twist.w());
   if (angle > M_PI) angle -= 2.0 * M_PI;
   if (angle <= -M_PI) angle += 2.0 * M_PI;
-  return {q * twist.conjugate(), angle};
+  const Quaterniond swing = q * twist.conjugate();
+  if (twist.w() < 0.0) twist.coeffs() *= -1.0;  // the same rotation, on the shortest arc
+  return {swing, angle, twist};
 }
 
 Quaterniond joint_relative_rotation(const Joint& joint, const Quaterniond& parent_orientation,
@@ -90,8 +92,10 @@ Quaterniond clamp_ball(const Joint& joint, const Quaterniond& q_rel) {
 
 Quaterniond clamp_hinge(const Joint& joint, const Quaterniond& q_rel) {
   const SwingTwist st = decompose_swing_twist(q_rel, joint.hinge_axis);
+  // other directions are not allowed at all: keep only the rotation about the axis (the twist
+  // itself when its angle is in range; no need to rebuild it from the angle)
+  if (st.twist_angle >= joint.lower && st.twist_angle <= joint.upper) return st.twist;
   const double angle = std::clamp(st.twist_angle, joint.lower, joint.upper);
-  // other directions are not allowed at all: keep only the rotation about the axis
   return quat_exp(angle * joint.hinge_axis);
 }
 

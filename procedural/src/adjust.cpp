@@ -91,25 +91,32 @@ void close_secondary_pins(const Model& model, Rule rule, const PinTargets& targe
   }
 }
 
-// relaxed: one side of a shared point correction, a segment with its point at world offset r;
-// its effective mass is built in its own frame (diagonal inertia) and turned into world once
+// relaxed: one side of a shared point correction, a segment with its point at world offset r.
+// A = R D⁻¹ Rᵀ (its inverse inertia in world, symmetric) is built once and serves both its
+// effective mass and the rotation of the impulse.
 struct SharedSide {
   SharedSide(const Segment& segment, const BodyState& body, const Vector3d& offset)
-      : rotation(body.q.toRotationMatrix()),
-        inertia_inv(segment.inertia.cwiseInverse()),
-        inv_mass(1.0 / segment.mass),
-        r(offset) {}
+      : a(world_inertia_inv(segment, body.q)), inv_mass(1.0 / segment.mass), r(offset) {}
+  // K = E/m − [r]× A [r]× = E/m + Σ (r × eᵢ)ᵀ A (r × eⱼ), written out
   Matrix3d point_mass() const {
-    return rotation *
-           diagonal_point_mass_matrix(1.0 / inv_mass, inertia_inv, rotation.transpose() * r) *
-           rotation.transpose();
+    const double x = r.x(), y = r.y(), z = r.z();
+    const Vector3d au_x = z * a.col(1) - y * a.col(2);  // A (r × e_x), r × e_x = (0, z, −y)
+    const Vector3d au_y = x * a.col(2) - z * a.col(0);  // r × e_y = (−z, 0, x)
+    const Vector3d au_z = y * a.col(0) - x * a.col(1);  // r × e_z = (y, −x, 0)
+    const double xx = z * au_x.y() - y * au_x.z(), yy = x * au_y.z() - z * au_y.x(),
+                 zz = y * au_z.x() - x * au_z.y();
+    const double xy = z * au_y.y() - y * au_y.z(), xz = z * au_z.y() - y * au_z.z(),
+                 yz = x * au_z.z() - z * au_z.x();
+    Matrix3d k;
+    k << inv_mass + xx, xy, xz,  //
+        xy, inv_mass + yy, yz,   //
+        xz, yz, inv_mass + zz;
+    return k;
   }
   // the rotation vector of an impulse λ at the point: I⁻¹ (r × λ), in world
-  Vector3d rotation_of(const Vector3d& lambda) const {
-    return rotation * inertia_inv.cwiseProduct(rotation.transpose() * r.cross(lambda));
-  }
-  Matrix3d rotation;
-  Vector3d inertia_inv;
+  Vector3d rotation_of(const Vector3d& lambda) const { return a * r.cross(lambda); }
+
+  Matrix3d a;
   double inv_mass;
   Vector3d r;
 };
@@ -123,7 +130,7 @@ void share_point_correction(const Model& model, int a, int b, const Vector3d& c_
   if (a < 0) {
     const Vector3d lambda = solve3(k, c_a - c_b);
     body_b.x += side_b.inv_mass * lambda;
-    body_b.q = (quat_exp(side_b.rotation_of(lambda)) * body_b.q).normalized();
+    body_b.q = quat_exp(side_b.rotation_of(lambda)) * body_b.q;
     return;
   }
   BodyState& body_a = state.bodies[a];
@@ -131,9 +138,9 @@ void share_point_correction(const Model& model, int a, int b, const Vector3d& c_
   k += side_a.point_mass();
   const Vector3d lambda = solve3(k, c_a - c_b);
   body_b.x += side_b.inv_mass * lambda;
-  body_b.q = (quat_exp(side_b.rotation_of(lambda)) * body_b.q).normalized();
+  body_b.q = quat_exp(side_b.rotation_of(lambda)) * body_b.q;
   body_a.x -= side_a.inv_mass * lambda;
-  body_a.q = (quat_exp(-side_a.rotation_of(lambda)) * body_a.q).normalized();
+  body_a.q = quat_exp(-side_a.rotation_of(lambda)) * body_a.q;
 }
 
 // relaxed: a limit's angular correction shared through I_a⁻¹ + I_b⁻¹
@@ -148,8 +155,8 @@ void share_limit_correction(const Model& model, const Workspace& ws, int j, Stat
   const Matrix3d inv_p = world_inertia_inv(model.segments[joint.parent], parent.q);
   const Matrix3d inv_c = world_inertia_inv(model.segments[joint.child], child.q);
   const Vector3d impulse = solve3(inv_p + inv_c, error);
-  child.q = (quat_exp(inv_c * impulse) * child.q).normalized();
-  parent.q = (quat_exp(-(inv_p * impulse)) * parent.q).normalized();
+  child.q = quat_exp(inv_c * impulse) * child.q;
+  parent.q = quat_exp(-(inv_p * impulse)) * parent.q;
 }
 
 void relaxed_sweeps(const Model& model, const Settings& settings, const Environment& environment,
@@ -168,6 +175,9 @@ void relaxed_sweeps(const Model& model, const Settings& settings, const Environm
                              world_point(state.bodies[joint.child], joint.anchor_in_child), state);
       share_limit_correction(model, ws, link.joint, state);
     }
+    // the shared corrections compose unit quaternions and leave them unnormalised (off by a
+    // few ulps): one normalisation per segment and sweep instead of one per correction
+    for (BodyState& body : state.bodies) body.q.normalize();
     if (environment.ground) {
       for (int s = 0; s < model.segment_count(); ++s) {
         push_out_of_ground(model, environment, s, state);

@@ -58,7 +58,8 @@ Vector3d any_orthogonal(const Vector3d& v);
 // q = swing ⊗ twist: twist about `axis` (unit), swing about an axis orthogonal to it
 struct SwingTwist {
   Quaterniond swing;
-  double twist_angle;  // in (−π, π]
+  double twist_angle;                           // in (−π, π]
+  Quaterniond twist = Quaterniond::Identity();  // exp(twist_angle·axis), w ≥ 0
 };
 SwingTwist decompose_swing_twist(const Quaterniond& q, const Vector3d& axis);
 
