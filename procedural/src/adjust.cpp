@@ -64,14 +64,16 @@ MovingBody composite_body(const Workspace& ws, int k, const Motion& motion) {
   return body;
 }
 
-// close the joint of link k and clamp its limits; returns the motion applied to b
+// close the joint of link k and clamp its limits for a composite b (rule `subtree`); returns the
+// motion applied to everything b carries
 Motion close_link(const Model& model, const Workspace& ws, Rule rule, const AnchorOrder::Link& link,
                   const MovingBody& body, const BodyState& a, const BodyState& b_current) {
   const Joint& joint = model.joints[link.joint];
   const Vector3d& local_a = link.b_is_child ? joint.anchor_in_parent : joint.anchor_in_child;
   const Vector3d& local_b = link.b_is_child ? joint.anchor_in_child : joint.anchor_in_parent;
   const Vector3d c_a = world_point(a, local_a);
-  const Motion closing = close_point(rule, body, world_point(b_current, local_b), c_a);
+  const Motion closing =
+      close_point(rule, body, world_point(b_current, local_b), c_a).motion(body.centre);
 
   // eq. 4: clamp to the limits, rotating b about the (now closed) joint point
   const Quaterniond b_closed = closing.rotates() ? closing.q * b_current.q : b_current.q;
@@ -81,13 +83,37 @@ Motion close_link(const Model& model, const Workspace& ws, Rule rule, const Anch
   return clamping.rotates() ? clamping.after(closing) : closing;
 }
 
+// close_link for a single segment b, applied in place: b's joint point is known in its own
+// frame, and the motion is applied without being built (x ↦ x + T, then the clamp about c_a)
+void close_segment_link(const Model& model, const Workspace& ws, Rule rule,
+                        const AnchorOrder::Link& link, const BodyState& a, BodyState& b) {
+  const Joint& joint = model.joints[link.joint];
+  const Vector3d& local_a = link.b_is_child ? joint.anchor_in_parent : joint.anchor_in_child;
+  const Vector3d& local_b = link.b_is_child ? joint.anchor_in_child : joint.anchor_in_parent;
+  const Vector3d c_a = world_point(a, local_a);
+  const Correction closing = close_point(rule, single_body(model.segments[link.b], b),
+                                         world_point(b, local_b), c_a, &local_b);
+  const Quaterniond b_closed = closing.rotates() ? closing.rotation * b.q : b.q;
+  const Quaterniond clamp =
+      limit_correction(joint, ws.limit_free_w[link.joint], link.b_is_child, a.q, b_closed);
+  b.x += closing.translation;
+  if (clamp.x() == 0.0 && clamp.y() == 0.0 && clamp.z() == 0.0) {
+    if (closing.rotates()) b.q = b_closed.normalized();
+    return;
+  }
+  // eq. 4: rotate b about the (now closed) joint point
+  b.x = c_a + clamp * (b.x - c_a);
+  b.q = (clamp * b_closed).normalized();
+}
+
 void close_secondary_pins(const Model& model, Rule rule, const PinTargets& targets, State& state) {
   const Rule single = rule == Rule::kSubtree ? Rule::kWeighted : rule;
   for (int i = 1; i < state.pin_count; ++i) {
     const Pin& pin = state.pins[i];
     BodyState& body = state.bodies[pin.segment];
     const MovingBody moving = single_body(model.segments[pin.segment], body);
-    close_point(single, moving, world_point(body, pin.local_point), targets[i]).apply(body);
+    close_point(single, moving, world_point(body, pin.local_point), targets[i], &pin.local_point)
+        .apply(body);
   }
 }
 
@@ -202,8 +228,14 @@ void one_sided_pass(const Model& model, Rule rule, const AnchorOrder& order, boo
     const Pin& pin = state.pins[0];
     const MovingBody body = subtree ? composite_body(ws, 0, Motion())
                                     : single_body(model.segments[order.anchor], anchor);
-    anchor_motion = close_point(rule, body, world_point(anchor, pin.local_point), targets[0]);
-    anchor_motion.apply(anchor);
+    const Correction closing = close_point(rule, body, world_point(anchor, pin.local_point),
+                                           targets[0], subtree ? nullptr : &pin.local_point);
+    anchor_motion = closing.motion(body.centre);
+    if (subtree) {
+      anchor_motion.apply(anchor);
+    } else {
+      closing.apply(anchor);
+    }
   }
   if (subtree) {
     ws.motion_q[0] = anchor_motion.q;
@@ -216,22 +248,20 @@ void one_sided_pass(const Model& model, Rule rule, const AnchorOrder& order, boo
     const AnchorOrder::Link& link = order.links[k];
     const int position = k + 1;
     BodyState& b = state.bodies[link.b];
-    Motion motion;
-    if (subtree) {
-      const int parent = order.parent_position[position];
-      const Motion inherited{ws.motion_q[parent], ws.motion_t[parent]};
-      BodyState current = b;
-      inherited.apply(current);
-      motion = close_link(model, ws, rule, link, composite_body(ws, position, inherited),
-                          state.bodies[link.a], current);
-      const Motion total = motion.after(inherited);
-      ws.motion_q[position] = total.q;
-      ws.motion_t[position] = total.t;
-      b = current;
-    } else {
-      motion = close_link(model, ws, rule, link, single_body(model.segments[link.b], b),
-                          state.bodies[link.a], b);
+    if (!subtree) {
+      close_segment_link(model, ws, rule, link, state.bodies[link.a], b);
+      continue;
     }
+    const int parent = order.parent_position[position];
+    const Motion inherited{ws.motion_q[parent], ws.motion_t[parent]};
+    BodyState current = b;
+    inherited.apply(current);
+    const Motion motion = close_link(model, ws, rule, link, composite_body(ws, position, inherited),
+                                     state.bodies[link.a], current);
+    const Motion total = motion.after(inherited);
+    ws.motion_q[position] = total.q;
+    ws.motion_t[position] = total.t;
+    b = current;
     motion.apply(b);
   }
 }

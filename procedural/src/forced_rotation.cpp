@@ -62,9 +62,10 @@ Quaterniond smoothed_rotation(const MovingBody& body, const Vector3d& r, const V
   return quat_exp((theta / cross_norm) * cross);
 }
 
-Quaterniond weighted_rotation(const MovingBody& body, const Vector3d& r, const Vector3d& s) {
+Quaterniond weighted_rotation(const MovingBody& body, const Vector3d& r, const Vector3d& s,
+                              const Vector3d* known_r_frame) {
   // in the body's frame, where a segment's inertia is diagonal
-  const Vector3d r_frame = body.to_frame(r);
+  const Vector3d r_frame = known_r_frame ? *known_r_frame : body.to_frame(r);
   const Vector3d lambda = solve3(point_mass_matrix(body, r_frame), body.to_frame(s));
   return quat_exp(body.to_world(body.inverse_inertia_times(r_frame.cross(lambda))));
 }
@@ -117,7 +118,8 @@ Matrix3d world_inertia_inv(const Segment& segment, const Quaterniond& q) {
   return out;
 }
 
-Motion close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, const Vector3d& c_a) {
+Correction close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, const Vector3d& c_a,
+                       const Vector3d* r_frame) {
   const Vector3d r = c_b - body.centre;
   const Vector3d s = c_a - c_b;
   const Vector3d cross = r.cross(s);
@@ -134,15 +136,14 @@ Motion close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, const
       case Rule::kWeighted:
       case Rule::kSubtree:
       case Rule::kRelaxed:
-        rotation = weighted_rotation(body, r, s);
+        rotation = weighted_rotation(body, r, s, r_frame);
         break;
     }
   }
-  // eq. 5: x ↦ x + T with T = (I − R) r + s; every point p ↦ x + T + R (p − x)
-  const Motion closing{rotation, Vector3d::Zero()};
-  if (!closing.rotates()) return {rotation, s};
-  const Vector3d translation = r - rotation * r + s;
-  return {rotation, body.centre + translation - rotation * body.centre};
+  // eq. 5: x ↦ x + T with T = (I − R) r + s
+  Correction correction{rotation, s};
+  if (correction.rotates()) correction.translation = r - rotation * r + s;
+  return correction;
 }
 
 double limit_free_w(const Joint& joint) {

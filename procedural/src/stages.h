@@ -33,6 +33,26 @@ struct Motion {
   }
 };
 
+// What close_point() gives: the rule's rotation R of a body about its centre, then the
+// translation T of its centre (eq. 5). A single segment takes it directly (its centre is its x);
+// a composite turns it into the rigid motion of everything it carries.
+struct Correction {
+  Quaterniond rotation = Quaterniond::Identity();
+  Vector3d translation{0, 0, 0};
+
+  bool rotates() const { return rotation.x() != 0.0 || rotation.y() != 0.0 || rotation.z() != 0.0; }
+  // p ↦ centre + T + R (p − centre)
+  Motion motion(const Vector3d& centre) const {
+    if (!rotates()) return {rotation, translation};
+    return {rotation, centre + translation - rotation * centre};
+  }
+  // a single segment: x ↦ x + T, q ↦ R q
+  void apply(BodyState& body) const {
+    body.x += translation;
+    if (rotates()) body.q = (rotation * body.q).normalized();
+  }
+};
+
 // The side of a joint that a correction moves: one segment, or a composite subtree. Its inertia
 // is kept in `frame`: a segment's own orientation, where it is diagonal and constant (no tensor
 // is built per correction), or the world for a composite, where it is a full tensor.
@@ -72,7 +92,9 @@ Matrix3d world_inertia_inv(const Segment& segment, const Quaterniond& q);
 // the body's centre (eqs. 2–3 or their readings), then the forced translation of eq. 5,
 // T = (I − R)·r + s, which closes the gap exactly.
 // (The literal rule's dt and mass cancel out of eqs. 2–3: no rule needs the step length.)
-Motion close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, const Vector3d& c_a);
+// r_frame: c_b − centre in the body's frame when the caller knows it (a segment's own point).
+Correction close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, const Vector3d& c_a,
+                       const Vector3d* r_frame = nullptr);
 
 // The rotation of b about the joint point that brings the joint back inside its limits (eq. 4),
 // evaluated on q_rel = (parent frame)⁻¹(child frame) whichever side b is; identity when inside.
