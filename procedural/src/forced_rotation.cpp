@@ -66,8 +66,15 @@ Quaterniond weighted_rotation(const MovingBody& body, const Vector3d& r, const V
                               const Vector3d* known_r_frame) {
   // in the body's frame, where a segment's inertia is diagonal
   const Vector3d r_frame = known_r_frame ? *known_r_frame : body.to_frame(r);
-  const Vector3d lambda = solve3(point_mass_matrix(body, r_frame), body.to_frame(s));
-  return quat_exp(body.to_world(body.inverse_inertia_times(r_frame.cross(lambda))));
+  const Vector3d s_frame = body.to_frame(s);
+  if (body.diagonal) {
+    const Vector3d inertia_inv = body.inertia_diag.cwiseInverse();
+    const Vector3d lambda =
+        solve3(diagonal_point_mass_matrix(body.mass, inertia_inv, r_frame), s_frame);
+    return quat_exp(body.to_world(inertia_inv.cwiseProduct(r_frame.cross(lambda))));
+  }
+  const Vector3d lambda = solve3(point_mass_matrix(body.mass, body.inertia_inv, r_frame), s_frame);
+  return quat_exp(body.to_world(body.inertia_inv * r_frame.cross(lambda)));
 }
 
 }  // namespace
@@ -79,7 +86,6 @@ MovingBody single_body(const Segment& segment, const BodyState& body) {
   out.frame = body.q;
   out.diagonal = true;
   out.inertia_diag = segment.inertia;
-  out.inertia_inv_diag = segment.inertia.cwiseInverse();
   return out;
 }
 
@@ -95,12 +101,9 @@ Matrix3d diagonal_point_mass_matrix(double mass, const Vector3d& inertia_inv, co
   return k;
 }
 
-Matrix3d point_mass_matrix(const MovingBody& body, const Vector3d& r_frame) {
-  if (body.diagonal) {
-    return diagonal_point_mass_matrix(body.mass, body.inertia_inv_diag, r_frame);
-  }
-  const Matrix3d rx = skew(r_frame);
-  return Matrix3d::Identity() / body.mass - rx * body.inertia_inv * rx;
+Matrix3d point_mass_matrix(double mass, const Matrix3d& inertia_inv, const Vector3d& r) {
+  const Matrix3d rx = skew(r);
+  return Matrix3d::Identity() / mass - rx * inertia_inv * rx;
 }
 
 Matrix3d world_inertia_inv(const Segment& segment, const Quaterniond& q) {

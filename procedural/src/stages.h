@@ -60,28 +60,24 @@ struct MovingBody {
   double mass = 0.0;
   Vector3d centre{0, 0, 0};  // centre of mass, world
   Quaterniond frame = Quaterniond::Identity();
-  bool diagonal = false;                    // a segment: the two diagonals below
-  Vector3d inertia_diag{0, 0, 0};           // about the centre, in frame
-  Vector3d inertia_inv_diag{0, 0, 0};       // its inverse
-  Matrix3d inertia = Matrix3d::Zero();      // a composite: the tensor, in frame (world)
-  Matrix3d inertia_inv = Matrix3d::Zero();  // its inverse
+  bool diagonal = false;           // a segment: inertia_diag; else the two tensors
+  Vector3d inertia_diag{0, 0, 0};  // about the centre, in frame
+  Matrix3d inertia;                // a composite's tensor, in frame (world); unset for a segment
+  Matrix3d inertia_inv;            // its inverse
 
   Vector3d to_frame(const Vector3d& world) const { return frame.conjugate() * world; }
   Vector3d to_world(const Vector3d& local) const { return frame * local; }
-  // aᵀ I a and I⁻¹ v, in frame
+  // aᵀ I a, in frame
   double inertia_along(const Vector3d& a) const {
     return diagonal ? a.cwiseAbs2().dot(inertia_diag) : a.dot(inertia * a);
-  }
-  Vector3d inverse_inertia_times(const Vector3d& v) const {
-    return diagonal ? Vector3d(inertia_inv_diag.cwiseProduct(v)) : Vector3d(inertia_inv * v);
   }
 };
 
 MovingBody single_body(const Segment& segment, const BodyState& body);
 
-// the 3×3 effective mass of a point at offset r (in the body's frame) from the centre:
-// K = E/m − [r]× I⁻¹ [r]×, in the body's frame
-Matrix3d point_mass_matrix(const MovingBody& body, const Vector3d& r_frame);
+// the 3×3 effective mass of a point at offset r from the centre, K = E/m − [r]× I⁻¹ [r]×, for an
+// inverse inertia tensor (any frame, r in the same)
+Matrix3d point_mass_matrix(double mass, const Matrix3d& inertia_inv, const Vector3d& r);
 
 // the same for a segment in its own frame, where D⁻¹ = diag(inertia_inv)
 Matrix3d diagonal_point_mass_matrix(double mass, const Vector3d& inertia_inv, const Vector3d& r);
