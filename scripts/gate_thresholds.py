@@ -1,10 +1,11 @@
 #!/usr/bin/python3
 """Write results/gate.json from a full benchmark run (scripts/bench.sh).
 
-The floors are the project's commitments; each threshold is set a noise margin from what this
-run measured (30 %: ratios moved by up to ±20 % between runs here), never looser than its floor, and the measured ratio is recorded beside it.
-A floor the run does not reach is marked known_failure with the figure, so the gate shows it
-without failing, until the solver reaches it.
+The floors are the project's commitments. Each threshold is set a noise margin from what this
+run measured (30 %: the same ratio moved by up to ±20 % between runs on this machine), never
+looser than its floor, and the measured ratio is recorded beside it. A floor the run does not
+reach is marked known_failure with the figure, so the gate shows it without failing, until the
+solver reaches it.
 
     scripts/gate_thresholds.py results/bench/bench_step.json results/bench/bench_stages.json \
         results/bench/bench_scaling.json > results/gate.json
