@@ -243,15 +243,17 @@ void one_sided_pass(const Model& model, Rule rule, const AnchorOrder& order, boo
   }
 
   // every joint, parent-before-child from the anchor
+  if (!subtree) {
+    for (const AnchorOrder::Link& link : order.level_links) {
+      close_segment_link(model, ws, rule, link, state.bodies[link.a], state.bodies[link.b]);
+    }
+    return;
+  }
   const int links = static_cast<int>(order.links.size());
   for (int k = 0; k < links; ++k) {
     const AnchorOrder::Link& link = order.links[k];
     const int position = k + 1;
     BodyState& b = state.bodies[link.b];
-    if (!subtree) {
-      close_segment_link(model, ws, rule, link, state.bodies[link.a], b);
-      continue;
-    }
     const int parent = order.parent_position[position];
     const Motion inherited{ws.motion_q[parent], ws.motion_t[parent]};
     BodyState current = b;

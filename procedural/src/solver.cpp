@@ -1,5 +1,6 @@
 #include "puppet/procedural/solver.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -76,6 +77,14 @@ AnchorOrder make_anchor_order(const Model& model, int anchor) {
       if (position[other] < 0) stack.push_back({other, *it, k});
     }
   }
+  // breadth-first: by depth, stable within a depth
+  std::vector<int> depth(n, 0);
+  for (int k = 1; k < n; ++k) depth[k] = depth[order.parent_position[k]] + 1;
+  std::vector<int> by_depth(n - 1);
+  for (int k = 0; k < n - 1; ++k) by_depth[k] = k;
+  std::stable_sort(by_depth.begin(), by_depth.end(),
+                   [&](int x, int y) { return depth[x + 1] < depth[y + 1]; });
+  for (int k : by_depth) order.level_links.push_back(order.links[k]);
   // subtree ends, from the back: a subtree ends where its last descendant's does
   order.subtree_end.resize(n);
   for (int k = 0; k < n; ++k) order.subtree_end[k] = k + 1;
@@ -250,6 +259,7 @@ void Solver::prefetch() const {
   prefetch_range(workspace_.limit_free_w);
   const int anchor = state_.pin_count > 0 ? state_.pins[0].segment : 0;
   prefetch_range(orders_[anchor].links);
+  prefetch_range(orders_[anchor].level_links);
 }
 
 void Solver::check_finite() {

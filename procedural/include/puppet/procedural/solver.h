@@ -77,6 +77,10 @@ struct AnchorOrder {
   std::vector<int> preorder;         // segments, anchor first
   std::vector<int> subtree_end;      // preorder position one past the subtree of preorder[k]
   std::vector<int> parent_position;  // preorder position of the segment preorder[k] hangs from
+  // links in breadth-first order: parents still come before children, and consecutive links
+  // (siblings, cousins) are independent, so the processor overlaps their latency. A one-sided
+  // pass of single segments gives bit for bit the same result in any parent-first order.
+  std::vector<AnchorOrder::Link> level_links;
 };
 AnchorOrder make_anchor_order(const Model& model, int anchor);
 
