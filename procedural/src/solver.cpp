@@ -77,14 +77,15 @@ AnchorOrder make_anchor_order(const Model& model, int anchor) {
       if (position[other] < 0) stack.push_back({other, *it, k});
     }
   }
-  // breadth-first: by depth, stable within a depth
+  // breadth-first: depth by depth, in preorder within a depth
   std::vector<int> depth(n, 0);
   for (int k = 1; k < n; ++k) depth[k] = depth[order.parent_position[k]] + 1;
-  std::vector<int> by_depth(n - 1);
-  for (int k = 0; k < n - 1; ++k) by_depth[k] = k;
-  std::stable_sort(by_depth.begin(), by_depth.end(),
-                   [&](int x, int y) { return depth[x + 1] < depth[y + 1]; });
-  for (int k : by_depth) order.level_links.push_back(order.links[k]);
+  const int deepest = n > 0 ? *std::max_element(depth.begin(), depth.end()) : 0;
+  for (int d = 1; d <= deepest; ++d) {
+    for (int k = 1; k < n; ++k) {
+      if (depth[k] == d) order.level_links.push_back(order.links[k - 1]);
+    }
+  }
   // subtree ends, from the back: a subtree ends where its last descendant's does
   order.subtree_end.resize(n);
   for (int k = 0; k < n; ++k) order.subtree_end[k] = k + 1;
