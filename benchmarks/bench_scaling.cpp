@@ -36,25 +36,14 @@ constexpr int kCrowdBatchSteps = 8;
 void crowd_benchmark(benchmark::State& state, const std::string& rule) {
   const int puppets = static_cast<int>(state.range(0));
   const int threads = static_cast<int>(state.range(1));
-  compare::SolverOptions options;
-  options.rule = rule;
   const Workload workload = make_workload(pinocchio(), "drag", kCrowdBatchSteps);
   const compare::Scenario& scenario = workload.scenario;
-  const procedural::Settings settings = compare::procedural_settings(options, scenario);
-
-  procedural::Solver lone(pinocchio(), settings, scenario.environment);
-  lone.reset(scenario.initial);
-  lone.set_pins(scenario.initial_pins());
-  std::vector<Vector3d> targets;
-  for (int step = 0; step < workload.warm_up_steps; ++step) {
-    scenario.targets_at((step + 1) * kDt, targets);
-    lone.set_pin_targets(targets);
-    lone.step(kDt);
-  }
-  procedural::Crowd crowd(pinocchio(), settings, scenario.environment, puppets, threads);
+  const auto lone = warmed_up_solver(state, workload, rule);
+  procedural::Crowd crowd(pinocchio(), procedural_settings(workload, rule), scenario.environment,
+                          puppets, threads);
   for (int k = 0; k < puppets; ++k) crowd.puppet(k).set_pins(scenario.initial_pins());
   for (auto _ : state) {
-    for (int k = 0; k < puppets; ++k) crowd.puppet(k).mutable_state() = lone.state();
+    for (int k = 0; k < puppets; ++k) crowd.puppet(k).mutable_state() = lone->state();
     state.SetIterationTime(seconds_of([&] {
       for (const std::vector<Vector3d>& step_targets : workload.batch_targets) {
         for (int k = 0; k < puppets; ++k) crowd.puppet(k).set_pin_targets(step_targets);

@@ -17,27 +17,6 @@ using namespace puppet::bench;
 
 namespace {
 
-// a procedural solver in the workload's scenario, stepped through the warm-up
-std::unique_ptr<procedural::Solver> warmed_up_solver(benchmark::State& state,
-                                                     const Workload& workload,
-                                                     const std::string& rule) {
-  compare::SolverOptions options;
-  options.rule = rule;
-  const compare::Scenario& scenario = workload.scenario;
-  auto solver = std::make_unique<procedural::Solver>(
-      *workload.model, compare::procedural_settings(options, scenario), scenario.environment);
-  solver->reset(scenario.initial);
-  solver->set_pins(scenario.initial_pins());
-  std::vector<Vector3d> targets;
-  for (int k = 0; k < workload.warm_up_steps; ++k) {
-    scenario.targets_at((k + 1) * kDt, targets);
-    solver->set_pin_targets(targets);
-    solver->step(kDt);
-  }
-  if (solver->state().diverged) state.SkipWithError("diverged during the warm-up");
-  return solver;
-}
-
 void stage_benchmark(benchmark::State& state, const std::string& scenario, const std::string& rule,
                      procedural::Stage stage) {
   const Workload workload = make_workload(pinocchio(), scenario, 1);

@@ -58,6 +58,30 @@ bool warm_up(benchmark::State& state, compare::Simulator& simulator, const Workl
   return true;
 }
 
+procedural::Settings procedural_settings(const Workload& workload, const std::string& rule) {
+  compare::SolverOptions options;
+  options.rule = rule;
+  return compare::procedural_settings(options, workload.scenario);
+}
+
+std::unique_ptr<procedural::Solver> warmed_up_solver(benchmark::State& state,
+                                                     const Workload& workload,
+                                                     const std::string& rule) {
+  const compare::Scenario& scenario = workload.scenario;
+  auto solver = std::make_unique<procedural::Solver>(
+      *workload.model, procedural_settings(workload, rule), scenario.environment);
+  solver->reset(scenario.initial);
+  solver->set_pins(scenario.initial_pins());
+  std::vector<Vector3d> targets;
+  for (int k = 0; k < workload.warm_up_steps; ++k) {
+    scenario.targets_at((k + 1) * kDt, targets);
+    solver->set_pin_targets(targets);
+    solver->step(kDt);
+  }
+  if (solver->state().diverged) state.SkipWithError("diverged during the warm-up");
+  return solver;
+}
+
 void run_batches(benchmark::State& state, compare::Simulator& simulator, const Workload& workload) {
   if (!warm_up(state, simulator, workload)) return;
   const std::unique_ptr<compare::Snapshot> snapshot = simulator.snapshot();

@@ -10,11 +10,13 @@
 #include <benchmark/benchmark.h>
 
 #include <chrono>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "puppet/compare/scenario.h"
 #include "puppet/compare/simulator.h"
+#include "puppet/procedural/solver.h"
 
 namespace puppet::bench {
 
@@ -52,6 +54,13 @@ const Model& chain(int n);
 // Resets the simulator into the workload and steps the warm-up; false (and the benchmark
 // skipped with the reason) when it diverged on the way.
 bool warm_up(benchmark::State& state, compare::Simulator& simulator, const Workload& workload);
+
+// The settings compare/ gives the procedural solver with this rule in the workload's scenario,
+// and such a solver stepped through the warm-up (the benchmark skipped if it diverged).
+procedural::Settings procedural_settings(const Workload& workload, const std::string& rule);
+std::unique_ptr<procedural::Solver> warmed_up_solver(benchmark::State& state,
+                                                     const Workload& workload,
+                                                     const std::string& rule);
 
 // the time of `body` in seconds, for UseManualTime()
 template <typename Body>

@@ -188,8 +188,7 @@ std::string gate_table(const std::vector<GateResult>& results) {
                   status_text(r.status).c_str());
     out << line;
     if (r.status == GateStatus::kMissing) {
-      out << "    missing benchmark: "
-          << (std::isnan(r.ratio) ? r.spec.numerator + " or " + r.spec.denominator : "") << '\n';
+      out << "    missing benchmark: " << r.spec.numerator << " or " << r.spec.denominator << '\n';
     }
     if (r.status == GateStatus::kKnownFailure) out << "    known: " << r.spec.known_failure << '\n';
   }

@@ -64,13 +64,22 @@ MovingBody composite_body(const Workspace& ws, int k, const Motion& motion) {
   return body;
 }
 
+// the joint point in a's frame and in b's frame
+struct LinkAnchors {
+  const Vector3d& local_a;
+  const Vector3d& local_b;
+};
+LinkAnchors link_anchors(const Joint& joint, const AnchorOrder::Link& link) {
+  if (link.b_is_child) return {joint.anchor_in_parent, joint.anchor_in_child};
+  return {joint.anchor_in_child, joint.anchor_in_parent};
+}
+
 // close the joint of link k and clamp its limits for a composite b (rule `subtree`); returns the
 // motion applied to everything b carries
 Motion close_link(const Model& model, const Workspace& ws, Rule rule, const AnchorOrder::Link& link,
                   const MovingBody& body, const BodyState& a, const BodyState& b_current) {
   const Joint& joint = model.joints[link.joint];
-  const Vector3d& local_a = link.b_is_child ? joint.anchor_in_parent : joint.anchor_in_child;
-  const Vector3d& local_b = link.b_is_child ? joint.anchor_in_child : joint.anchor_in_parent;
+  const auto [local_a, local_b] = link_anchors(joint, link);
   const Vector3d c_a = world_point(a, local_a);
   const Motion closing =
       close_point(rule, body, world_point(b_current, local_b), c_a).motion(body.centre);
@@ -88,8 +97,7 @@ Motion close_link(const Model& model, const Workspace& ws, Rule rule, const Anch
 void close_segment_link(const Model& model, const Workspace& ws, Rule rule,
                         const AnchorOrder::Link& link, const BodyState& a, BodyState& b) {
   const Joint& joint = model.joints[link.joint];
-  const Vector3d& local_a = link.b_is_child ? joint.anchor_in_parent : joint.anchor_in_child;
-  const Vector3d& local_b = link.b_is_child ? joint.anchor_in_child : joint.anchor_in_parent;
+  const auto [local_a, local_b] = link_anchors(joint, link);
   const Vector3d c_a = world_point(a, local_a);
   const Correction closing = close_point(rule, single_body(model.segments[link.b], b),
                                          world_point(b, local_b), c_a, &local_b);
@@ -97,7 +105,7 @@ void close_segment_link(const Model& model, const Workspace& ws, Rule rule,
   const Quaterniond clamp =
       limit_correction(joint, ws.limit_free_w[link.joint], link.b_is_child, a.q, b_closed);
   b.x += closing.translation;
-  if (clamp.x() == 0.0 && clamp.y() == 0.0 && clamp.z() == 0.0) {
+  if (!rotates(clamp)) {
     if (closing.rotates()) b.q = b_closed.normalized();
     return;
   }

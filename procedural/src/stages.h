@@ -8,14 +8,17 @@
 
 namespace puppet::procedural {
 
+// false exactly for the identity a correction returns when it has nothing to do (its vector part
+// is zero): such corrections skip every quaternion product
+inline bool rotates(const Quaterniond& q) { return q.x() != 0.0 || q.y() != 0.0 || q.z() != 0.0; }
+
 // a rigid motion p ↦ q·p + t, applied to a whole segment (or a subtree of them). Most
-// corrections are pure translations (the literal rule's, a limit that holds): those skip every
-// quaternion product.
+// corrections are pure translations (the literal rule's, a limit that holds).
 struct Motion {
   Quaterniond q = Quaterniond::Identity();
   Vector3d t{0, 0, 0};
 
-  bool rotates() const { return q.x() != 0.0 || q.y() != 0.0 || q.z() != 0.0; }
+  bool rotates() const { return puppet::procedural::rotates(q); }
   Vector3d apply(const Vector3d& p) const { return rotates() ? Vector3d(q * p + t) : p + t; }
   void apply(BodyState& body) const {
     if (!rotates()) {
@@ -40,7 +43,7 @@ struct Correction {
   Quaterniond rotation = Quaterniond::Identity();
   Vector3d translation{0, 0, 0};
 
-  bool rotates() const { return rotation.x() != 0.0 || rotation.y() != 0.0 || rotation.z() != 0.0; }
+  bool rotates() const { return puppet::procedural::rotates(rotation); }
   // p ↦ centre + T + R (p − centre)
   Motion motion(const Vector3d& centre) const {
     if (!rotates()) return {rotation, translation};

@@ -35,8 +35,26 @@ void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 namespace puppet::procedural {
 namespace {
 
+const std::string kPinocchio = std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json";
+
+// heap allocations made while `step(targets)` runs, over `steps` steps of 1/60 s along the
+// scenario's pin targets (computing the targets is not counted)
+template <typename Step>
+long allocations_while_stepping(const compare::Scenario& scenario, int steps, Step step) {
+  std::vector<Vector3d> targets;
+  targets.reserve(8);
+  long during = 0;
+  for (int k = 0; k < steps; ++k) {
+    scenario.targets_at((k + 1) / 60.0, targets);
+    const long before = g_allocations.load();
+    step(targets);
+    during += g_allocations.load() - before;
+  }
+  return during;
+}
+
 TEST(Allocation, NoneInsideAStep) {
-  const Model model = load_model(std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json");
+  const Model model = load_model(kPinocchio);
   for (const std::string& name : compare::scenario_names()) {
     const compare::Scenario scenario = compare::make_scenario(name, model);
     for (Rule rule : kAllRules) {
@@ -48,17 +66,12 @@ TEST(Allocation, NoneInsideAStep) {
       Solver solver(model, settings, scenario.environment);
       solver.reset(scenario.initial);
       solver.set_pins(scenario.initial_pins());
-      std::vector<Vector3d> targets;
-      targets.reserve(8);
-      long during = 0;
       // 0.67 s at 1/60 in two substeps: long enough for drop to reach the ground
-      for (int k = 0; k < 40; ++k) {
-        scenario.targets_at((k + 1) / 60.0, targets);
-        const long before = g_allocations.load();
-        solver.set_pin_targets(targets);
-        solver.step(1.0 / 60.0);
-        during += g_allocations.load() - before;
-      }
+      const long during =
+          allocations_while_stepping(scenario, 40, [&](const std::vector<Vector3d>& targets) {
+            solver.set_pin_targets(targets);
+            solver.step(1.0 / 60.0);
+          });
       EXPECT_EQ(during, 0) << name << " " << rule_name(rule);
     }
   }
@@ -66,23 +79,18 @@ TEST(Allocation, NoneInsideAStep) {
 }
 
 TEST(Allocation, NoneInsideACrowdStep) {
-  const Model model = load_model(std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json");
+  const Model model = load_model(kPinocchio);
   const compare::Scenario scenario = compare::make_scenario("drag", model);
   Crowd crowd(model, Settings{}, scenario.environment, 6, 2);
   for (int k = 0; k < crowd.size(); ++k) {
     crowd.puppet(k).reset(scenario.initial);
     crowd.puppet(k).set_pins(scenario.initial_pins());
   }
-  std::vector<Vector3d> targets;
-  targets.reserve(8);
-  long during = 0;
-  for (int step = 0; step < 20; ++step) {
-    scenario.targets_at((step + 1) / 60.0, targets);
-    const long before = g_allocations.load();
-    for (int k = 0; k < crowd.size(); ++k) crowd.puppet(k).set_pin_targets(targets);
-    crowd.step(1.0 / 60.0);
-    during += g_allocations.load() - before;
-  }
+  const long during =
+      allocations_while_stepping(scenario, 20, [&](const std::vector<Vector3d>& targets) {
+        for (int k = 0; k < crowd.size(); ++k) crowd.puppet(k).set_pin_targets(targets);
+        crowd.step(1.0 / 60.0);
+      });
   EXPECT_EQ(during, 0);
 }
 
