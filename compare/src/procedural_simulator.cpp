@@ -29,6 +29,7 @@ class ProceduralSimulator : public Simulator {
     solver_->reset(scenario.initial);
     solver_->set_pins(scenario.initial_pins());
   }
+  void set_pins(std::span<const Pin> pins) override { solver_->set_pins(pins); }
   void set_pin_targets(std::span<const Vector3d> targets) override {
     solver_->set_pin_targets(targets);
   }

@@ -24,6 +24,7 @@ class ReferenceSimulator : public Simulator {
     solver_->set_state(scenario.initial);
     solver_->set_pins(scenario.initial_pins());
   }
+  void set_pins(std::span<const Pin> pins) override { solver_->set_pins(pins); }
   void set_pin_targets(std::span<const Vector3d> targets) override {
     solver_->set_pin_targets(targets);
   }

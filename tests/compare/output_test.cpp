@@ -75,6 +75,7 @@ class FailingSimulator : public Simulator {
     steps_ = 0;
     (void)model;
   }
+  void set_pins(std::span<const Pin>) override {}
   void set_pin_targets(std::span<const Vector3d>) override {}
   void step(double) override {
     if (++steps_ == 10) bodies_[3].x.z() = NAN;

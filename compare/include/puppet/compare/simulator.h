@@ -33,7 +33,9 @@ class Simulator {
 
   // builds the model in its initial state, environment and pins; the model must outlive it
   virtual void reset(const Model& model, const Scenario& scenario) = 0;
-  // targets of the scenario's pins (world), in the scenario's order, for the end of the next step
+  // replaces the scenario's pins (a user grabbing a point, letting go); the state is kept
+  virtual void set_pins(std::span<const Pin> pins) = 0;
+  // targets of the pins (world), in the pins' order, for the end of the next step
   virtual void set_pin_targets(std::span<const Vector3d> targets) = 0;
   virtual void step(double dt) = 0;
   // per segment, in the model's segment frames: COM, orientation, v, ω (world)
