@@ -1,0 +1,132 @@
+// The simulation side of the viewer: a model and a scenario from compare/, one solver and an
+// optional ghost driven by the same pin targets, and the user's grab. No window: the viewer, its
+// scripts and its tests drive it alike.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "puppet/compare/scenario.h"
+#include "puppet/compare/simulator.h"
+
+namespace puppet::viewer {
+
+// the last `capacity` values of one number per frame, oldest at offset() (ImGui's PlotLines
+// takes values, count and offset in this layout)
+class History {
+ public:
+  explicit History(int capacity = 300) : values_(capacity, 0.0f) {}
+  void push(float value);
+  std::span<const float> values() const { return values_; }
+  int offset() const { return next_; }
+  float latest() const;
+  float max() const;
+  void clear();
+
+ private:
+  std::vector<float> values_;
+  int next_ = 0;
+};
+
+struct SessionConfig {
+  std::string model = "pinocchio";  // "pinocchio", a model file or chain:N
+  std::string scenario = "hang";
+  std::string solver = "procedural";
+  std::string ghost;  // a second solver drawn as a ghost; empty for none
+  compare::SolverOptions options;
+  double dt = 1.0 / 240.0;
+  double shake_amplitude = 0.08;  // m, along the camera's right axis
+  double shake_hz = 3.0;
+};
+
+// "bad input: one message naming it" for a config (dt, names), empty when valid
+std::string validate(const SessionConfig& config);
+
+// one solver of the session and what the viewer shows of it
+struct Run {
+  std::string label;  // "procedural (relaxed)", "bullet-multibody"
+  std::unique_ptr<compare::Simulator> simulator;
+  std::vector<BodyState> bodies;
+  std::vector<double> joint_gaps;  // m, per joint, after the last step
+  bool diverged = false;
+  double diverged_at = 0.0;  // s
+  History gap_mm;            // max joint gap after each frame
+  History step_us;           // mean wall time per step over each frame
+};
+
+class Session {
+ public:
+  // throws ModelError or ScenarioError naming the problem
+  explicit Session(const SessionConfig& config);
+
+  const SessionConfig& config() const { return config_; }
+  const Model& model() const { return *model_; }
+  const compare::Scenario& scenario() const { return scenario_; }
+  double time() const { return time_; }
+
+  // a new model or scenario starts over; anything else rebuilds the runs from their current
+  // states (a new ghost starts from the solver's). Throws as the constructor, and then leaves
+  // the session as it was.
+  void configure(const SessionConfig& config);
+  // gravity, air drag, water, ground and tremble; the runs keep their states
+  void set_environment(const Environment& environment, bool tremble);
+  // the scenario's initial state at t = 0, nothing grabbed
+  void reset();
+
+  // steps every run by dt as often as fits in `seconds` plus what was left over last time, at
+  // most max_steps; returns the steps taken
+  int advance(double seconds, int max_steps);
+  // exactly one step
+  void step() { step_frame(1); }
+
+  // the user's grab: a point of a segment (segment frame) held at a target (world)
+  void grab(int segment, const Vector3d& local_point, const Vector3d& target);
+  void move_grab(const Vector3d& target);
+  void release();
+  bool grabbing() const { return grab_segment_ >= 0; }
+  int grabbed_segment() const { return grab_segment_; }
+  const Vector3d& grab_target() const { return grab_target_; }
+  // while grabbing, the target oscillates along `axis` (unit) about the held target
+  void set_shake(bool on, const Vector3d& axis);
+  bool shaking() const { return shake_; }
+
+  // every pin, the scenario's then the grab, with its target at the current time
+  std::span<const Pin> pins() const { return pins_; }
+  std::span<const Vector3d> targets() const { return targets_; }
+
+  // the solver first, then the ghost when there is one
+  int run_count() const { return static_cast<int>(runs_.size()); }
+  const Run& run(int i) const { return runs_[i]; }
+
+ private:
+  void start_over();
+  // builds the run's simulator for the current scenario and pins, and places it in `bodies`
+  void rebuild(Run& run, std::span<const BodyState> bodies) const;
+  void compute_targets(double t);
+  // pins_ from the scenario's pins and the grab, at targets_
+  void collect_pins();
+  // collect_pins, and every run holds the new pins
+  void pins_changed();
+  void step_frame(int steps);
+  void observe(Run& run, int steps, double seconds);
+
+  SessionConfig config_;
+  std::unique_ptr<Model> model_;  // runs hold a reference: its address never changes
+  compare::Scenario scenario_;
+  std::vector<Run> runs_;
+  double time_ = 0.0;
+  double leftover_ = 0.0;
+
+  int grab_segment_ = -1;
+  Vector3d grab_local_{0, 0, 0}, grab_target_{0, 0, 0};
+  bool shake_ = false;
+  Vector3d shake_axis_{1, 0, 0};
+  double shake_start_ = 0.0;
+
+  std::vector<Pin> pins_;
+  std::vector<Vector3d> targets_;
+};
+
+}  // namespace puppet::viewer

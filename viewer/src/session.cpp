@@ -1,0 +1,242 @@
+#include "puppet/viewer/session.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "puppet/compare/metrics.h"
+
+namespace puppet::viewer {
+namespace {
+
+bool is_one_of(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+// throws ScenarioError for an unknown solver or rule
+Run make_run(const std::string& solver, const compare::SolverOptions& options, const Model& model) {
+  Run run;
+  run.simulator = compare::make_simulator(solver, options);
+  run.label = solver;
+  if (const std::string rule = run.simulator->rule(); !rule.empty()) run.label += " (" + rule + ")";
+  run.bodies.resize(model.segment_count());
+  run.joint_gaps.resize(model.joint_count());
+  return run;
+}
+
+bool all_finite(std::span<const BodyState> bodies) {
+  return std::all_of(bodies.begin(), bodies.end(), [](const BodyState& b) { return is_finite(b); });
+}
+
+}  // namespace
+
+void History::push(float value) {
+  values_[next_] = value;
+  next_ = (next_ + 1) % static_cast<int>(values_.size());
+}
+
+float History::latest() const {
+  const int n = static_cast<int>(values_.size());
+  return values_[(next_ + n - 1) % n];
+}
+
+float History::max() const { return *std::max_element(values_.begin(), values_.end()); }
+
+void History::clear() {
+  std::fill(values_.begin(), values_.end(), 0.0f);
+  next_ = 0;
+}
+
+std::string validate(const SessionConfig& config) {
+  if (!std::isfinite(config.dt) || config.dt <= 0.0) {
+    return "--dt: must be a positive number of seconds";
+  }
+  if (!is_one_of(compare::scenario_names(), config.scenario)) {
+    return "--scenario: unknown scenario \"" + config.scenario + "\"";
+  }
+  if (!is_one_of(compare::solver_names(), config.solver)) {
+    return "--solver: unknown solver \"" + config.solver + "\"";
+  }
+  if (!config.ghost.empty() && !is_one_of(compare::solver_names(), config.ghost)) {
+    return "--ghost: unknown solver \"" + config.ghost + "\"";
+  }
+  if (!std::isfinite(config.shake_amplitude) || config.shake_amplitude < 0.0 ||
+      !std::isfinite(config.shake_hz) || config.shake_hz <= 0.0) {
+    return "shake: the amplitude must be ≥ 0 and the frequency > 0";
+  }
+  return {};
+}
+
+Session::Session(const SessionConfig& config) : config_(config) {
+  if (const std::string problem = validate(config); !problem.empty()) {
+    throw compare::ScenarioError(problem);
+  }
+  model_ = std::make_unique<Model>(compare::load_named_model(config.model));
+  scenario_ = compare::make_scenario(config.scenario, *model_);
+  start_over();
+}
+
+void Session::start_over() {
+  // everything that can throw comes first
+  std::vector<Run> runs;
+  runs.push_back(make_run(config_.solver, config_.options, *model_));
+  if (!config_.ghost.empty()) runs.push_back(make_run(config_.ghost, config_.options, *model_));
+  runs_ = std::move(runs);
+  time_ = 0.0;
+  leftover_ = 0.0;
+  grab_segment_ = -1;
+  compute_targets(0.0);
+  collect_pins();
+  for (Run& run : runs_) rebuild(run, scenario_.initial);
+}
+
+void Session::configure(const SessionConfig& config) {
+  if (const std::string problem = validate(config); !problem.empty()) {
+    throw compare::ScenarioError(problem);
+  }
+  if (config.model != config_.model || config.scenario != config_.scenario) {
+    auto model = std::make_unique<Model>(compare::load_named_model(config.model));
+    compare::Scenario scenario = compare::make_scenario(config.scenario, *model);
+    // the solvers are checked before anything is replaced
+    make_run(config.solver, config.options, *model);
+    if (!config.ghost.empty()) make_run(config.ghost, config.options, *model);
+    config_ = config;
+    model_ = std::move(model);
+    scenario_ = std::move(scenario);
+    start_over();
+    return;
+  }
+  std::vector<Run> runs;
+  runs.push_back(make_run(config.solver, config.options, *model_));
+  if (!config.ghost.empty()) runs.push_back(make_run(config.ghost, config.options, *model_));
+  config_ = config;
+  // each run continues from its predecessor's state, a new ghost from the solver's; a diverged
+  // state is no place to continue from
+  auto source = [&](size_t i) -> std::span<const BodyState> {
+    if (i < runs_.size() && !runs_[i].diverged) return runs_[i].bodies;
+    if (!runs_.empty() && !runs_[0].diverged) return runs_[0].bodies;
+    return scenario_.initial;
+  };
+  for (size_t i = 0; i < runs.size(); ++i) rebuild(runs[i], source(i));
+  runs_ = std::move(runs);
+}
+
+void Session::set_environment(const Environment& environment, bool tremble) {
+  scenario_.environment = environment;
+  scenario_.tremble = tremble;
+  for (Run& run : runs_) {
+    if (!run.diverged) rebuild(run, std::vector<BodyState>(run.bodies));
+  }
+}
+
+void Session::reset() { start_over(); }
+
+void Session::rebuild(Run& run, std::span<const BodyState> bodies) const {
+  run.simulator->reset(*model_, scenario_);
+  run.simulator->set_pins(pins_);
+  run.simulator->set_pin_targets(targets_);
+  run.simulator->set_state(bodies);
+  run.simulator->read_state(run.bodies);
+  compare::joint_gaps(*model_, run.bodies, run.joint_gaps);
+  run.diverged = false;
+}
+
+int Session::advance(double seconds, int max_steps) {
+  leftover_ += seconds;
+  int steps = static_cast<int>(std::floor(leftover_ / config_.dt + 1e-9));
+  if (steps > max_steps) {
+    // too slow for real time: drop the backlog rather than fall further behind
+    steps = max_steps;
+    leftover_ = 0.0;
+  } else {
+    leftover_ = std::max(0.0, leftover_ - steps * config_.dt);
+  }
+  if (steps > 0) step_frame(steps);
+  return steps;
+}
+
+void Session::step_frame(int steps) {
+  using Clock = std::chrono::steady_clock;
+  std::vector<double> seconds(runs_.size(), 0.0);
+  for (int k = 0; k < steps; ++k) {
+    compute_targets(time_ + config_.dt);
+    for (size_t i = 0; i < runs_.size(); ++i) {
+      Run& run = runs_[i];
+      if (run.diverged) continue;
+      run.simulator->set_pin_targets(targets_);
+      const auto start = Clock::now();
+      run.simulator->step(config_.dt);
+      seconds[i] += std::chrono::duration<double>(Clock::now() - start).count();
+    }
+    time_ += config_.dt;
+  }
+  for (size_t i = 0; i < runs_.size(); ++i) {
+    if (!runs_[i].diverged) observe(runs_[i], steps, seconds[i]);
+  }
+}
+
+void Session::observe(Run& run, int steps, double seconds) {
+  run.simulator->read_state(run.bodies);
+  compare::joint_gaps(*model_, run.bodies, run.joint_gaps);
+  const double gap_max = run.joint_gaps.empty()
+                             ? 0.0
+                             : *std::max_element(run.joint_gaps.begin(), run.joint_gaps.end());
+  if (run.simulator->diverged() || !all_finite(run.bodies) || !std::isfinite(gap_max) ||
+      gap_max > compare::kDivergedJointGap) {
+    run.diverged = true;
+    run.diverged_at = time_;
+    return;
+  }
+  run.gap_mm.push(static_cast<float>(gap_max * 1e3));
+  run.step_us.push(static_cast<float>(seconds / steps * 1e6));
+}
+
+void Session::compute_targets(double t) {
+  scenario_.targets_at(t, targets_);
+  if (!grabbing()) return;
+  Vector3d target = grab_target_;
+  if (shake_) {
+    const double phase = 2.0 * M_PI * config_.shake_hz * (t - shake_start_);
+    target += config_.shake_amplitude * std::sin(phase) * shake_axis_;
+  }
+  targets_.push_back(target);
+}
+
+void Session::collect_pins() {
+  pins_ = scenario_.initial_pins();
+  for (size_t i = 0; i < pins_.size(); ++i) pins_[i].target = targets_[i];
+  if (grabbing()) pins_.push_back({grab_segment_, grab_local_, targets_.back()});
+}
+
+void Session::pins_changed() {
+  collect_pins();
+  for (Run& run : runs_) {
+    if (!run.diverged) run.simulator->set_pins(pins_);
+  }
+}
+
+void Session::grab(int segment, const Vector3d& local_point, const Vector3d& target) {
+  grab_segment_ = segment;
+  grab_local_ = local_point;
+  grab_target_ = target;
+  shake_start_ = time_;
+  compute_targets(time_);
+  pins_changed();
+}
+
+void Session::move_grab(const Vector3d& target) { grab_target_ = target; }
+
+void Session::release() {
+  if (!grabbing()) return;
+  grab_segment_ = -1;
+  compute_targets(time_);
+  pins_changed();
+}
+
+void Session::set_shake(bool on, const Vector3d& axis) {
+  shake_ = on;
+  shake_axis_ = axis;
+  shake_start_ = time_;
+}
+
+}  // namespace puppet::viewer
