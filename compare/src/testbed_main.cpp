@@ -17,6 +17,7 @@
 
 #include "puppet/compare/frontier.h"
 #include "puppet/compare/gate.h"
+#include "puppet/compare/number.h"
 #include "puppet/compare/output.h"
 #include "puppet/compare/run.h"
 #include "puppet/compare/scenario.h"
@@ -35,25 +36,6 @@ constexpr int kBadInput = 2;
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
-
-bool parse_finite(const std::string& text, double* out) {
-  std::istringstream in(text);
-  double value = 0.0;
-  in >> value;
-  if (!in || !in.eof() || !std::isfinite(value)) {
-    // also accept simple fractions such as 1/240
-    const auto slash = text.find('/');
-    if (slash == std::string::npos) return false;
-    double num = 0.0, den = 0.0;
-    if (!parse_finite(text.substr(0, slash), &num) || !parse_finite(text.substr(slash + 1), &den) ||
-        den == 0.0) {
-      return false;
-    }
-    value = num / den;
-  }
-  *out = value;
-  return std::isfinite(value);
-}
 
 Vector3d parse_vector(const std::string& flag, const std::string& text) {
   std::vector<double> parts;

@@ -3,7 +3,7 @@
 //
 //   hang    nothing: the scenario alone
 //   drag    at frame 5 press on the hand (the grab point of scenario `drag`), then over one second
-//           move the mouse up and to the left by kDragOffset (a fraction of the window), and hold
+//           move the mouse up and to the right by kDragOffset (a fraction of the window), and hold
 //   shake   as drag, and from frame 20 shake the grabbed point
 #pragma once
 
@@ -24,7 +24,7 @@ class ScriptPlayer {
   static constexpr int kMoveFrames = 60;
   static constexpr int kShakeFrame = 20;
   // of the window's width and height; y grows downwards
-  static inline const Vector2d kDragOffset{-0.12, -0.12};
+  static inline const Vector2d kDragOffset{0.12, -0.12};
 
   explicit ScriptPlayer(Script script) : script_(script) {}
 

@@ -1,0 +1,314 @@
+// viewer: grab the puppet with the mouse and drag or shake it, in one solver or two side by side.
+//
+//   viewer [--model M] [--scenario S] [--solver S] [--rule R] [--ghost S] [--dt DT] ...
+//   viewer --frames N --screenshot out.png [--script drag|shake|hang]   (headless, under xvfb-run)
+//
+// Bad input exits with status 2 and one line naming the flag or file; no window opens and nothing
+// is written. A window that cannot open (no display) exits with status 1.
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+#include <stb_image_write.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <optional>
+
+#include "panel.h"
+#include "puppet/compare/number.h"
+#include "puppet/viewer/script.h"
+#include "renderer.h"
+
+namespace {
+
+using namespace puppet;
+using namespace puppet::viewer;
+
+constexpr int kBadInput = 2;
+constexpr int kNoWindow = 1;
+constexpr double kFrameSeconds = 1.0 / 60.0;  // a headless frame's simulated time
+constexpr double kMaxLagSeconds = 0.1;        // interactive: never fall further behind
+
+// the controller holds references into the app: it is built in place and never moved
+struct App {
+  explicit App(const SessionConfig& config) : session(config) {}
+  App(const App&) = delete;
+  App& operator=(const App&) = delete;
+
+  Session session;
+  OrbitCamera camera;
+  Controller controller{camera, session};
+  PanelState panel;
+  const Model* framed = nullptr;  // the model the camera last framed
+  bool input = true;              // false while a script or a headless run holds the mouse
+};
+
+// the model's box at rest, from each shape's extreme points along the world axes
+void frame_model(App& app) {
+  const Model& model = app.session.model();
+  Vector3d low = Vector3d::Constant(1e300), high = Vector3d::Constant(-1e300);
+  for (int s = 0; s < model.segment_count(); ++s) {
+    const Segment& segment = model.segments[s];
+    const BodyState& b = app.session.run(0).bodies[s];
+    for (int axis = 0; axis < 3; ++axis) {
+      for (const double sign : {-1.0, 1.0}) {
+        const Vector3d d = sign * Vector3d::Unit(axis);
+        const Vector3d p = b.x + b.q * support_point(segment.shape, b.q.conjugate() * d);
+        low = low.cwiseMin(p);
+        high = high.cwiseMax(p);
+      }
+    }
+  }
+  app.camera.frame(low, high);
+  app.framed = &model;
+}
+
+App& app_of(GLFWwindow* window) { return *static_cast<App*>(glfwGetWindowUserPointer(window)); }
+
+Vector2d cursor(GLFWwindow* window) {
+  double x = 0.0, y = 0.0;
+  glfwGetCursorPos(window, &x, &y);
+  return {x, y};
+}
+
+void on_mouse_button(GLFWwindow* window, int button, int action, int mods) {
+  App& app = app_of(window);
+  if (!app.input) return;
+  const Button b = button == GLFW_MOUSE_BUTTON_LEFT    ? Button::kLeft
+                   : button == GLFW_MOUSE_BUTTON_RIGHT ? Button::kRight
+                                                       : Button::kMiddle;
+  if (action == GLFW_PRESS) {
+    if (ImGui::GetIO().WantCaptureMouse) return;
+    app.controller.press(b, cursor(window), (mods & GLFW_MOD_SHIFT) != 0);
+  } else if (action == GLFW_RELEASE) {
+    app.controller.release(b);
+  }
+}
+
+void on_cursor(GLFWwindow* window, double x, double y) {
+  App& app = app_of(window);
+  if (app.input) app.controller.move({x, y});
+}
+
+void on_scroll(GLFWwindow* window, double /*x*/, double y) {
+  App& app = app_of(window);
+  if (app.input && !ImGui::GetIO().WantCaptureMouse) app.controller.scroll(y);
+}
+
+void on_key(GLFWwindow* window, int key, int /*scancode*/, int action, int /*mods*/) {
+  App& app = app_of(window);
+  if (!app.input || action != GLFW_PRESS || ImGui::GetIO().WantCaptureKeyboard) return;
+  switch (key) {
+    case GLFW_KEY_SPACE:
+      app.panel.paused = !app.panel.paused;
+      break;
+    case GLFW_KEY_N:
+      app.panel.step_once = true;
+      break;
+    case GLFW_KEY_R:
+      app.session.reset();
+      break;
+    case GLFW_KEY_S:
+      app.controller.toggle_shake();
+      break;
+    case GLFW_KEY_ESCAPE:
+      glfwSetWindowShouldClose(window, GLFW_TRUE);
+      break;
+    default:
+      break;
+  }
+}
+
+// written to a temporary name and renamed: never half a file
+bool write_png(const std::string& path, int width, int height) {
+  const std::vector<std::uint8_t> pixels = Renderer::read_pixels(width, height);
+  const std::string temporary = path + ".tmp";
+  if (stbi_write_png(temporary.c_str(), width, height, 3, pixels.data(), width * 3) == 0) {
+    return false;
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary, path, error);
+  return !error;
+}
+
+bool writable(const std::string& path) {
+  const std::string probe = path + ".tmp";
+  const bool ok = static_cast<bool>(std::ofstream(probe));
+  std::error_code ignored;
+  std::filesystem::remove(probe, ignored);
+  return ok;
+}
+
+void on_glfw_error(int /*code*/, const char* description) {
+  std::cerr << "viewer: " << description << '\n';
+}
+
+int run(App& app, int frames, const std::string& screenshot, std::optional<Script> script,
+        int width, int height) {
+  glfwSetErrorCallback(on_glfw_error);
+  if (glfwInit() != GLFW_TRUE) {
+    std::cerr << "viewer: cannot open a window (no display? run it under xvfb-run)\n";
+    return kNoWindow;
+  }
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  glfwWindowHint(GLFW_SAMPLES, 4);
+  GLFWwindow* window = glfwCreateWindow(width, height, "puppet viewer", nullptr, nullptr);
+  if (window == nullptr) {
+    std::cerr << "viewer: cannot create an OpenGL 3.3 window\n";
+    glfwTerminate();
+    return kNoWindow;
+  }
+  glfwMakeContextCurrent(window);
+  const bool headless = frames > 0;
+  app.input = !headless && !script;
+  glfwSwapInterval(headless ? 0 : 1);
+  glfwSetWindowUserPointer(window, &app);
+  // ours first: Dear ImGui's callbacks chain to them
+  glfwSetMouseButtonCallback(window, on_mouse_button);
+  glfwSetCursorPosCallback(window, on_cursor);
+  glfwSetScrollCallback(window, on_scroll);
+  glfwSetKeyCallback(window, on_key);
+
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGui::GetIO().IniFilename = nullptr;
+  ImGui::StyleColorsDark();
+  ImGui_ImplGlfw_InitForOpenGL(window, true);
+  ImGui_ImplOpenGL3_Init("#version 330");
+
+  int status = 0;
+  {
+    Renderer renderer;
+    std::optional<ScriptPlayer> player;
+    if (script) player.emplace(*script);
+    double last = glfwGetTime();
+    for (int frame = 0; !glfwWindowShouldClose(window); ++frame) {
+      glfwPollEvents();
+      // the scene fills the window left of the panel
+      int window_width = 0, fb_width = 0, fb_height = 0;
+      glfwGetWindowSize(window, &window_width, &app.camera.height);
+      glfwGetFramebufferSize(window, &fb_width, &fb_height);
+      app.camera.width = std::max(64, window_width - static_cast<int>(kPanelWidth) - 16);
+      const int fb_scene_width = app.camera.width * fb_width / std::max(window_width, 1);
+      if (app.framed != &app.session.model()) frame_model(app);
+      if (player) player->before_frame(frame, app.controller, app.camera, app.session);
+
+      // stepping: a headless frame is exactly 1/60 s; a live one follows the clock
+      const double now = glfwGetTime();
+      const double elapsed = std::min(now - last, kMaxLagSeconds);
+      last = now;
+      const int max_steps = static_cast<int>(std::ceil(kMaxLagSeconds / app.session.config().dt));
+      if (headless) {
+        app.session.advance(kFrameSeconds, 1 << 20);
+      } else if (!app.panel.paused) {
+        app.session.advance(elapsed, max_steps);
+      }
+      if (app.panel.step_once) {
+        app.session.step();
+        app.panel.step_once = false;
+      }
+
+      renderer.draw(app.session, app.camera, fb_scene_width, fb_height);
+      ImGui_ImplOpenGL3_NewFrame();
+      ImGui_ImplGlfw_NewFrame();
+      ImGui::NewFrame();
+      draw_panel(app.session, app.controller, app.panel, static_cast<float>(window_width),
+                 static_cast<float>(app.camera.height));
+      ImGui::Render();
+      ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+
+      if (headless && frame + 1 == frames) {
+        if (!screenshot.empty() && !write_png(screenshot, fb_width, fb_height)) {
+          std::cerr << "viewer: --screenshot: cannot write " << screenshot << '\n';
+          status = kBadInput;
+        }
+        break;
+      }
+      glfwSwapBuffers(window);
+    }
+  }
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+  glfwDestroyWindow(window);
+  glfwTerminate();
+  return status;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"viewer: grab the puppet with the mouse, drag or shake it, solvers side by side"};
+  SessionConfig config;
+  std::string dt_text = "1/240", script_name, screenshot;
+  int frames = 0, width = 1280, height = 720;
+  app.add_option("--model", config.model, "pinocchio, a model file or chain:N")
+      ->capture_default_str();
+  app.add_option("--scenario", config.scenario, "hang, drag, shake, spin, drop, water, ...")
+      ->capture_default_str();
+  app.add_option("--solver", config.solver, "procedural, bullet-multibody or bullet-rigid")
+      ->capture_default_str();
+  app.add_option("--rule", config.options.rule, "the procedural solver's adjust rule")
+      ->capture_default_str();
+  app.add_option("--ghost", config.ghost, "a second solver, drawn as a translucent ghost");
+  app.add_option("--dt", dt_text, "time step (s); fractions such as 1/240 are accepted")
+      ->capture_default_str();
+  app.add_option("--substeps", config.options.substeps, "procedural substeps")
+      ->capture_default_str();
+  app.add_option("--frames", frames, "headless: run this many frames of 1/60 s, then exit");
+  app.add_option("--screenshot", screenshot, "headless: write the last frame to this PNG");
+  app.add_option("--script", script_name, "a scripted mouse: drag, shake or hang");
+  app.add_option("--width", width, "window width (pixels)")->capture_default_str();
+  app.add_option("--height", height, "window height (pixels)")->capture_default_str();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "viewer: " << e.what() << '\n';
+    return kBadInput;
+  }
+
+  auto bad = [](const std::string& message) {
+    std::cerr << "viewer: " << message << '\n';
+    return kBadInput;
+  };
+  if (!compare::parse_finite(dt_text, &config.dt) || config.dt <= 0.0) {
+    return bad("--dt: expected a positive number of seconds, got \"" + dt_text + "\"");
+  }
+  if (frames < 0) return bad("--frames: must be ≥ 0");
+  if (!screenshot.empty() && frames == 0) return bad("--screenshot: needs --frames N");
+  if (width < 64 || height < 64 || width > 8192 || height > 8192) {
+    return bad("--width/--height: must lie between 64 and 8192 pixels");
+  }
+  std::optional<Script> script;
+  if (!script_name.empty()) {
+    script = parse_script(script_name);
+    if (!script) return bad("--script: expected drag, shake or hang, got \"" + script_name + "\"");
+  }
+  if (!screenshot.empty() && !writable(screenshot)) {
+    return bad("--screenshot: cannot write " + screenshot);
+  }
+  std::optional<App> state;
+  try {
+    state.emplace(config);
+  } catch (const std::exception& e) {
+    return bad(e.what());
+  }
+  std::snprintf(state->panel.model_path, sizeof(state->panel.model_path), "%s",
+                config.model.c_str());
+  try {
+    return run(*state, frames, screenshot, script, width, height);
+  } catch (const std::exception& e) {
+    std::cerr << "viewer: " << e.what() << '\n';
+    return kNoWindow;
+  }
+}
