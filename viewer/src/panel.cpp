@@ -149,12 +149,12 @@ void runs_section(const Session& session) {
     ImGui::PlotLines("##gap", run.gap_mm.values().data(),
                      static_cast<int>(run.gap_mm.values().size()), run.gap_mm.offset(), overlay,
                      0.0f, std::max(1e-3f, run.gap_mm.max()),
-                     ImVec2(ImGui::GetContentRegionAvail().x, 40));
+                     ImVec2(ImGui::GetContentRegionAvail().x, 30));
     std::snprintf(overlay, sizeof(overlay), "%.1f µs per step", run.step_us.latest());
     ImGui::PlotLines("##us", run.step_us.values().data(),
                      static_cast<int>(run.step_us.values().size()), run.step_us.offset(), overlay,
                      0.0f, std::max(1.0f, run.step_us.max()),
-                     ImVec2(ImGui::GetContentRegionAvail().x, 40));
+                     ImVec2(ImGui::GetContentRegionAvail().x, 30));
     ImGui::PopStyleColor();
     ImGui::PopID();
   }
