@@ -152,6 +152,18 @@ TEST(Session, ReconfiguringKeepsTheStateAndANewScenarioStartsOver) {
   session.configure(c);
   EXPECT_EQ(session.time(), 0.0);
   EXPECT_TRUE(session.scenario().environment.ground);
+
+  // the panel's "load model": another model starts over; a bad file changes nothing
+  c.model = "chain:8";
+  session.configure(c);
+  EXPECT_EQ(session.model().segment_count(), 8);
+  EXPECT_EQ(session.run(0).bodies.size(), 8u);
+  EXPECT_EQ(session.run(1).bodies.size(), 8u);
+  bad = c;
+  bad.model = "/nonexistent/puppet.json";
+  EXPECT_THROW(session.configure(bad), ModelError);
+  EXPECT_EQ(session.config().model, "chain:8");
+  EXPECT_EQ(session.model().segment_count(), 8);
 }
 
 // switching gravity on mid-flight: a free body's centre of mass falls ½ g t² (up to the O(dt)

@@ -86,7 +86,7 @@ void world_section(Session& session) {
   changed |= ImGui::SliderFloat("air drag 1/s", &air, 0.0f, 5.0f, "%.2f");
   changed |= ImGui::Checkbox("water", &e.water);
   if (e.water) {
-    changed |= ImGui::SliderFloat("level m", &level, -0.5f, 2.5f, "%.2f");
+    changed |= ImGui::SliderFloat("level m", &level, -0.5f, 4.0f, "%.2f");
     changed |= ImGui::SliderFloat("density kg/m³", &density, 0.0f, 2000.0f, "%.0f");
     changed |= ImGui::SliderFloat("water drag 1/s", &water_drag, 0.0f, 10.0f, "%.1f");
   }

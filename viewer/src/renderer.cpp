@@ -310,7 +310,10 @@ void Renderer::draw(const Session& session, const OrbitCamera& camera, int frame
   const Vector3f eye = camera.eye().cast<float>();
 
   glViewport(0, 0, framebuffer_width, framebuffer_height);
-  glClearColor(Palette::kBackground.x(), Palette::kBackground.y(), Palette::kBackground.z(), 1.0f);
+  // below the water surface everything is seen through water
+  const bool under_water = environment.water && camera.eye().z() < environment.water_level;
+  const Vector3f background = under_water ? Palette::kUnderWater : Palette::kBackground;
+  glClearColor(background.x(), background.y(), background.z(), 1.0f);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LEQUAL);

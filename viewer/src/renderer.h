@@ -18,9 +18,10 @@ using Eigen::Vector4f;
 // colours shared by the scene and the panel
 struct Palette {
   static inline const Vector3f kBackground{0.16f, 0.17f, 0.20f};
-  static inline const Vector3f kWood{0.86f, 0.60f, 0.34f};     // the solver's puppet
-  static inline const Vector3f kGrabbed{0.90f, 0.18f, 0.78f};  // the segment held by the mouse
-  static inline const Vector3f kGhost{0.35f, 0.62f, 1.00f};    // the second solver
+  static inline const Vector3f kUnderWater{0.09f, 0.20f, 0.33f};  // the eye below the surface
+  static inline const Vector3f kWood{0.86f, 0.60f, 0.34f};        // the solver's puppet
+  static inline const Vector3f kGrabbed{0.90f, 0.18f, 0.78f};     // the segment held by the mouse
+  static inline const Vector3f kGhost{0.35f, 0.62f, 1.00f};       // the second solver
   static inline const Vector3f kPin{0.30f, 0.95f, 0.95f};
   static constexpr float kGhostAlpha = 0.35f;
 };
