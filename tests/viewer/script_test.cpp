@@ -35,7 +35,7 @@ TEST(Script, DragCarriesTheHandByTheScriptedOffset) {
   ASSERT_TRUE(session.grabbing());
   ASSERT_EQ(session.grabbed_segment(), session.model().find_segment("r_forearm"));
   // the grabbed point is where the mouse is: pressed pixel + offset
-  const Pin& pin = session.pins().back();
+  const Pin& pin = session.pins()[session.grab_index()];
   const BodyState& b = session.run(0).bodies[pin.segment];
   Vector2d pixel;
   ASSERT_TRUE(played.camera.project(b.x + b.q * pin.local_point, &pixel));

@@ -35,32 +35,29 @@ TEST(History, KeepsTheLastValuesInPlotOrder) {
 }
 
 TEST(Session, BadInputNamesTheProblem) {
-  auto message = [](const SessionConfig& config) {
+  // the message of the error a default config changed by `change` raises
+  auto message = [](const auto& change) {
+    SessionConfig c;
+    change(c);
     try {
-      Session session(config);
+      Session session(c);
     } catch (const std::exception& e) {
       return std::string(e.what());
     }
     return std::string("no error");
   };
-  SessionConfig c;
-  c.dt = 0.0;
-  EXPECT_NE(message(c).find("--dt"), std::string::npos);
-  c = {};
-  c.dt = std::nan("");
-  EXPECT_NE(message(c).find("--dt"), std::string::npos);
-  c = {};
-  c.scenario = "float";
-  EXPECT_NE(message(c).find("--scenario"), std::string::npos);
-  c = {};
-  c.ghost = "havok";
-  EXPECT_NE(message(c).find("--ghost"), std::string::npos);
-  c = {};
-  c.options.rule = "fast";
-  EXPECT_NE(message(c).find("--rule"), std::string::npos);
-  c = {};
-  c.model = "/nonexistent/puppet.json";
-  EXPECT_NE(message(c).find("/nonexistent/puppet.json"), std::string::npos);
+  const auto npos = std::string::npos;
+  EXPECT_NE(message([](SessionConfig& c) { c.dt = 0.0; }).find("--dt"), npos);
+  EXPECT_NE(message([](SessionConfig& c) { c.dt = std::nan(""); }).find("--dt"), npos);
+  EXPECT_NE(message([](SessionConfig& c) { c.scenario = "float"; }).find("--scenario"), npos);
+  EXPECT_NE(message([](SessionConfig& c) { c.ghost = "havok"; }).find("--ghost"), npos);
+  EXPECT_NE(message([](SessionConfig& c) { c.options.rule = "fast"; }).find("--rule"), npos);
+  EXPECT_NE(message([](SessionConfig& c) { c.anchor = "head"; }).find("--anchor"), npos);
+  EXPECT_NE(message([](SessionConfig& c) {
+              c.model = "/nonexistent/puppet.json";
+            }).find("/nonexistent/puppet.json"),
+            npos);
+  EXPECT_EQ(message([](SessionConfig&) {}), "no error");
 }
 
 TEST(Session, AdvanceTakesWholeStepsAndCarriesTheRest) {
@@ -87,11 +84,11 @@ TEST(Session, AGrabHoldsThePointAndTheGhostFollowsTheSameTarget) {
   const Vector3d held = world_point(session, 0, forearm, tip);
   session.grab(forearm, tip, held);
   ASSERT_EQ(session.pins().size(), 2u);
-  EXPECT_EQ(session.pins().back().segment, forearm);
+  EXPECT_EQ(session.pins()[session.grab_index()].segment, forearm);
   const Vector3d lifted = held + Vector3d(0.1, -0.1, 0.2);
   session.move_grab(lifted);
   run_for(session, 1.0);
-  EXPECT_TRUE(session.targets().back().isApprox(lifted));
+  EXPECT_TRUE(session.targets()[session.grab_index()].isApprox(lifted));
   for (int r = 0; r < session.run_count(); ++r) {
     SCOPED_TRACE(session.run(r).label);
     EXPECT_FALSE(session.run(r).diverged);
@@ -103,6 +100,40 @@ TEST(Session, AGrabHoldsThePointAndTheGhostFollowsTheSameTarget) {
   for (int r = 0; r < session.run_count(); ++r) {
     EXPECT_LT(world_point(session, r, forearm, tip).z(), lifted.z() - 0.05);
   }
+}
+
+// the grab comes first: the one-sided rules start their pass from it, as the seed anchors the
+// adjust at the dragged segment, so the held point is exactly at the mouse and the scenario's
+// string is what stays open
+TEST(Session, TheGrabAnchorsTheProceduralPass) {
+  SessionConfig c;
+  c.options.rule = "literal";
+  Session session(c);
+  run_for(session, 0.5);
+  const int forearm = session.model().find_segment("r_forearm");
+  const Vector3d tip{0, 0, -0.14};
+  const Vector3d held = world_point(session, 0, forearm, tip);
+  session.grab(forearm, tip, held);
+  EXPECT_EQ(session.grab_index(), 0);
+  const Vector3d lifted = held + Vector3d(0.1, -0.1, 0.2);
+  session.move_grab(lifted);
+  run_for(session, 1.0);
+  EXPECT_LE((world_point(session, 0, forearm, tip) - lifted).norm(), 1e-9);
+  EXPECT_LE(session.run(0).pin_gap_max, 0.5);
+  EXPECT_GT(session.run(0).pin_gap_max, 1e-3);  // the head's string, left open
+
+  // the rotating rules keep the scenario's anchor by default; either can be asked for
+  c.options.rule = "relaxed";
+  session.configure(c);
+  EXPECT_EQ(session.grab_index(), 1);
+  EXPECT_EQ(session.pins()[1].segment, forearm);
+  c.anchor = "grab";
+  session.configure(c);
+  EXPECT_EQ(session.grab_index(), 0);
+  EXPECT_EQ(session.pins()[0].segment, forearm);
+  EXPECT_TRUE(session.targets()[0].isApprox(lifted));
+  c.anchor = "head";
+  EXPECT_THROW(session.configure(c), compare::ScenarioError);
 }
 
 TEST(Session, ShakeMovesTheTargetSinusoidallyAboutTheHeldPoint) {
@@ -118,11 +149,12 @@ TEST(Session, ShakeMovesTheTargetSinusoidallyAboutTheHeldPoint) {
     session.step();
     const double expected =
         c.shake_amplitude * std::sin(2 * M_PI * c.shake_hz * (session.time() - t0));
-    EXPECT_LE((session.targets().back() - (held + expected * axis)).norm(), 1e-12) << k;
+    EXPECT_LE((session.targets()[session.grab_index()] - (held + expected * axis)).norm(), 1e-12)
+        << k;
   }
   session.set_shake(false, axis);
   session.step();
-  EXPECT_TRUE(session.targets().back().isApprox(held));
+  EXPECT_TRUE(session.targets()[session.grab_index()].isApprox(held));
 }
 
 TEST(Session, ReconfiguringKeepsTheStateAndANewScenarioStartsOver) {

@@ -137,7 +137,7 @@ TEST(ViewerScreenshot, BadInputExitsTwoAndWritesNothing) {
   for (const std::string arguments :
        {"--dt 0", "--dt nan", "--frames -1", "--script wave", "--solver ode", "--ghost havok",
         "--rule fastest", "--model /nonexistent/model.json", "--scenario float", "--width 10",
-        "--msaa 17", "--frames 2 --bogus"}) {
+        "--msaa 17", "--anchor head", "--frames 2 --bogus"}) {
     EXPECT_EQ(viewer(arguments + " --frames 2 --screenshot " + path.string(), false), 2)
         << arguments;
   }

@@ -266,6 +266,10 @@ int main(int argc, char** argv) {
   app.add_option("--rule", config.options.rule, "the procedural solver's adjust rule")
       ->capture_default_str();
   app.add_option("--ghost", config.ghost, "a second solver, drawn as a translucent ghost");
+  app.add_option("--anchor", config.anchor,
+                 "the pin the procedural pass starts from while a point is held: auto, grab or "
+                 "scenario")
+      ->capture_default_str();
   app.add_option("--dt", dt_text, "time step (s); fractions such as 1/240 are accepted")
       ->capture_default_str();
   app.add_option("--substeps", config.options.substeps, "procedural substeps")

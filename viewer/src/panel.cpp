@@ -55,6 +55,12 @@ void solver_section(Session& session, PanelState& state) {
       changed |= ImGui::SliderInt("sweeps", &config.options.iterations, 1, 16);
     }
   }
+  changed |= combo("anchor", config.anchor, {"auto", "grab", "scenario"});
+  if (ImGui::IsItemHovered()) {
+    ImGui::SetTooltip(
+        "the pin the procedural pass starts from while you hold a point:\n"
+        "auto = the grab for literal, the scenario's pin for the others");
+  }
   std::vector<std::string> ghosts = {""};
   for (const std::string& name : compare::solver_names()) ghosts.push_back(name);
   changed |= combo("ghost", config.ghost, ghosts);
@@ -140,8 +146,11 @@ void runs_section(const Session& session) {
     ImGui::PushID(r);
     ImGui::TextColored(colour(c), "%s%s", run.label.c_str(), r == 0 ? "" : "  (ghost)");
     if (run.diverged) {
-      ImGui::TextColored({1.0f, 0.3f, 0.25f, 1.0f}, "diverged at t = %.2f s: reset [r]",
-                         run.diverged_at);
+      ImGui::TextColored({1.0f, 0.3f, 0.25f, 1.0f}, "diverged (%s) at t = %.2f s: reset [r]",
+                         run.diverged_reason, run.diverged_at);
+    } else if (session.grabbing()) {
+      // how far the held point is from the mouse: not every solver closes a second pin
+      ImGui::Text("pin gap %.1f mm", run.pin_gap_max * 1e3);
     }
     char overlay[64];
     std::snprintf(overlay, sizeof(overlay), "max joint gap %.3g mm", run.gap_mm.latest());

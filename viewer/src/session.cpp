@@ -57,6 +57,9 @@ std::string validate(const SessionConfig& config) {
   if (!is_one_of(compare::solver_names(), config.solver)) {
     return "--solver: unknown solver \"" + config.solver + "\"";
   }
+  if (config.anchor != "auto" && config.anchor != "grab" && config.anchor != "scenario") {
+    return "--anchor: expected auto, grab or scenario, got \"" + config.anchor + "\"";
+  }
   if (!config.ghost.empty() && !is_one_of(compare::solver_names(), config.ghost)) {
     return "--ghost: unknown solver \"" + config.ghost + "\"";
   }
@@ -117,6 +120,9 @@ void Session::configure(const SessionConfig& config) {
     if (!runs_.empty() && !runs_[0].diverged) return runs_[0].bodies;
     return scenario_.initial;
   };
+  // the anchor may have changed with the rule
+  compute_targets(time_);
+  collect_pins();
   for (size_t i = 0; i < runs.size(); ++i) rebuild(runs[i], source(i));
   runs_ = std::move(runs);
 }
@@ -138,6 +144,8 @@ void Session::rebuild(Run& run, std::span<const BodyState> bodies) const {
   run.simulator->set_state(bodies);
   run.simulator->read_state(run.bodies);
   compare::joint_gaps(*model_, run.bodies, run.joint_gaps);
+  run.energy_start = compare::mechanical_energy(*model_, scenario_.environment, run.bodies);
+  run.energy_reference = compare::energy_reference(*model_, scenario_.environment, run.bodies);
   run.diverged = false;
 }
 
@@ -178,17 +186,40 @@ void Session::step_frame(int steps) {
 void Session::observe(Run& run, int steps, double seconds) {
   run.simulator->read_state(run.bodies);
   compare::joint_gaps(*model_, run.bodies, run.joint_gaps);
-  const double gap_max = run.joint_gaps.empty()
-                             ? 0.0
-                             : *std::max_element(run.joint_gaps.begin(), run.joint_gaps.end());
-  if (run.simulator->diverged() || !all_finite(run.bodies) || !std::isfinite(gap_max) ||
-      gap_max > compare::kDivergedJointGap) {
+  std::vector<double> pin_gaps(pins_.size());
+  compare::pin_gaps(pins_, targets_, run.bodies, pin_gaps);
+  run.pin_gap_max = pin_gaps.empty() ? 0.0 : *std::max_element(pin_gaps.begin(), pin_gaps.end());
+  // the testbed's criteria: non-finite, a joint gap over 0.5 m, or energy above 10 E_ref (a user
+  // does work, but nowhere near that much)
+  compare::StepMetrics m;
+  m.finite = !run.simulator->diverged() && all_finite(run.bodies);
+  m.joint_gap_max = run.joint_gaps.empty()
+                        ? 0.0
+                        : *std::max_element(run.joint_gaps.begin(), run.joint_gaps.end());
+  m.energy_drift =
+      (compare::mechanical_energy(*model_, scenario_.environment, run.bodies) - run.energy_start) /
+      run.energy_reference;
+  const char* reason = compare::divergence_reason(m);
+  // NaN passes every comparison
+  if (reason == nullptr && !std::isfinite(m.joint_gap_max + m.energy_drift)) reason = "non-finite";
+  if (reason != nullptr) {
     run.diverged = true;
     run.diverged_at = time_;
+    run.diverged_reason = reason;
     return;
   }
-  run.gap_mm.push(static_cast<float>(gap_max * 1e3));
+  run.gap_mm.push(static_cast<float>(m.joint_gap_max * 1e3));
   run.step_us.push(static_cast<float>(seconds / steps * 1e6));
+}
+
+bool Session::grab_anchors() const {
+  return config_.anchor == "grab" ||
+         (config_.anchor == "auto" && config_.options.rule == "literal");
+}
+
+int Session::grab_index() const {
+  if (!grabbing()) return -1;
+  return grab_anchors() ? 0 : static_cast<int>(scenario_.pins.size());
 }
 
 void Session::compute_targets(double t) {
@@ -199,13 +230,15 @@ void Session::compute_targets(double t) {
     const double phase = 2.0 * M_PI * config_.shake_hz * (t - shake_start_);
     target += config_.shake_amplitude * std::sin(phase) * shake_axis_;
   }
-  targets_.push_back(target);
+  targets_.insert(targets_.begin() + grab_index(), target);
 }
 
 void Session::collect_pins() {
   pins_ = scenario_.initial_pins();
+  if (grabbing()) {
+    pins_.insert(pins_.begin() + grab_index(), Pin{grab_segment_, grab_local_, grab_target_});
+  }
   for (size_t i = 0; i < pins_.size(); ++i) pins_[i].target = targets_[i];
-  if (grabbing()) pins_.push_back({grab_segment_, grab_local_, targets_.back()});
 }
 
 void Session::pins_changed() {

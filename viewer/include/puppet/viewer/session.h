@@ -39,6 +39,12 @@ struct SessionConfig {
   double dt = 1.0 / 240.0;
   double shake_amplitude = 0.08;  // m, along the camera's right axis
   double shake_hz = 3.0;
+  // which pin the procedural solver's adjust pass starts from while the user holds a point:
+  // "grab" (the seed anchors the pass at the dragged segment), "scenario" (the scenario's first
+  // pin, the string the puppet hangs from) or "auto": grab for literal, whose translations are
+  // stable from any anchor, scenario for the rotating rules, which anchored at a hand lose the
+  // puppet within a second (as in yank, results/frontier.csv). Bullet does not care.
+  std::string anchor = "auto";
 };
 
 // "bad input: one message naming it" for a config (dt, names), empty when valid
@@ -50,10 +56,14 @@ struct Run {
   std::unique_ptr<compare::Simulator> simulator;
   std::vector<BodyState> bodies;
   std::vector<double> joint_gaps;  // m, per joint, after the last step
+  double pin_gap_max = 0.0;        // m, over the pins, after the last step
+  // the testbed's energy criterion: E and E_ref when the run was (re)built
+  double energy_start = 0.0, energy_reference = 1.0;
   bool diverged = false;
-  double diverged_at = 0.0;  // s
-  History gap_mm;            // max joint gap after each frame
-  History step_us;           // mean wall time per step over each frame
+  double diverged_at = 0.0;               // s
+  const char* diverged_reason = nullptr;  // "non-finite", "joint gap" or "energy"
+  History gap_mm;                         // max joint gap after each frame
+  History step_us;                        // mean wall time per step over each frame
 };
 
 class Session {
@@ -92,9 +102,13 @@ class Session {
   void set_shake(bool on, const Vector3d& axis);
   bool shaking() const { return shake_; }
 
-  // every pin, the scenario's then the grab, with its target at the current time
+  // every pin with its target at the current time, the anchor first (SessionConfig::anchor);
+  // one-sided rules leave the other pins open, which the runs' pin gap shows
   std::span<const Pin> pins() const { return pins_; }
   std::span<const Vector3d> targets() const { return targets_; }
+  // whether the grab is the first pin, and where it is among the pins (-1: nothing held)
+  bool grab_anchors() const;
+  int grab_index() const;
 
   // the solver first, then the ghost when there is one
   int run_count() const { return static_cast<int>(runs_.size()); }
