@@ -213,6 +213,7 @@ RawJoint read_joint(const Element& e) {
   } else {
     e.fail("unknown joint type \"" + type + "\" (expected ball, hinge or fixed)");
   }
+  derive_limit_terms(j);
   raw.parent_name = e.string("parent");
   raw.child_name = e.string("child");
   j.anchor_world = e.vector<3>("anchor");

@@ -1,6 +1,7 @@
 #include "puppet/model/rotation.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 namespace puppet {
@@ -55,53 +56,97 @@ bool surely_inside_ball(const Joint& joint, const Quaterniond& q_rel) {
   return 4.0 * (ex * ex + ey * ey) <= n2 * n2;
 }
 
+// q = swing ⊗ twist about a unit axis, the twist on its shortest arc (w ≥ 0), with the twist's
+// half-angle sine: its half-angle lies in [−π/2, π/2], where the sine grows with the angle, so a
+// limit is a comparison with the sine of the half-limit and needs no atan2
+struct ShortTwist {
+  Quaterniond swing, twist;
+  double half_sin = 0.0;  // sin(angle / 2)
+};
+
+ShortTwist split_twist(const Quaterniond& q, const Vector3d& axis) {
+  const double projection = q.vec().dot(axis);
+  const double norm = std::sqrt(q.w() * q.w() + projection * projection);
+  if (norm < 1e-12) return {q, Quaterniond::Identity(), 0.0};  // a half turn of swing: no twist
+  const double sign = q.w() < 0.0 ? -1.0 : 1.0;
+  const double w = sign * q.w() / norm, p = sign * projection / norm;
+  const Quaterniond twist(w, p * axis.x(), p * axis.y(), p * axis.z());
+  return {q * twist.conjugate(), twist, p};
+}
+
+// the rotation by a limit angle about an axis, from the half-angle's sine and cosine
+Quaterniond about_axis(const Vector3d& axis, double half_sin, double half_cos) {
+  return Quaterniond(half_cos, half_sin * axis.x(), half_sin * axis.y(), half_sin * axis.z());
+}
+
 Quaterniond clamp_ball(const Joint& joint, const Quaterniond& q_rel) {
   if (surely_inside_ball(joint, q_rel)) return q_rel;
-  const SwingTwist st = decompose_swing_twist(q_rel, Vector3d::UnitZ());
+  const ShortTwist st = split_twist(q_rel, Vector3d::UnitZ());
   bool changed = false;
 
-  // twist: |angle| ≤ twist limit
-  double twist = st.twist_angle;
-  if (std::abs(twist) > joint.twist) {
-    twist = std::copysign(joint.twist, twist);
+  // twist: |angle| ≤ twist limit, clamped onto ±limit
+  Quaterniond twist = st.twist;
+  if (std::abs(st.half_sin) > joint.twist_half_sin) {
+    twist = about_axis(Vector3d::UnitZ(), std::copysign(joint.twist_half_sin, st.half_sin),
+                       joint.twist_half_cos);
     changed = true;
   }
 
-  // swing vector (angle · axis) lies in the frame's xy plane; the ellipse has half-angles
-  // swing_x and swing_y about those axes; scale radially onto it when outside
-  Vector3d swing_vector = quat_log(st.swing);
-  const double sx = swing_vector.x(), sy = swing_vector.y();
-  const double ex = joint.swing_x > 0.0 ? sx / joint.swing_x : (sx == 0.0 ? 0.0 : INFINITY);
-  const double ey = joint.swing_y > 0.0 ? sy / joint.swing_y : (sy == 0.0 ? 0.0 : INFINITY);
-  const double ellipse = std::hypot(ex, ey);
-  if (ellipse > 1.0) {
-    if (std::isinf(ellipse)) {
-      // a zero half-angle removes that direction entirely
-      swing_vector =
-          Vector3d(joint.swing_x > 0.0 ? std::clamp(sx, -joint.swing_x, joint.swing_x) : 0.0,
-                   joint.swing_y > 0.0 ? std::clamp(sy, -joint.swing_y, joint.swing_y) : 0.0, 0.0);
-    } else {
-      swing_vector = Vector3d(sx, sy, 0.0) / ellipse;
+  // swing: its vector (angle φ · unit direction n) lies in the frame's xy plane; the ellipse has
+  // half-angles a = swing_x and b = swing_y about those axes, so along n the largest swing is
+  // φ_max = 1/√E with E = n_x²/a² + n_y²/b². Inside ⟺ φ/2 ≤ α = φ_max/2; with the swing on its
+  // shortest arc (w ≥ 0), tan(φ/2) = |v|/w, so inside ⟺ |v| cos α ≤ w sin α, and outside the
+  // clamped swing is (cos α, sin α · n): one sincos, no atan2
+  Quaterniond swing = st.swing;
+  if (swing.w() < 0.0) swing.coeffs() *= -1.0;
+  const double v = std::sqrt(swing.x() * swing.x() + swing.y() * swing.y());
+  if (v > 0.0 && joint.swing_x > 0.0 && joint.swing_y > 0.0) {
+    const double nx = swing.x() / v, ny = swing.y() / v;
+    const double ex = nx / joint.swing_x, ey = ny / joint.swing_y;
+    const double alpha = 0.5 / std::sqrt(ex * ex + ey * ey);
+    if (alpha < 0.5 * M_PI) {
+      const double sin_alpha = std::sin(alpha), cos_alpha = std::cos(alpha);
+      if (v * cos_alpha > swing.w() * sin_alpha) {
+        swing = Quaterniond(cos_alpha, sin_alpha * nx, sin_alpha * ny, 0.0);
+        changed = true;
+      }
     }
-    changed = true;
+  } else if (v > 0.0) {
+    // a zero half-angle removes that direction entirely
+    const Vector3d swing_vector = quat_log(swing);
+    const double sx = swing_vector.x(), sy = swing_vector.y();
+    const Vector3d clamped(
+        joint.swing_x > 0.0 ? std::clamp(sx, -joint.swing_x, joint.swing_x) : 0.0,
+        joint.swing_y > 0.0 ? std::clamp(sy, -joint.swing_y, joint.swing_y) : 0.0, 0.0);
+    if (clamped.x() != sx || clamped.y() != sy) {
+      swing = quat_exp(clamped);
+      changed = true;
+    }
   }
   if (!changed) return q_rel;
-  const Vector3d swing_xy(swing_vector.x(), swing_vector.y(), 0.0);
-  return quat_exp(swing_xy) * quat_exp(Vector3d(0, 0, twist));
+  return swing * twist;
 }
 
 Quaterniond clamp_hinge(const Joint& joint, const Quaterniond& q_rel) {
-  const SwingTwist st = decompose_swing_twist(q_rel, joint.hinge_axis);
   // other directions are not allowed at all: keep only the rotation about the axis (the twist
-  // itself when its angle is in range; no need to rebuild it from the angle)
-  if (st.twist_angle >= joint.lower && st.twist_angle <= joint.upper) return st.twist;
-  const double angle = std::clamp(st.twist_angle, joint.lower, joint.upper);
-  return quat_exp(angle * joint.hinge_axis);
+  // itself when its angle is in range), else the nearer end of the range
+  const ShortTwist st = split_twist(q_rel, joint.hinge_axis);
+  if (st.half_sin < joint.lower_half_sin) {
+    return about_axis(joint.hinge_axis, joint.lower_half_sin, joint.lower_half_cos);
+  }
+  if (st.half_sin > joint.upper_half_sin) {
+    return about_axis(joint.hinge_axis, joint.upper_half_sin, joint.upper_half_cos);
+  }
+  return st.twist;
 }
 
 }  // namespace
 
 Quaterniond clamp_to_limits(const Joint& joint, const Quaterniond& q_rel) {
+  // derive_limit_terms() was called after the limits were last set
+  assert(std::abs(joint.twist_half_sin - std::sin(0.5 * joint.twist)) < 1e-12 &&
+         std::abs(joint.lower_half_sin - std::sin(0.5 * joint.lower)) < 1e-12 &&
+         std::abs(joint.upper_half_sin - std::sin(0.5 * joint.upper)) < 1e-12);
   switch (joint.type) {
     case JointType::kBall:
       return clamp_ball(joint, q_rel);
@@ -111,6 +156,15 @@ Quaterniond clamp_to_limits(const Joint& joint, const Quaterniond& q_rel) {
       return Quaterniond::Identity();
   }
   return q_rel;
+}
+
+void derive_limit_terms(Joint& joint) {
+  joint.twist_half_sin = std::sin(0.5 * joint.twist);
+  joint.twist_half_cos = std::cos(0.5 * joint.twist);
+  joint.lower_half_sin = std::sin(0.5 * joint.lower);
+  joint.lower_half_cos = std::cos(0.5 * joint.lower);
+  joint.upper_half_sin = std::sin(0.5 * joint.upper);
+  joint.upper_half_cos = std::cos(0.5 * joint.upper);
 }
 
 double limit_violation(const Joint& joint, const Quaterniond& q_rel) {

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdint>
 
@@ -47,6 +49,7 @@ Joint ball(double sx_deg, double sy_deg, double twist_deg) {
   j.swing_x = sx_deg * M_PI / 180;
   j.swing_y = sy_deg * M_PI / 180;
   j.twist = twist_deg * M_PI / 180;
+  derive_limit_terms(j);
   return j;
 }
 
@@ -72,6 +75,7 @@ TEST(Rotation, BallInsideShortcutAgreesWithTheExactTest) {
   j.swing_x = 0.3;
   j.swing_y = 0.8;
   j.twist = 0.4;
+  derive_limit_terms(j);
   uint64_t seed = 12345;
   auto uniform = [&seed] {
     seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
@@ -94,12 +98,56 @@ TEST(Rotation, BallInsideShortcutAgreesWithTheExactTest) {
   EXPECT_LT(inside, 19000);
 }
 
+// the clamps, which compare half-angle sines and build the limit rotations from precomputed
+// sines and cosines, against the clamp written with angles: twist angle by atan2, clamped angle,
+// exp of the clamped swing and twist vectors; random rotations, limits, axes, both signs of w
+TEST(Rotation, ClampsAgreeWithTheClampWrittenWithAngles) {
+  uint64_t seed = 777;
+  auto uniform = [&seed] {
+    seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(seed >> 11) * 0x1.0p-53;
+  };
+  auto by_angles = [](const Joint& j, const Quaterniond& q) -> Quaterniond {
+    if (j.type == JointType::kHinge) {
+      const SwingTwist st = decompose_swing_twist(q, j.hinge_axis);
+      return quat_exp(std::clamp(st.twist_angle, j.lower, j.upper) * j.hinge_axis);
+    }
+    const SwingTwist st = decompose_swing_twist(q, Vector3d::UnitZ());
+    const double twist = std::clamp(st.twist_angle, -j.twist, j.twist);
+    Vector3d s = quat_log(st.swing);
+    s.z() = 0.0;
+    const double e = std::hypot(s.x() / j.swing_x, s.y() / j.swing_y);
+    if (e > 1.0) s /= e;
+    return quat_exp(s) * quat_exp(Vector3d(0, 0, twist));
+  };
+  int clamped = 0;
+  for (int k = 0; k < 20000; ++k) {
+    Joint j;
+    j.type = k % 3 == 0 ? JointType::kHinge : JointType::kBall;
+    j.swing_x = 0.05 + 1.5 * uniform();
+    j.swing_y = 0.05 + 1.5 * uniform();
+    j.twist = 3.0 * uniform();
+    j.lower = -3.0 * uniform();
+    j.upper = 3.0 * uniform();
+    j.hinge_axis = Vector3d(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5).normalized();
+    derive_limit_terms(j);
+    Quaterniond q = quat_exp(2.0 * Vector3d(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5));
+    if (k % 2) q.coeffs() *= -1.0;
+    const Quaterniond fast = clamp_to_limits(j, q);
+    EXPECT_LE(angle_between(fast, by_angles(j, q)), 1e-12) << k;
+    clamped += angle_between(fast, q) > 1e-9;
+  }
+  EXPECT_GT(clamped, 5000);  // most samples are clamped, some are not
+  EXPECT_LT(clamped, 19000);
+}
+
 TEST(Rotation, HingeKeepsOnlyItsAxis) {
   Joint j;
   j.type = JointType::kHinge;
   j.hinge_axis = Vector3d(0, 1, 0);
   j.lower = -0.1;
   j.upper = 2.0;
+  derive_limit_terms(j);
   const Quaterniond bent = about(Vector3d(0, 1, 0), 1.0);
   EXPECT_NEAR(limit_violation(j, bent), 0.0, 1e-12);
   EXPECT_NEAR(limit_violation(j, about(Vector3d(0, 1, 0), -0.5)), 0.4, 1e-12);

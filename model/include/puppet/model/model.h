@@ -65,7 +65,15 @@ struct Joint {
   // hinge: unit axis in the joint frame and the range of the right-handed angle about it (rad)
   Vector3d hinge_axis{0, 0, 1};
   double lower = 0.0, upper = 0.0;
+  // sine and cosine of each half-limit (the twist's, the hinge's lower and upper), derived by
+  // derive_limit_terms() so that limits are tested and clamped without trigonometry
+  double twist_half_sin = 0.0, twist_half_cos = 1.0;
+  double lower_half_sin = 0.0, lower_half_cos = 1.0;
+  double upper_half_sin = 0.0, upper_half_cos = 1.0;
 };
+
+// fills the joint's half-limit terms from twist, lower and upper; call after setting them
+void derive_limit_terms(Joint& joint);
 
 // the error raised by every model-building function: one line naming source, element, problem
 class ModelError : public std::runtime_error {
