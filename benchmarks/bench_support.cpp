@@ -1,5 +1,7 @@
 #include "bench_support.h"
 
+#include "puppet/compare/metrics.h"
+
 #include <map>
 #include <memory>
 
@@ -43,17 +45,54 @@ const Model& chain(int n) {
   return it->second;
 }
 
+namespace {
+
+// the testbed's verdict on a run (compare::divergence_reason): a benchmark of a run the testbed
+// calls diverged would time a broken simulation, so it is skipped with the reason
+class Verdict {
+ public:
+  explicit Verdict(const Workload& workload)
+      : workload_(workload),
+        probe_(*workload.model, workload.scenario.environment, workload.scenario.initial_pins(),
+               workload.scenario.initial),
+        bodies_(workload.model->segment_count()) {}
+
+  // after step k of the warm-up; nullptr while the run is fine
+  const char* after_step(int k, std::span<const BodyState> bodies, bool non_finite) {
+    if (non_finite) return "non-finite";
+    workload_.scenario.targets_at((k + 1) * kDt, targets_);
+    return compare::divergence_reason(probe_.measure((k + 1) * kDt, bodies, targets_));
+  }
+  std::vector<BodyState>& bodies() { return bodies_; }
+
+ private:
+  const Workload& workload_;
+  compare::MetricsProbe probe_;
+  std::vector<BodyState> bodies_;
+  std::vector<Vector3d> targets_;
+};
+
+void skip_diverged(benchmark::State& state, const char* reason) {
+  state.SkipWithError((std::string("diverged during the warm-up (") + reason +
+                       "): the testbed calls this run diverged, there is nothing to time")
+                          .c_str());
+}
+
+}  // namespace
+
 bool warm_up(benchmark::State& state, compare::Simulator& simulator, const Workload& workload) {
   simulator.reset(*workload.model, workload.scenario);
+  Verdict verdict(workload);
   std::vector<Vector3d> targets;
-  for (int k = 0; k < workload.warm_up_steps && !simulator.diverged(); ++k) {
+  for (int k = 0; k < workload.warm_up_steps; ++k) {
     workload.scenario.targets_at((k + 1) * kDt, targets);
     simulator.set_pin_targets(targets);
     simulator.step(kDt);
-  }
-  if (simulator.diverged()) {
-    state.SkipWithError("diverged during the warm-up");
-    return false;
+    simulator.read_state(verdict.bodies());
+    if (const char* reason = verdict.after_step(k, verdict.bodies(), simulator.diverged())) {
+      skip_diverged(state, reason);
+      return false;
+    }
   }
   return true;
 }
@@ -72,13 +111,18 @@ std::unique_ptr<procedural::Solver> warmed_up_solver(benchmark::State& state,
       *workload.model, procedural_settings(workload, rule), scenario.environment);
   solver->reset(scenario.initial);
   solver->set_pins(scenario.initial_pins());
+  Verdict verdict(workload);
   std::vector<Vector3d> targets;
   for (int k = 0; k < workload.warm_up_steps; ++k) {
     scenario.targets_at((k + 1) * kDt, targets);
     solver->set_pin_targets(targets);
     solver->step(kDt);
+    if (const char* reason =
+            verdict.after_step(k, solver->state().bodies, solver->state().diverged)) {
+      skip_diverged(state, reason);
+      break;
+    }
   }
-  if (solver->state().diverged) state.SkipWithError("diverged during the warm-up");
   return solver;
 }
 

@@ -5,7 +5,8 @@ The floors are the project's commitments. Each threshold is set a noise margin f
 run measured (30 %: the same ratio moved by up to ±20 % between runs on this machine), never
 looser than its floor, and the measured ratio is recorded beside it. A floor the run does not
 reach is marked known_failure with the figure, so the gate shows it without failing, until the
-solver reaches it.
+solver reaches it. A benchmark skipped because its run diverged (the testbed's criteria) has no
+time: its gates are known failures with the floor as threshold.
 
     scripts/gate_thresholds.py results/bench/bench_step.json results/bench/bench_stages.json \
         results/bench/bench_scaling.json > results/gate.json
@@ -31,6 +32,12 @@ def medians(paths):
 
 
 def gate(times, name, numerator, denominator, floor, kind, numerator_per=1, denominator_per=1):
+    if numerator not in times or denominator not in times:
+        # the benchmark skipped a run the testbed calls diverged: no time, a known failure
+        return {"name": name, "numerator": numerator, "denominator": denominator, kind: floor,
+                "floor": floor,
+                "known_failure": "the run diverges (the testbed's criteria) before it is timed: "
+                                 "nothing to time"}
     measured = (times[numerator] / numerator_per) / (times[denominator] / denominator_per)
     if kind == "min":
         threshold = max(floor, math.floor((1 - MARGIN) * measured * 10) / 10)

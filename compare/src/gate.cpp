@@ -165,6 +165,9 @@ std::vector<GateResult> evaluate_gates(const std::vector<GateSpec>& specs,
       } else {
         result.status = ok ? GateStatus::kUnexpectedPass : GateStatus::kKnownFailure;
       }
+    } else if (!spec.known_failure.empty()) {
+      // a benchmark skips a run the testbed calls diverged: a known failure has no time
+      result.status = GateStatus::kKnownFailure;
     }
     results.push_back(result);
   }
@@ -187,7 +190,7 @@ std::string gate_table(const std::vector<GateResult>& results) {
                   ratio.c_str(), threshold.c_str(), floor.c_str(), measured.c_str(),
                   status_text(r.status).c_str());
     out << line;
-    if (r.status == GateStatus::kMissing) {
+    if (r.status == GateStatus::kMissing || std::isnan(r.ratio)) {
       out << "    missing benchmark: " << r.spec.numerator << " or " << r.spec.denominator << '\n';
     }
     if (r.status == GateStatus::kKnownFailure) out << "    known: " << r.spec.known_failure << '\n';

@@ -56,10 +56,12 @@ TEST(Gate, RatiosOfMediansPerItemAgainstThresholds) {
        "denominator": "chain/16", "denominator_per": 16, "max": 1.5},
       {"name": "known", "numerator": "step/hang/slow", "denominator": "step/hang/fast",
        "min": 40, "known_failure": "not yet"},
-      {"name": "gone", "numerator": "step/hang/none", "denominator": "step/hang/fast", "min": 1}
+      {"name": "gone", "numerator": "step/hang/none", "denominator": "step/hang/fast", "min": 1},
+      {"name": "skipped", "numerator": "step/hang/slow", "denominator": "step/drop/diverged",
+       "min": 30, "floor": 30, "known_failure": "diverges in the warm-up"}
     ]})"));
   const auto results = evaluate_gates(specs, times);
-  ASSERT_EQ(results.size(), 5u);
+  ASSERT_EQ(results.size(), 6u);
   EXPECT_DOUBLE_EQ(results[0].ratio, 25.0);
   EXPECT_EQ(results[0].status, GateStatus::kPass);
   EXPECT_EQ(results[1].status, GateStatus::kFail);
@@ -69,6 +71,10 @@ TEST(Gate, RatiosOfMediansPerItemAgainstThresholds) {
   EXPECT_EQ(results[3].status, GateStatus::kKnownFailure);
   EXPECT_TRUE(std::isnan(results[4].ratio));
   EXPECT_EQ(results[4].status, GateStatus::kMissing);
+  // a benchmark skipped because its run diverged: known, when the gate says so
+  EXPECT_TRUE(std::isnan(results[5].ratio));
+  EXPECT_EQ(results[5].status, GateStatus::kKnownFailure);
+  EXPECT_TRUE(gate_passed({results[5]}));
   EXPECT_FALSE(gate_passed(results));
   EXPECT_TRUE(gate_passed({results[0], results[2], results[3]}));
   EXPECT_NE(gate_table(results).find("FAIL"), std::string::npos);
