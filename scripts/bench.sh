@@ -30,8 +30,10 @@ if [ "$mode" = quick ]; then
     --benchmark_filter='^step/(hang|drag|drop)/(literal|smoothed|weighted|subtree|relaxed|bullet-multibody)/'
   "$bin/bench_stages" "${common[@]}" "${quick[@]}" --benchmark_out="$out/bench_stages.json" \
     --benchmark_filter='^floor/hang/'
+  # chain:4 as well: Google Benchmark's complexity fit crashes on a family with no run left, and
+  # the smoothed and weighted chains diverge from N = 16 on (skipped, known failures)
   "$bin/bench_scaling" "${common[@]}" "${quick[@]}" --benchmark_out="$out/bench_scaling.json" \
-    --benchmark_filter='^scaling/(literal|smoothed|weighted|subtree|relaxed)/(16|1024)/'
+    --benchmark_filter='^scaling/(literal|smoothed|weighted|subtree|relaxed)/(4|16|1024)/'
   ./build/release/testbed gate "$out"/bench_step.json "$out"/bench_stages.json \
     "$out"/bench_scaling.json --thresholds results/gate.json
 else
