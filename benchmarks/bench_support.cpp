@@ -47,30 +47,20 @@ const Model& chain(int n) {
 
 namespace {
 
-// the testbed's verdict on a run (compare::divergence_reason): a benchmark of a run the testbed
-// calls diverged would time a broken simulation, so it is skipped with the reason
-class Verdict {
- public:
-  explicit Verdict(const Workload& workload)
-      : workload_(workload),
-        probe_(*workload.model, workload.scenario.environment, workload.scenario.initial_pins(),
-               workload.scenario.initial),
-        bodies_(workload.model->segment_count()) {}
+// the testbed's verdict on a warm-up step ending at t (compare::divergence_reason), or nullptr
+// while the run is fine: a benchmark of a run the testbed calls diverged would time a broken
+// simulation, so it is skipped with the reason
+const char* divergence(compare::MetricsProbe& probe, double t, std::span<const BodyState> bodies,
+                       std::span<const Vector3d> targets, bool non_finite) {
+  if (non_finite) return "non-finite";
+  return compare::divergence_reason(probe.measure(t, bodies, targets));
+}
 
-  // after step k of the warm-up; nullptr while the run is fine
-  const char* after_step(int k, std::span<const BodyState> bodies, bool non_finite) {
-    if (non_finite) return "non-finite";
-    workload_.scenario.targets_at((k + 1) * kDt, targets_);
-    return compare::divergence_reason(probe_.measure((k + 1) * kDt, bodies, targets_));
-  }
-  std::vector<BodyState>& bodies() { return bodies_; }
-
- private:
-  const Workload& workload_;
-  compare::MetricsProbe probe_;
-  std::vector<BodyState> bodies_;
-  std::vector<Vector3d> targets_;
-};
+compare::MetricsProbe make_probe(const Workload& workload) {
+  const compare::Scenario& scenario = workload.scenario;
+  return compare::MetricsProbe(*workload.model, scenario.environment, scenario.initial_pins(),
+                               scenario.initial);
+}
 
 void skip_diverged(benchmark::State& state, const char* reason) {
   state.SkipWithError((std::string("diverged during the warm-up (") + reason +
@@ -82,14 +72,16 @@ void skip_diverged(benchmark::State& state, const char* reason) {
 
 bool warm_up(benchmark::State& state, compare::Simulator& simulator, const Workload& workload) {
   simulator.reset(*workload.model, workload.scenario);
-  Verdict verdict(workload);
+  compare::MetricsProbe probe = make_probe(workload);
+  std::vector<BodyState> bodies(workload.model->segment_count());
   std::vector<Vector3d> targets;
   for (int k = 0; k < workload.warm_up_steps; ++k) {
-    workload.scenario.targets_at((k + 1) * kDt, targets);
+    const double t = (k + 1) * kDt;
+    workload.scenario.targets_at(t, targets);
     simulator.set_pin_targets(targets);
     simulator.step(kDt);
-    simulator.read_state(verdict.bodies());
-    if (const char* reason = verdict.after_step(k, verdict.bodies(), simulator.diverged())) {
+    simulator.read_state(bodies);
+    if (const char* reason = divergence(probe, t, bodies, targets, simulator.diverged())) {
       skip_diverged(state, reason);
       return false;
     }
@@ -111,14 +103,15 @@ std::unique_ptr<procedural::Solver> warmed_up_solver(benchmark::State& state,
       *workload.model, procedural_settings(workload, rule), scenario.environment);
   solver->reset(scenario.initial);
   solver->set_pins(scenario.initial_pins());
-  Verdict verdict(workload);
+  compare::MetricsProbe probe = make_probe(workload);
   std::vector<Vector3d> targets;
   for (int k = 0; k < workload.warm_up_steps; ++k) {
-    scenario.targets_at((k + 1) * kDt, targets);
+    const double t = (k + 1) * kDt;
+    scenario.targets_at(t, targets);
     solver->set_pin_targets(targets);
     solver->step(kDt);
     if (const char* reason =
-            verdict.after_step(k, solver->state().bodies, solver->state().diverged)) {
+            divergence(probe, t, solver->state().bodies, targets, solver->state().diverged)) {
       skip_diverged(state, reason);
       break;
     }

@@ -15,21 +15,36 @@ Vector3d any_orthogonal(const Vector3d& v) {
   return v.cross(other).normalized();
 }
 
-SwingTwist decompose_swing_twist(const Quaterniond& q, const Vector3d& axis) {
+namespace {
+
+// q = swing ⊗ twist about a unit axis, the twist on its shortest arc (w ≥ 0), with the twist's
+// half-angle sine: its half-angle lies in [−π/2, π/2], where the sine grows with the angle, so a
+// limit is a comparison with the sine of the half-limit and needs no atan2
+struct ShortTwist {
+  Quaterniond swing, twist;
+  double half_sin = 0.0;  // sin(angle / 2)
+};
+
+ShortTwist split_twist(const Quaterniond& q, const Vector3d& axis) {
   const double projection = q.vec().dot(axis);
-  Quaterniond twist(q.w(), projection * axis.x(), projection * axis.y(), projection * axis.z());
-  const double norm = twist.norm();
-  if (norm < 1e-12) {
-    // a half turn of swing: the twist is undefined, take none
-    return {q, 0.0};
-  }
-  twist.coeffs() /= norm;
-  double angle = 2.0 * std::atan2(projection / norm, twist.w());
+  const double norm = std::sqrt(q.w() * q.w() + projection * projection);
+  if (norm < 1e-12) return {q, Quaterniond::Identity(), 0.0};  // a half turn of swing: no twist
+  const double sign = q.w() < 0.0 ? -1.0 : 1.0;
+  const double w = sign * q.w() / norm, p = sign * projection / norm;
+  const Quaterniond twist(w, p * axis.x(), p * axis.y(), p * axis.z());
+  return {q * twist.conjugate(), twist, p};
+}
+
+}  // namespace
+
+SwingTwist decompose_swing_twist(const Quaterniond& q, const Vector3d& axis) {
+  const ShortTwist st = split_twist(q, axis);
+  // the angle of the twist as q carries it (its w of q's sign), wrapped into (−π, π]
+  const double sign = q.w() < 0.0 ? -1.0 : 1.0;
+  double angle = 2.0 * std::atan2(sign * st.half_sin, sign * st.twist.w());
   if (angle > M_PI) angle -= 2.0 * M_PI;
   if (angle <= -M_PI) angle += 2.0 * M_PI;
-  const Quaterniond swing = q * twist.conjugate();
-  if (twist.w() < 0.0) twist.coeffs() *= -1.0;  // the same rotation, on the shortest arc
-  return {swing, angle, twist};
+  return {st.swing, angle, st.twist};
 }
 
 Quaterniond joint_relative_rotation(const Joint& joint, const Quaterniond& parent_orientation,
@@ -54,24 +69,6 @@ bool surely_inside_ball(const Joint& joint, const Quaterniond& q_rel) {
   // (2|v_s|/w_s)² (n_x²/a² + n_y²/b²) ≤ 1  ⟺  4 (sx²/a² + sy²/b²) ≤ n⁴
   const double ex = sx / joint.swing_x, ey = sy / joint.swing_y;
   return 4.0 * (ex * ex + ey * ey) <= n2 * n2;
-}
-
-// q = swing ⊗ twist about a unit axis, the twist on its shortest arc (w ≥ 0), with the twist's
-// half-angle sine: its half-angle lies in [−π/2, π/2], where the sine grows with the angle, so a
-// limit is a comparison with the sine of the half-limit and needs no atan2
-struct ShortTwist {
-  Quaterniond swing, twist;
-  double half_sin = 0.0;  // sin(angle / 2)
-};
-
-ShortTwist split_twist(const Quaterniond& q, const Vector3d& axis) {
-  const double projection = q.vec().dot(axis);
-  const double norm = std::sqrt(q.w() * q.w() + projection * projection);
-  if (norm < 1e-12) return {q, Quaterniond::Identity(), 0.0};  // a half turn of swing: no twist
-  const double sign = q.w() < 0.0 ? -1.0 : 1.0;
-  const double w = sign * q.w() / norm, p = sign * projection / norm;
-  const Quaterniond twist(w, p * axis.x(), p * axis.y(), p * axis.z());
-  return {q * twist.conjugate(), twist, p};
 }
 
 // the rotation by a limit angle about an axis, from the half-angle's sine and cosine

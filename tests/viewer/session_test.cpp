@@ -22,6 +22,20 @@ void run_for(Session& session, double seconds) {
   for (int f = 0; f < std::lround(seconds / kFrame); ++f) session.advance(kFrame, 100);
 }
 
+// after half a second, the right hand's tip grabbed where it is
+struct HandGrab {
+  int forearm;
+  Vector3d tip, held;
+};
+HandGrab grab_the_hand(Session& session) {
+  run_for(session, 0.5);
+  const int forearm = session.model().find_segment("r_forearm");
+  const Vector3d tip{0, 0, -0.14};
+  const Vector3d held = world_point(session, 0, forearm, tip);
+  session.grab(forearm, tip, held);
+  return {forearm, tip, held};
+}
+
 TEST(History, KeepsTheLastValuesInPlotOrder) {
   History h(3);
   h.push(1);
@@ -78,11 +92,7 @@ TEST(Session, AGrabHoldsThePointAndTheGhostFollowsTheSameTarget) {
   SessionConfig c;
   c.ghost = "bullet-multibody";
   Session session(c);
-  run_for(session, 0.5);
-  const int forearm = session.model().find_segment("r_forearm");
-  const Vector3d tip{0, 0, -0.14};
-  const Vector3d held = world_point(session, 0, forearm, tip);
-  session.grab(forearm, tip, held);
+  const auto [forearm, tip, held] = grab_the_hand(session);
   ASSERT_EQ(session.pins().size(), 2u);
   EXPECT_EQ(session.pins()[session.grab_index()].segment, forearm);
   const Vector3d lifted = held + Vector3d(0.1, -0.1, 0.2);
@@ -109,11 +119,7 @@ TEST(Session, TheGrabAnchorsTheProceduralPass) {
   SessionConfig c;
   c.options.rule = "literal";
   Session session(c);
-  run_for(session, 0.5);
-  const int forearm = session.model().find_segment("r_forearm");
-  const Vector3d tip{0, 0, -0.14};
-  const Vector3d held = world_point(session, 0, forearm, tip);
-  session.grab(forearm, tip, held);
+  const auto [forearm, tip, held] = grab_the_hand(session);
   EXPECT_EQ(session.grab_index(), 0);
   const Vector3d lifted = held + Vector3d(0.1, -0.1, 0.2);
   session.move_grab(lifted);

@@ -42,11 +42,6 @@ float History::latest() const {
 
 float History::max() const { return *std::max_element(values_.begin(), values_.end()); }
 
-void History::clear() {
-  std::fill(values_.begin(), values_.end(), 0.0f);
-  next_ = 0;
-}
-
 std::string validate(const SessionConfig& config) {
   if (!std::isfinite(config.dt) || config.dt <= 0.0) {
     return "--dt: must be a positive number of seconds";

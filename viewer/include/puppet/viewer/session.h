@@ -23,7 +23,6 @@ class History {
   int offset() const { return next_; }
   float latest() const;
   float max() const;
-  void clear();
 
  private:
   std::vector<float> values_;
