@@ -30,6 +30,9 @@ namespace {
 constexpr double kParallel = 1e-12;  // |r × s| (m²) below which r ∥ s
 // exp(−x) is exactly 0 in double precision above this: the literal rotation is none at all
 constexpr double kExpUnderflow = 746.0;
+// literal: θ = 0 while 1/(I_b |r × s|) > kExpUnderflow, which holds for certain while
+// I_max |r × s| < ½/kExpUnderflow (I_b ≤ I_max; the factor ½ is a margin for rounding)
+constexpr double kSurelyUnderflows = 0.5 / kExpUnderflow;
 
 Matrix3d skew(const Vector3d& v) {
   Matrix3d m;
@@ -130,9 +133,13 @@ Correction close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, c
   Quaterniond rotation = Quaterniond::Identity();
   if (cross_norm2 >= kParallel * kParallel) {
     switch (rule) {
-      case Rule::kLiteral:
+      case Rule::kLiteral: {
+        // in SI units nearly every link: no axis, no sqrt
+        const double bound = kSurelyUnderflows / body.largest_moment();
+        if (cross_norm2 < bound * bound) break;
         rotation = literal_rotation(body, r, s, cross, std::sqrt(cross_norm2));
         break;
+      }
       case Rule::kSmoothed:
         rotation = smoothed_rotation(body, r, s, cross, std::sqrt(cross_norm2));
         break;

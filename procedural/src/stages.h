@@ -74,6 +74,9 @@ struct MovingBody {
   double inertia_along(const Vector3d& a) const {
     return diagonal ? a.cwiseAbs2().dot(inertia_diag) : a.dot(inertia * a);
   }
+  // an upper bound of inertia_along over unit axes: the largest principal moment, or for a
+  // composite the trace (the sum of its principal moments)
+  double largest_moment() const { return diagonal ? inertia_diag.maxCoeff() : inertia.trace(); }
 };
 
 MovingBody single_body(const Segment& segment, const BodyState& body);
