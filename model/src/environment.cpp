@@ -45,24 +45,29 @@ double submerged_fraction(const Segment& segment, const Environment& environment
   return std::clamp((environment.water_level - low) / (high - low), 0.0, 1.0);
 }
 
-Wrench environment_wrench(const Segment& segment, const Environment& environment,
-                          const BodyState& body) {
-  Wrench wrench;
+DragForce environment_force(const Segment& segment, const Environment& environment,
+                            const BodyState& body) {
+  DragForce out;
   const double f = submerged_fraction(segment, environment, body);
   // air drag −c·m·v and −c·I·ω; in water, drag −k·f·m·v and −k·f·I·ω by the same reading
-  const double drag = environment.air_drag + (f > 0.0 ? environment.water_drag * f : 0.0);
-  wrench.force = segment.mass * environment.gravity - drag * segment.mass * body.v;
+  out.drag = environment.air_drag + (f > 0.0 ? environment.water_drag * f : 0.0);
+  out.force = segment.mass * environment.gravity - out.drag * segment.mass * body.v;
   if (f > 0.0) {
     // buoyancy ρ·V·f·|g| against gravity
-    wrench.force -=
-        environment.water_density * shape_volume(segment.shape) * f * environment.gravity;
+    out.force -= environment.water_density * shape_volume(segment.shape) * f * environment.gravity;
   }
-  if (drag != 0.0) {
+  return out;
+}
+
+Wrench environment_wrench(const Segment& segment, const Environment& environment,
+                          const BodyState& body) {
+  const DragForce linear = environment_force(segment, environment, body);
+  Wrench wrench;
+  wrench.force = linear.force;
+  if (linear.drag != 0.0) {
     // I·ω = q (I_body (q⁻¹ ω)): two rotations instead of a world inertia matrix
     const Vector3d w_body = body.q.conjugate() * body.w;
-    wrench.torque = -drag * (body.q * segment.inertia.cwiseProduct(w_body));
-  } else {
-    wrench.torque.setZero();
+    wrench.torque = -linear.drag * (body.q * segment.inertia.cwiseProduct(w_body));
   }
   return wrench;
 }

@@ -44,23 +44,26 @@ void update(const Model& model, const Environment& environment, State& state, do
     state.x_prev[i] = body.x;
     state.q_prev[i] = body.q;
 
-    Wrench wrench = environment_wrench(segment, environment, body);
-    wrench.force += state.user_force[i];
-    wrench.torque += state.user_torque[i];
+    const DragForce environment_part = environment_force(segment, environment, body);
+    Vector3d force = environment_part.force + state.user_force[i];
     if (environment.ground) {
       double low = 0.0, high = 0.0;
       vertical_extent(segment, body.q, body.x, &low, &high);
-      if (low < 0.0) wrench.force.z() -= segment.mass * kGroundStiffness * low;
+      if (low < 0.0) force.z() -= segment.mass * kGroundStiffness * low;
     }
 
     // linear: semi-implicit Euler
-    body.v += h / segment.mass * wrench.force;
+    body.v += h / segment.mass * force;
     body.x += h * body.v;
 
-    // angular: torque impulse, then the implicit gyroscopic step, in the body frame
+    // angular, in the body frame: the drag torque −c·I·ω is the angular acceleration −c·ω there
+    // (no inertia, no rotation to world and back), then the user's torque impulse, then the
+    // implicit gyroscopic step
     Vector3d w_body = body.q.conjugate() * body.w;
-    if (!wrench.torque.isZero(0.0)) {
-      w_body += h * (body.q.conjugate() * wrench.torque).cwiseQuotient(segment.inertia);
+    if (environment_part.drag != 0.0) w_body *= 1.0 - h * environment_part.drag;
+    const Vector3d& torque = state.user_torque[i];
+    if (!torque.isZero(0.0)) {
+      w_body += h * (body.q.conjugate() * torque).cwiseQuotient(segment.inertia);
     }
     w_body = gyroscopic_step(segment.inertia, w_body, h);
     body.w = body.q * w_body;

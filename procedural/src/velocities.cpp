@@ -11,10 +11,11 @@ namespace puppet::procedural {
 
 void derive_velocities(const Model& model, State& state, const std::vector<Vector3d>& tremble_delta,
                        double h) {
+  const double inv_h = 1.0 / h;
   for (int i = 0; i < model.segment_count(); ++i) {
     BodyState& body = state.bodies[i];
-    body.v = (body.x - state.x_prev[i] - tremble_delta[i]) / h;
-    body.w = quat_log(body.q * state.q_prev[i].conjugate()) / h;
+    body.v = inv_h * (body.x - state.x_prev[i] - tremble_delta[i]);
+    body.w = inv_h * quat_log(body.q * state.q_prev[i].conjugate());
   }
 }
 

@@ -39,12 +39,13 @@ inline Vector3d quat_log(const Quaterniond& q) {
   // small half-angles (s/w < tan(kSeriesAngle/2)): the series of atan(y)/y in y² = (s/w)²
   const double limit = 0.5 * kSeriesAngle;
   if (s2 < limit * limit * w * w) {
-    const double y2 = s2 / (w * w);
+    const double inv_w = 1.0 / w;  // one division
+    const double y2 = s2 * inv_w * inv_w;
     const double atan_ratio =
         1.0 - y2 * (1.0 / 3.0 -
                     y2 * (1.0 / 5.0 -
                           y2 * (1.0 / 7.0 - y2 * (1.0 / 9.0 - y2 * (1.0 / 11.0 - y2 / 13.0)))));
-    return (2.0 * atan_ratio / w) * v;
+    return (2.0 * atan_ratio * inv_w) * v;
   }
   const double s = std::sqrt(s2);
   if (s == 0.0) return Vector3d::Zero();  // only a zero quaternion gets here
