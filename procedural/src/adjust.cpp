@@ -55,11 +55,11 @@ MovingBody composite_body(const Workspace& ws, int k, const Motion& motion) {
   MovingBody body;
   body.mass = ws.subtree_mass[k];
   const Vector3d centre = ws.subtree_moment[k] / body.mass;
-  const Matrix3d about_centre = ws.subtree_second[k] - skew_square_term(centre, body.mass);
-  const Matrix3d rotation = motion.q.toRotationMatrix();
   body.centre = motion.apply(centre);
-  body.frame = Quaterniond::Identity();  // a composite's inertia is kept in world
-  body.inertia = rotation * about_centre * rotation.transpose();
+  // the tensor stays in the orientation of the pass's start, which the accumulated motion has
+  // turned into the current one: no R I Rᵀ per link
+  body.frame = motion.q;
+  body.inertia = ws.subtree_second[k] - skew_square_term(centre, body.mass);
   body.inertia_inv = body.inertia.inverse();
   return body;
 }
@@ -130,28 +130,17 @@ void close_secondary_pins(const Model& model, Rule rule, const PinTargets& targe
 // effective mass and the rotation of the impulse.
 struct SharedSide {
   SharedSide(const Segment& segment, const BodyState& body, const Vector3d& offset)
-      : a(world_inertia_inv(segment, body.q)), inv_mass(1.0 / segment.mass), r(offset) {}
-  // K = E/m − [r]× A [r]× = E/m + Σ (r × eᵢ)ᵀ A (r × eⱼ), written out
-  Matrix3d point_mass() const {
-    const double x = r.x(), y = r.y(), z = r.z();
-    const Vector3d au_x = z * a.col(1) - y * a.col(2);  // A (r × e_x), r × e_x = (0, z, −y)
-    const Vector3d au_y = x * a.col(2) - z * a.col(0);  // r × e_y = (−z, 0, x)
-    const Vector3d au_z = y * a.col(0) - x * a.col(1);  // r × e_z = (y, −x, 0)
-    const double xx = z * au_x.y() - y * au_x.z(), yy = x * au_y.z() - z * au_y.x(),
-                 zz = y * au_z.x() - x * au_z.y();
-    const double xy = z * au_y.y() - y * au_y.z(), xz = z * au_z.y() - y * au_z.z(),
-                 yz = x * au_z.z() - z * au_z.x();
-    Matrix3d k;
-    k << inv_mass + xx, xy, xz,  //
-        xy, inv_mass + yy, yz,   //
-        xz, yz, inv_mass + zz;
-    return k;
-  }
+      : a(world_inertia_inv(segment, body.q)),
+        mass(segment.mass),
+        inv_mass(1.0 / mass),
+        r(offset) {}
+  // K = E/m − [r]× A [r]×
+  Matrix3d point_mass() const { return point_mass_matrix(mass, a, r); }
   // the rotation vector of an impulse λ at the point: I⁻¹ (r × λ), in world
   Vector3d rotation_of(const Vector3d& lambda) const { return a * r.cross(lambda); }
 
   Matrix3d a;
-  double inv_mass;
+  double mass, inv_mass;
   Vector3d r;
 };
 

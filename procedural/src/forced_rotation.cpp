@@ -34,12 +34,6 @@ constexpr double kExpUnderflow = 746.0;
 // I_max |r × s| < ½/kExpUnderflow (I_b ≤ I_max; the factor ½ is a margin for rounding)
 constexpr double kSurelyUnderflows = 0.5 / kExpUnderflow;
 
-Matrix3d skew(const Vector3d& v) {
-  Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-
 // the moment of inertia about the unit axis (world) of `cross`
 double inertia_about(const MovingBody& body, const Vector3d& cross, double cross_norm) {
   return body.inertia_along(body.to_frame(cross / cross_norm));
@@ -105,8 +99,23 @@ Matrix3d diagonal_point_mass_matrix(double mass, const Vector3d& inertia_inv, co
 }
 
 Matrix3d point_mass_matrix(double mass, const Matrix3d& inertia_inv, const Vector3d& r) {
-  const Matrix3d rx = skew(r);
-  return Matrix3d::Identity() / mass - rx * inertia_inv * rx;
+  // E/m − [r]× A [r]× = E/m + Σ (r × eᵢ)ᵀ A (r × eⱼ) for a symmetric A = I⁻¹, written out:
+  // the columns A (r × eᵢ), then six dot products
+  const Matrix3d& a = inertia_inv;
+  const double x = r.x(), y = r.y(), z = r.z();
+  const Vector3d au_x = z * a.col(1) - y * a.col(2);  // A (r × e_x), r × e_x = (0, z, −y)
+  const Vector3d au_y = x * a.col(2) - z * a.col(0);  // r × e_y = (−z, 0, x)
+  const Vector3d au_z = y * a.col(0) - x * a.col(1);  // r × e_z = (y, −x, 0)
+  const double xx = z * au_x.y() - y * au_x.z(), yy = x * au_y.z() - z * au_y.x(),
+               zz = y * au_z.x() - x * au_z.y();
+  const double xy = z * au_y.y() - y * au_y.z(), xz = z * au_z.y() - y * au_z.z(),
+               yz = x * au_z.z() - z * au_z.x();
+  const double m = 1.0 / mass;
+  Matrix3d k;
+  k << m + xx, xy, xz,  //
+      xy, m + yy, yz,   //
+      xz, yz, m + zz;
+  return k;
 }
 
 Matrix3d world_inertia_inv(const Segment& segment, const Quaterniond& q) {

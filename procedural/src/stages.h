@@ -58,14 +58,15 @@ struct Correction {
 
 // The side of a joint that a correction moves: one segment, or a composite subtree. Its inertia
 // is kept in `frame`: a segment's own orientation, where it is diagonal and constant (no tensor
-// is built per correction), or the world for a composite, where it is a full tensor.
+// is built per correction), or for a composite the rotation its pass has given it so far, where
+// its tensor is the one built at the pass's start (full, no R I Rᵀ per correction).
 struct MovingBody {
   double mass = 0.0;
   Vector3d centre{0, 0, 0};  // centre of mass, world
   Quaterniond frame = Quaterniond::Identity();
   bool diagonal = false;           // a segment: inertia_diag; else the two tensors
   Vector3d inertia_diag{0, 0, 0};  // about the centre, in frame
-  Matrix3d inertia;                // a composite's tensor, in frame (world); unset for a segment
+  Matrix3d inertia;                // a composite's tensor, in frame; unset for a segment
   Matrix3d inertia_inv;            // its inverse
 
   Vector3d to_frame(const Vector3d& world) const { return frame.conjugate() * world; }
@@ -82,7 +83,7 @@ struct MovingBody {
 MovingBody single_body(const Segment& segment, const BodyState& body);
 
 // the 3×3 effective mass of a point at offset r from the centre, K = E/m − [r]× I⁻¹ [r]×, for an
-// inverse inertia tensor (any frame, r in the same)
+// inverse inertia tensor (symmetric; any frame, r in the same)
 Matrix3d point_mass_matrix(double mass, const Matrix3d& inertia_inv, const Vector3d& r);
 
 // the same for a segment in its own frame, where D⁻¹ = diag(inertia_inv)
