@@ -132,7 +132,7 @@ struct SharedSide {
   SharedSide(const Segment& segment, const BodyState& body, const Vector3d& offset)
       : a(world_inertia_inv(segment, body.q)),
         mass(segment.mass),
-        inv_mass(1.0 / mass),
+        inv_mass(segment.inv_mass),
         r(offset) {}
   // K = E/m − [r]× A [r]×
   Matrix3d point_mass() const { return point_mass_matrix(mass, a, r); }

@@ -65,7 +65,7 @@ Quaterniond weighted_rotation(const MovingBody& body, const Vector3d& r, const V
   const Vector3d r_frame = known_r_frame ? *known_r_frame : body.to_frame(r);
   const Vector3d s_frame = body.to_frame(s);
   if (body.diagonal) {
-    const Vector3d inertia_inv = body.inertia_diag.cwiseInverse();
+    const Vector3d& inertia_inv = body.inertia_inv_diag;
     const Vector3d lambda =
         solve3(diagonal_point_mass_matrix(body.mass, inertia_inv, r_frame), s_frame);
     return quat_exp(body.to_world(inertia_inv.cwiseProduct(r_frame.cross(lambda))));
@@ -83,6 +83,7 @@ MovingBody single_body(const Segment& segment, const BodyState& body) {
   out.frame = body.q;
   out.diagonal = true;
   out.inertia_diag = segment.inertia;
+  out.inertia_inv_diag = segment.inv_inertia;
   return out;
 }
 
@@ -121,7 +122,7 @@ Matrix3d point_mass_matrix(double mass, const Matrix3d& inertia_inv, const Vecto
 Matrix3d world_inertia_inv(const Segment& segment, const Quaterniond& q) {
   // R D⁻¹ Rᵀ is symmetric: six entries, each Σₖ R_ik dₖ R_jk
   const Matrix3d rotation = q.toRotationMatrix();
-  const Vector3d d = segment.inertia.cwiseInverse();
+  const Vector3d& d = segment.inv_inertia;
   Matrix3d out;
   for (int i = 0; i < 3; ++i) {
     for (int j = i; j < 3; ++j) {

@@ -66,8 +66,9 @@ struct MovingBody {
   Quaterniond frame = Quaterniond::Identity();
   bool diagonal = false;           // a segment: inertia_diag; else the two tensors
   Vector3d inertia_diag{0, 0, 0};  // about the centre, in frame
-  Matrix3d inertia;                // a composite's tensor, in frame; unset for a segment
-  Matrix3d inertia_inv;            // its inverse
+  Vector3d inertia_inv_diag{0, 0, 0};
+  Matrix3d inertia;      // a composite's tensor, in frame; unset for a segment
+  Matrix3d inertia_inv;  // its inverse
 
   Vector3d to_frame(const Vector3d& world) const { return frame.conjugate() * world; }
   Vector3d to_world(const Vector3d& local) const { return frame * local; }

@@ -53,7 +53,7 @@ void update(const Model& model, const Environment& environment, State& state, do
     }
 
     // linear: semi-implicit Euler
-    body.v += h / segment.mass * force;
+    body.v += (h * segment.inv_mass) * force;
     body.x += h * body.v;
 
     // angular, in the body frame: the drag torque −c·I·ω is the angular acceleration −c·ω there
@@ -63,7 +63,7 @@ void update(const Model& model, const Environment& environment, State& state, do
     if (environment_part.drag != 0.0) w_body *= 1.0 - h * environment_part.drag;
     const Vector3d& torque = state.user_torque[i];
     if (!torque.isZero(0.0)) {
-      w_body += h * (body.q.conjugate() * torque).cwiseQuotient(segment.inertia);
+      w_body += h * (body.q.conjugate() * torque).cwiseProduct(segment.inv_inertia);
     }
     w_body = gyroscopic_step(segment.inertia, w_body, h);
     body.w = body.q * w_body;

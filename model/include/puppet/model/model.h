@@ -39,6 +39,9 @@ struct Segment {
   std::string name;
   double mass = 0.0;
   Vector3d inertia{0, 0, 0};  // diagonal, segment frame, about the COM
+  // 1/mass and 1/inertia, derived by the loader: the solvers multiply, never divide
+  double inv_mass = 0.0;
+  Vector3d inv_inertia{0, 0, 0};
   Shape shape;
   Vector3d rest_position{0, 0, 0};                         // COM in world at rest
   Quaterniond rest_orientation = Quaterniond::Identity();  // segment frame in world at rest

@@ -20,8 +20,11 @@ inline Quaterniond quat_exp(const Vector3d& rotation_vector) {
   if (angle2 < kSeriesAngle * kSeriesAngle) {
     // series in x = (angle/2)²: no sqrt, sin or cos
     const double x = 0.25 * angle2;
-    c = 1.0 - x / 2.0 * (1.0 - x / 12.0 * (1.0 - x / 30.0 * (1.0 - x / 56.0 * (1.0 - x / 90.0))));
-    k = 0.5 * (1.0 - x / 6.0 * (1.0 - x / 20.0 * (1.0 - x / 42.0 * (1.0 - x / 72.0))));
+    // Horner in x with the coefficients folded at compile time (a division by a constant stays
+    // a division)
+    c = 1.0 + x * (-1.0 / 2 +
+                   x * (1.0 / 24 + x * (-1.0 / 720 + x * (1.0 / 40320 + x * (-1.0 / 3628800)))));
+    k = 0.5 + x * (-1.0 / 12 + x * (1.0 / 240 + x * (-1.0 / 10080 + x * (1.0 / 725760))));
   } else {
     const double angle = std::sqrt(angle2);
     c = std::cos(0.5 * angle);
@@ -42,9 +45,10 @@ inline Vector3d quat_log(const Quaterniond& q) {
     const double inv_w = 1.0 / w;  // one division
     const double y2 = s2 * inv_w * inv_w;
     const double atan_ratio =
-        1.0 - y2 * (1.0 / 3.0 -
-                    y2 * (1.0 / 5.0 -
-                          y2 * (1.0 / 7.0 - y2 * (1.0 / 9.0 - y2 * (1.0 / 11.0 - y2 / 13.0)))));
+        1.0 -
+        y2 * (1.0 / 3.0 -
+              y2 * (1.0 / 5.0 -
+                    y2 * (1.0 / 7.0 - y2 * (1.0 / 9.0 - y2 * (1.0 / 11.0 - y2 * (1.0 / 13.0))))));
     return (2.0 * atan_ratio * inv_w) * v;
   }
   const double s = std::sqrt(s2);
