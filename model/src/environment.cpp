@@ -72,4 +72,27 @@ Wrench environment_wrench(const Segment& segment, const Environment& environment
   return wrench;
 }
 
+Matrix3d world_inertia_inv(const Segment& segment, const Quaterniond& q) {
+  const Vector3d& d = segment.inv_inertia;
+  Matrix3d out;
+  if (d.x() == d.y()) {
+    // R diag(a, a, c) Rᵀ = a E + (c − a) u uᵀ, u = R e_z (the third column of R)
+    const Vector3d u(2.0 * (q.x() * q.z() + q.w() * q.y()), 2.0 * (q.y() * q.z() - q.w() * q.x()),
+                     1.0 - 2.0 * (q.x() * q.x() + q.y() * q.y()));
+    out.noalias() = (d.z() - d.x()) * u * u.transpose();
+    out.diagonal().array() += d.x();
+    return out;
+  }
+  // R D⁻¹ Rᵀ is symmetric: six entries, each Σₖ R_ik dₖ R_jk
+  const Matrix3d rotation = q.toRotationMatrix();
+  for (int i = 0; i < 3; ++i) {
+    for (int j = i; j < 3; ++j) {
+      out(i, j) = out(j, i) = rotation(i, 0) * d.x() * rotation(j, 0) +
+                              rotation(i, 1) * d.y() * rotation(j, 1) +
+                              rotation(i, 2) * d.z() * rotation(j, 2);
+    }
+  }
+  return out;
+}
+
 }  // namespace puppet

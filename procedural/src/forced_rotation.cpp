@@ -119,21 +119,6 @@ Matrix3d point_mass_matrix(double mass, const Matrix3d& inertia_inv, const Vecto
   return k;
 }
 
-Matrix3d world_inertia_inv(const Segment& segment, const Quaterniond& q) {
-  // R D⁻¹ Rᵀ is symmetric: six entries, each Σₖ R_ik dₖ R_jk
-  const Matrix3d rotation = q.toRotationMatrix();
-  const Vector3d& d = segment.inv_inertia;
-  Matrix3d out;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = i; j < 3; ++j) {
-      out(i, j) = out(j, i) = rotation(i, 0) * d.x() * rotation(j, 0) +
-                              rotation(i, 1) * d.y() * rotation(j, 1) +
-                              rotation(i, 2) * d.z() * rotation(j, 2);
-    }
-  }
-  return out;
-}
-
 Correction close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, const Vector3d& c_a,
                        const Vector3d* r_frame) {
   const Vector3d r = c_b - body.centre;

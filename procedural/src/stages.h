@@ -89,8 +89,6 @@ Matrix3d point_mass_matrix(double mass, const Matrix3d& inertia_inv, const Vecto
 
 // the same for a segment in its own frame, where D⁻¹ = diag(inertia_inv)
 Matrix3d diagonal_point_mass_matrix(double mass, const Vector3d& inertia_inv, const Vector3d& r);
-// a segment's inverse inertia in world, R I⁻¹ Rᵀ (relaxed's two-sided limit corrections)
-Matrix3d world_inertia_inv(const Segment& segment, const Quaterniond& q);
 
 // The correction that moves point c_b of `body` onto c_a: the rule's forced rotation R about
 // the body's centre (eqs. 2–3 or their readings), then the forced translation of eq. 5,

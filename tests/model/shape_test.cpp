@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <random>
+
+#include "puppet/model/environment.h"
 #include "puppet/model/model.h"
 
 namespace puppet {
@@ -48,6 +51,31 @@ TEST(Shape, SupportAndDistance) {
   capsule.half_length = 0.5;
   EXPECT_TRUE(support_point(capsule, Vector3d(0, 0, 1)).isApprox(Vector3d(0, 0, 0.6)));
   EXPECT_NEAR(signed_distance(capsule, Vector3d(0.3, 0, 0.2)), 0.2, 1e-15);
+}
+
+// the world inverse inertia (and its shortcut for segments symmetric about z) is the inverse of
+// the world inertia, for every shape, in random orientations
+TEST(Shape, WorldInverseInertiaInvertsTheWorldInertia) {
+  Segment segment;
+  segment.mass = 2.0;
+  const Vector3d half_extents(0.1, 0.05, 0.2);
+  const Shape shapes[] = {{ShapeType::kCapsule, 0.04, 0.15, {0, 0, 0}},
+                          {ShapeType::kSphere, 0.1, 0.0, {0, 0, 0}},
+                          {ShapeType::kBox, 0.0, 0.0, half_extents}};
+  std::mt19937_64 random(7);
+  std::normal_distribution<double> normal;
+  for (const Shape& shape : shapes) {
+    segment.shape = shape;
+    segment.inertia = solid_inertia(shape, segment.mass);
+    segment.inv_inertia = segment.inertia.cwiseInverse();
+    for (int k = 0; k < 200; ++k) {
+      const Quaterniond q =
+          Quaterniond(normal(random), normal(random), normal(random), normal(random)).normalized();
+      const Matrix3d product = world_inertia_inv(segment, q) * world_inertia(segment, q);
+      EXPECT_LT((product - Matrix3d::Identity()).cwiseAbs().maxCoeff(), 1e-13)
+          << static_cast<int>(shape.type);
+    }
+  }
 }
 
 }  // namespace

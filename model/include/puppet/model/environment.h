@@ -71,5 +71,8 @@ inline Matrix3d world_inertia(const Segment& segment, const Quaterniond& q) {
   const Matrix3d r = q.toRotationMatrix();
   return r * segment.inertia.asDiagonal() * r.transpose();
 }
+// its inverse, R I⁻¹ Rᵀ, from the loader's 1/I; a segment symmetric about its z axis (a capsule,
+// a sphere) needs only that axis in world
+Matrix3d world_inertia_inv(const Segment& segment, const Quaterniond& q);
 
 }  // namespace puppet
