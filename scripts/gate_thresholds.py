@@ -2,8 +2,9 @@
 """Write results/gate.json from a full benchmark run (scripts/bench.sh).
 
 The floors are the project's commitments. Each threshold is set a noise margin from what this
-run measured (30 %: the same ratio moved by up to ±20 % between runs on this machine), never
-looser than its floor, and the measured ratio is recorded beside it. A floor the run does not
+run measured (40 %: a quick run, as CI makes, read a ratio up to 34 % under the full run's on
+this machine, and full runs moved by ±20 %), never looser than its floor, and the measured ratio
+is recorded beside it. A floor the run does not
 reach is marked known_failure with the figure, so the gate shows it without failing, until the
 solver reaches it. A benchmark skipped because its run diverged (the testbed's criteria) has no
 time: its gates are known failures with the floor as threshold.
@@ -15,7 +16,7 @@ import json
 import math
 import sys
 
-MARGIN = 0.30
+MARGIN = 0.40
 ONE_PASS = ["literal", "smoothed", "weighted", "subtree"]
 
 
