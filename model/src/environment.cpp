@@ -45,9 +45,9 @@ double submerged_fraction(const Segment& segment, const Environment& environment
   return std::clamp((environment.water_level - low) / (high - low), 0.0, 1.0);
 }
 
-DragForce environment_force(const Segment& segment, const Environment& environment,
-                            const BodyState& body) {
-  DragForce out;
+EnvironmentForce environment_force(const Segment& segment, const Environment& environment,
+                                   const BodyState& body) {
+  EnvironmentForce out;
   const double f = submerged_fraction(segment, environment, body);
   // air drag −c·m·v and −c·I·ω; in water, drag −k·f·m·v and −k·f·I·ω by the same reading
   out.drag = environment.air_drag + (f > 0.0 ? environment.water_drag * f : 0.0);
@@ -61,7 +61,7 @@ DragForce environment_force(const Segment& segment, const Environment& environme
 
 Wrench environment_wrench(const Segment& segment, const Environment& environment,
                           const BodyState& body) {
-  const DragForce linear = environment_force(segment, environment, body);
+  const EnvironmentForce linear = environment_force(segment, environment, body);
   Wrench wrench;
   wrench.force = linear.force;
   if (linear.drag != 0.0) {

@@ -44,7 +44,7 @@ void update(const Model& model, const Environment& environment, State& state, do
     state.x_prev[i] = body.x;
     state.q_prev[i] = body.q;
 
-    const DragForce environment_part = environment_force(segment, environment, body);
+    const EnvironmentForce environment_part = environment_force(segment, environment, body);
     Vector3d force = environment_part.force + state.user_force[i];
     if (environment.ground) {
       double low = 0.0, high = 0.0;

@@ -56,12 +56,12 @@ void vertical_extent(const Segment& segment, const Quaterniond& q, const Vector3
 double submerged_fraction(const Segment& segment, const Environment& environment,
                           const BodyState& body);
 // the environment's force on one segment, and the drag rate c (1/s) of its torque −c·I·ω
-struct DragForce {
+struct EnvironmentForce {
   Vector3d force{0, 0, 0};  // at the COM: gravity, buoyancy, drag −c·m·v
   double drag = 0.0;        // c: air drag, plus water drag × submerged fraction
 };
-DragForce environment_force(const Segment& segment, const Environment& environment,
-                            const BodyState& body);
+EnvironmentForce environment_force(const Segment& segment, const Environment& environment,
+                                   const BodyState& body);
 // gravity, air drag, buoyancy and water drag on one segment (no contact forces)
 Wrench environment_wrench(const Segment& segment, const Environment& environment,
                           const BodyState& body);
