@@ -162,8 +162,7 @@ Segment read_segment(const Element& e) {
   } else {
     s.inertia = solid_inertia(s.shape, s.mass);
   }
-  s.inv_mass = 1.0 / s.mass;
-  s.inv_inertia = s.inertia.cwiseInverse();
+  derive_mass_terms(s);
   return s;
 }
 

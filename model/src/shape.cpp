@@ -18,6 +18,11 @@ double shape_volume(const Shape& shape) {
   return 0.0;
 }
 
+void derive_mass_terms(Segment& segment) {
+  segment.inv_mass = 1.0 / segment.mass;
+  segment.inv_inertia = segment.inertia.cwiseInverse();
+}
+
 Vector3d solid_inertia(const Shape& shape, double mass) {
   switch (shape.type) {
     case ShapeType::kSphere: {

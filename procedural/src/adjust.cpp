@@ -54,6 +54,7 @@ void build_subtrees(const Model& model, const AnchorOrder& order, const State& s
 MovingBody composite_body(const Workspace& ws, int k, const Motion& motion) {
   MovingBody body;
   body.mass = ws.subtree_mass[k];
+  body.inv_mass = 1.0 / body.mass;
   const Vector3d centre = ws.subtree_moment[k] / body.mass;
   body.centre = motion.apply(centre);
   // the tensor stays in the orientation of the pass's start, which the accumulated motion has
@@ -130,17 +131,14 @@ void close_secondary_pins(const Model& model, Rule rule, const PinTargets& targe
 // effective mass and the rotation of the impulse.
 struct SharedSide {
   SharedSide(const Segment& segment, const BodyState& body, const Vector3d& offset)
-      : a(world_inertia_inv(segment, body.q)),
-        mass(segment.mass),
-        inv_mass(segment.inv_mass),
-        r(offset) {}
+      : a(world_inertia_inv(segment, body.q)), inv_mass(segment.inv_mass), r(offset) {}
   // K = E/m − [r]× A [r]×
-  Matrix3d point_mass() const { return point_mass_matrix(mass, a, r); }
+  Matrix3d point_mass() const { return point_mass_matrix(inv_mass, a, r); }
   // the rotation vector of an impulse λ at the point: I⁻¹ (r × λ), in world
   Vector3d rotation_of(const Vector3d& lambda) const { return a * r.cross(lambda); }
 
   Matrix3d a;
-  double mass, inv_mass;
+  double inv_mass;
   Vector3d r;
 };
 

@@ -67,10 +67,11 @@ Quaterniond weighted_rotation(const MovingBody& body, const Vector3d& r, const V
   if (body.diagonal) {
     const Vector3d& inertia_inv = body.inertia_inv_diag;
     const Vector3d lambda =
-        solve3(diagonal_point_mass_matrix(body.mass, inertia_inv, r_frame), s_frame);
+        solve3(diagonal_point_mass_matrix(body.inv_mass, inertia_inv, r_frame), s_frame);
     return quat_exp(body.to_world(inertia_inv.cwiseProduct(r_frame.cross(lambda))));
   }
-  const Vector3d lambda = solve3(point_mass_matrix(body.mass, body.inertia_inv, r_frame), s_frame);
+  const Vector3d lambda =
+      solve3(point_mass_matrix(body.inv_mass, body.inertia_inv, r_frame), s_frame);
   return quat_exp(body.to_world(body.inertia_inv * r_frame.cross(lambda)));
 }
 
@@ -79,6 +80,7 @@ Quaterniond weighted_rotation(const MovingBody& body, const Vector3d& r, const V
 MovingBody single_body(const Segment& segment, const BodyState& body) {
   MovingBody out;
   out.mass = segment.mass;
+  out.inv_mass = segment.inv_mass;
   out.centre = body.x;
   out.frame = body.q;
   out.diagonal = true;
@@ -87,11 +89,12 @@ MovingBody single_body(const Segment& segment, const BodyState& body) {
   return out;
 }
 
-Matrix3d diagonal_point_mass_matrix(double mass, const Vector3d& inertia_inv, const Vector3d& r) {
+Matrix3d diagonal_point_mass_matrix(double inv_mass, const Vector3d& inertia_inv,
+                                    const Vector3d& r) {
   // −[r]× D⁻¹ [r]× for D⁻¹ = diag(a, b, c), written out: symmetric, ~20 flops
   const double a = inertia_inv.x(), b = inertia_inv.y(), c = inertia_inv.z();
   const double x = r.x(), y = r.y(), z = r.z();
-  const double m = 1.0 / mass;
+  const double m = inv_mass;
   Matrix3d k;
   k << m + b * z * z + c * y * y, -c * x * y, -b * x * z,  //
       -c * x * y, m + a * z * z + c * x * x, -a * y * z,   //
@@ -99,7 +102,7 @@ Matrix3d diagonal_point_mass_matrix(double mass, const Vector3d& inertia_inv, co
   return k;
 }
 
-Matrix3d point_mass_matrix(double mass, const Matrix3d& inertia_inv, const Vector3d& r) {
+Matrix3d point_mass_matrix(double inv_mass, const Matrix3d& inertia_inv, const Vector3d& r) {
   // E/m − [r]× A [r]× = E/m + Σ (r × eᵢ)ᵀ A (r × eⱼ) for a symmetric A = I⁻¹, written out:
   // the columns A (r × eᵢ), then six dot products
   const Matrix3d& a = inertia_inv;
@@ -111,7 +114,7 @@ Matrix3d point_mass_matrix(double mass, const Matrix3d& inertia_inv, const Vecto
                zz = y * au_z.x() - x * au_z.y();
   const double xy = z * au_y.y() - y * au_y.z(), xz = z * au_z.y() - y * au_z.z(),
                yz = x * au_z.z() - z * au_z.x();
-  const double m = 1.0 / mass;
+  const double m = inv_mass;
   Matrix3d k;
   k << m + xx, xy, xz,  //
       xy, m + yy, yz,   //

@@ -61,7 +61,7 @@ struct Correction {
 // is built per correction), or for a composite the rotation its pass has given it so far, where
 // its tensor is the one built at the pass's start (full, no R I Rᵀ per correction).
 struct MovingBody {
-  double mass = 0.0;
+  double mass = 0.0, inv_mass = 0.0;
   Vector3d centre{0, 0, 0};  // centre of mass, world
   Quaterniond frame = Quaterniond::Identity();
   bool diagonal = false;           // a segment: inertia_diag; else the two tensors
@@ -85,10 +85,11 @@ MovingBody single_body(const Segment& segment, const BodyState& body);
 
 // the 3×3 effective mass of a point at offset r from the centre, K = E/m − [r]× I⁻¹ [r]×, for an
 // inverse inertia tensor (symmetric; any frame, r in the same)
-Matrix3d point_mass_matrix(double mass, const Matrix3d& inertia_inv, const Vector3d& r);
+Matrix3d point_mass_matrix(double inv_mass, const Matrix3d& inertia_inv, const Vector3d& r);
 
 // the same for a segment in its own frame, where D⁻¹ = diag(inertia_inv)
-Matrix3d diagonal_point_mass_matrix(double mass, const Vector3d& inertia_inv, const Vector3d& r);
+Matrix3d diagonal_point_mass_matrix(double inv_mass, const Vector3d& inertia_inv,
+                                    const Vector3d& r);
 
 // The correction that moves point c_b of `body` onto c_a: the rule's forced rotation R about
 // the body's centre (eqs. 2–3 or their readings), then the forced translation of eq. 5,

@@ -67,7 +67,7 @@ TEST(Shape, WorldInverseInertiaInvertsTheWorldInertia) {
   for (const Shape& shape : shapes) {
     segment.shape = shape;
     segment.inertia = solid_inertia(shape, segment.mass);
-    segment.inv_inertia = segment.inertia.cwiseInverse();
+    derive_mass_terms(segment);
     for (int k = 0; k < 200; ++k) {
       const Quaterniond q =
           Quaterniond(normal(random), normal(random), normal(random), normal(random)).normalized();

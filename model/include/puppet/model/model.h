@@ -39,7 +39,7 @@ struct Segment {
   std::string name;
   double mass = 0.0;
   Vector3d inertia{0, 0, 0};  // diagonal, segment frame, about the COM
-  // 1/mass and 1/inertia, derived by the loader: the solvers multiply, never divide
+  // 1/mass and 1/inertia, derived by derive_mass_terms(): the solvers multiply, never divide
   double inv_mass = 0.0;
   Vector3d inv_inertia{0, 0, 0};
   Shape shape;
@@ -75,6 +75,8 @@ struct Joint {
   double upper_half_sin = 0.0, upper_half_cos = 1.0;
 };
 
+// fills the segment's inverse mass and inertia; call after setting mass and inertia
+void derive_mass_terms(Segment& segment);
 // fills the joint's half-limit terms from twist, lower and upper; call after setting them
 void derive_limit_terms(Joint& joint);
 
