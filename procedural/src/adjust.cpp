@@ -107,12 +107,12 @@ void close_segment_link(const Model& model, const Workspace& ws, Rule rule,
       limit_correction(joint, ws.limit_free_w[link.joint], link.b_is_child, a.q, b_closed);
   b.x += closing.translation;
   if (!rotates(clamp)) {
-    if (closing.rotates()) b.q = b_closed.normalized();
+    if (closing.rotates()) b.q = renormalized(b_closed);
     return;
   }
   // eq. 4: rotate b about the (now closed) joint point
   b.x = c_a + clamp * (b.x - c_a);
-  b.q = (clamp * b_closed).normalized();
+  b.q = renormalized(clamp * b_closed);
 }
 
 void close_secondary_pins(const Model& model, Rule rule, const PinTargets& targets, State& state) {

@@ -4,6 +4,7 @@
 #include <array>
 #include <span>
 
+#include "puppet/model/rotation.h"
 #include "puppet/procedural/solver.h"
 
 namespace puppet::procedural {
@@ -26,7 +27,7 @@ struct Motion {
       return;
     }
     body.x = q * body.x + t;
-    body.q = (q * body.q).normalized();
+    body.q = renormalized(q * body.q);
   }
   // (this ∘ inner)(p) = this(inner(p))
   Motion after(const Motion& inner) const { return {q * inner.q, apply(inner.t)}; }
@@ -52,7 +53,7 @@ struct Correction {
   // a single segment: x ↦ x + T, q ↦ R q
   void apply(BodyState& body) const {
     body.x += translation;
-    if (rotates()) body.q = (rotation * body.q).normalized();
+    if (rotates()) body.q = renormalized(rotation * body.q);
   }
 };
 

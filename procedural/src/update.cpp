@@ -3,7 +3,7 @@
 //   v ← v + h·F/m,  x ← x + h·v                        (semi-implicit Euler)
 //   ω: torque, then the gyroscopic term ω × Iω taken implicitly with one Newton step in the
 //      body frame (as Bullet and Box2D do; explicit Euler gains angular momentum)
-//   q ← exp(h·ω) ⊗ q, normalised                        (exact exponential map)
+//   q ← exp(h·ω) ⊗ q, renormalised                      (exact exponential map)
 //
 // Forces: the environment's (gravity, air drag, buoyancy and water drag: the same formulas as
 // every solver), the user's, and the seed's ground repulsion: a spring on the deepest point
@@ -68,7 +68,7 @@ void update(const Model& model, const Environment& environment, State& state, do
     w_body = gyroscopic_step(segment.inertia, w_body, h);
     body.w = body.q * w_body;
     // exp(h ω) ⊗ q = q ⊗ exp(h ω_body)
-    body.q = (body.q * quat_exp(h * w_body)).normalized();
+    body.q = renormalized(times_exp(body.q, h * w_body));
   }
 }
 

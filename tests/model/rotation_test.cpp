@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "puppet/model/rotation.h"
 
@@ -34,6 +35,32 @@ TEST(Rotation, ExpLogRoundTrip) {
   Quaterniond q = quat_exp(Vector3d(0, 0, 0.5));
   q.coeffs() *= -1;
   EXPECT_LT((quat_log(q) - Vector3d(0, 0, 0.5)).norm(), 1e-12);
+}
+
+// q ⊗ exp(r) written out is the product with exp(r), and one Newton step brings a product of unit
+// quaternions back to unit length as a square root and a division would
+TEST(Rotation, TimesExpAndRenormalisationAgreeWithTheirDefinitions) {
+  constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
+  uint64_t seed = 7;
+  const auto uniform = [&seed] {  // deterministic, in [−1, 1)
+    seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(seed >> 11) * 0x1p-52 - 1.0;
+  };
+  for (int trial = 0; trial < 200; ++trial) {
+    const Quaterniond q = Quaterniond(uniform(), uniform(), uniform(), uniform()).normalized();
+    const Vector3d r = (trial % 2 == 0 ? 0.05 : 2.0) * Vector3d(uniform(), uniform(), uniform());
+    const Quaterniond expected = q * quat_exp(r);
+    EXPECT_LT((times_exp(q, r).coeffs() - expected.coeffs()).norm(), 1e-15) << trial;
+
+    const Quaterniond product = expected * q * expected;
+    const Quaterniond unit = renormalized(product);
+    // a squared norm of four rounded terms is 1 to a few units of rounding
+    EXPECT_LE(std::abs(unit.squaredNorm() - 1.0), 4 * kEpsilon) << trial;
+    EXPECT_LT((unit.coeffs() - product.normalized().coeffs()).norm(), 1e-15) << trial;
+  }
+  // a length off by 1e-8 (far more than rounding) is still restored, to second order
+  const Quaterniond off((1.0 + 1e-8) * about(Vector3d(1, 2, 3), 0.7).coeffs());
+  EXPECT_LE(std::abs(renormalized(off).squaredNorm() - 1.0), 4 * kEpsilon);
 }
 
 TEST(Rotation, SwingTwistRecomposes) {

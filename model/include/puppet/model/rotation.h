@@ -13,24 +13,45 @@ namespace puppet {
 // that small, so the solvers' inner loops (inlined from here) call no trigonometry for them.
 inline constexpr double kSeriesAngle = 0.1;
 
-// exp of a rotation vector (axis · angle) as a unit quaternion
-inline Quaterniond quat_exp(const Vector3d& rotation_vector) {
-  const double angle2 = rotation_vector.squaredNorm();
-  double c, k;  // cos(angle/2) and sin(angle/2)/angle
+// cos(angle/2) and sin(angle/2)/angle of a rotation vector of squared angle `angle2`: the
+// exponential map's scalar part and the factor of its vector part
+inline void exp_coefficients(double angle2, double* c, double* k) {
   if (angle2 < kSeriesAngle * kSeriesAngle) {
     // series in x = (angle/2)²: no sqrt, sin or cos
     const double x = 0.25 * angle2;
     // Horner in x with the coefficients folded at compile time (a division by a constant stays
     // a division)
-    c = 1.0 + x * (-1.0 / 2 +
-                   x * (1.0 / 24 + x * (-1.0 / 720 + x * (1.0 / 40320 + x * (-1.0 / 3628800)))));
-    k = 0.5 + x * (-1.0 / 12 + x * (1.0 / 240 + x * (-1.0 / 10080 + x * (1.0 / 725760))));
+    *c = 1.0 + x * (-1.0 / 2 +
+                    x * (1.0 / 24 + x * (-1.0 / 720 + x * (1.0 / 40320 + x * (-1.0 / 3628800)))));
+    *k = 0.5 + x * (-1.0 / 12 + x * (1.0 / 240 + x * (-1.0 / 10080 + x * (1.0 / 725760))));
   } else {
     const double angle = std::sqrt(angle2);
-    c = std::cos(0.5 * angle);
-    k = std::sin(0.5 * angle) / angle;
+    *c = std::cos(0.5 * angle);
+    *k = std::sin(0.5 * angle) / angle;
   }
+}
+
+// exp of a rotation vector (axis · angle) as a unit quaternion
+inline Quaterniond quat_exp(const Vector3d& rotation_vector) {
+  double c, k;
+  exp_coefficients(rotation_vector.squaredNorm(), &c, &k);
   return Quaterniond(c, k * rotation_vector.x(), k * rotation_vector.y(), k * rotation_vector.z());
+}
+
+// q ⊗ exp(r), written out without forming exp(r): (w c − k v·r, c v + k (w r + v × r))
+inline Quaterniond times_exp(const Quaterniond& q, const Vector3d& r) {
+  double c, k;
+  exp_coefficients(r.squaredNorm(), &c, &k);
+  const Vector3d v = q.vec();
+  const Vector3d vector = c * v + k * (q.w() * r + v.cross(r));
+  return Quaterniond(q.w() * c - k * v.dot(r), vector.x(), vector.y(), vector.z());
+}
+
+// A product of unit quaternions is unit but for rounding (|q|² − 1 of order 1e-16). One Newton
+// step of 1/√n, q·(3 − n)/2 with n = |q|², makes it unit to rounding again without a square root
+// or a division. Only for such products: far from unit length it does not converge in one step.
+inline Quaterniond renormalized(const Quaterniond& q) {
+  return Quaterniond((1.5 - 0.5 * q.squaredNorm()) * q.coeffs());
 }
 
 // exact logarithm, shortest arc: 2·atan2(|v|, w)·v̂ with the sign of w folded in
