@@ -47,12 +47,6 @@ SwingTwist decompose_swing_twist(const Quaterniond& q, const Vector3d& axis) {
   return {st.swing, angle, st.twist};
 }
 
-Quaterniond joint_relative_rotation(const Joint& joint, const Quaterniond& parent_orientation,
-                                    const Quaterniond& child_orientation) {
-  return (parent_orientation * joint.frame_in_parent).conjugate() *
-         (child_orientation * joint.frame_in_child);
-}
-
 namespace {
 
 // Surely inside the limits, decided without trigonometry: the twist angle 2·atan(|p|/|w|) and

@@ -172,9 +172,10 @@ Quaterniond limit_correction(const Joint& joint, double free_w, bool b_is_child,
   // rebuild b from a and the clamped q_rel (inverted when b is the parent), never from a
   // re-decomposed inverse
   const Quaterniond q_b_new =
-      b_is_child
-          ? q_a * joint.frame_in_parent * clamped * joint.frame_in_child.conjugate()
-          : q_a * joint.frame_in_child * clamped.conjugate() * joint.frame_in_parent.conjugate();
+      b_is_child ? times_frame(times_frame(q_a, joint.frame_in_parent) * clamped,
+                               joint.frame_in_child.conjugate())
+                 : times_frame(times_frame(q_a, joint.frame_in_child) * clamped.conjugate(),
+                               joint.frame_in_parent.conjugate());
   return (q_b_new * q_b.conjugate()).normalized();
 }
 

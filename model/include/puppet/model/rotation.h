@@ -89,9 +89,20 @@ struct SwingTwist {
 };
 SwingTwist decompose_swing_twist(const Quaterniond& q, const Vector3d& axis);
 
+// q ⊗ frame for a joint frame, without the product when the frame is exactly the identity (as
+// most are in a model whose segments rest along their joints' axes): the same value either way
+inline Quaterniond times_frame(const Quaterniond& q, const Quaterniond& frame) {
+  if (frame.w() == 1.0 && frame.x() == 0.0 && frame.y() == 0.0 && frame.z() == 0.0) return q;
+  return q * frame;
+}
+
 // q_rel = (joint frame seen from the parent)⁻¹ ⊗ (joint frame seen from the child)
-Quaterniond joint_relative_rotation(const Joint& joint, const Quaterniond& parent_orientation,
-                                    const Quaterniond& child_orientation);
+inline Quaterniond joint_relative_rotation(const Joint& joint,
+                                           const Quaterniond& parent_orientation,
+                                           const Quaterniond& child_orientation) {
+  return times_frame(parent_orientation, joint.frame_in_parent).conjugate() *
+         times_frame(child_orientation, joint.frame_in_child);
+}
 
 // the nearest relative rotation inside the joint's limits (hinge: angle about its axis, other
 // directions removed; ball: twist clamped, swing scaled radially onto the ellipse; fixed:
