@@ -138,11 +138,9 @@ StepMetrics MetricsProbe::measure(double t, std::span<const BodyState> bodies,
                                   std::span<const Vector3d> targets) {
   StepMetrics m;
   m.t = t;
-  for (const BodyState& b : bodies) {
-    if (!is_finite(b)) {
-      m.finite = false;
-      return m;
-    }
+  if (!all_finite(bodies)) {
+    m.finite = false;
+    return m;
   }
   joint_gaps(model_, bodies, joint_buffer_);
   double sum2 = 0.0;

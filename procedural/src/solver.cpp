@@ -265,12 +265,9 @@ void Solver::prefetch() const {
 
 void Solver::check_finite() {
   // numerical health: flag, never throw
-  for (const BodyState& body : state_.bodies) {
-    if (!is_finite(body)) {
-      state_.diverged = true;
-      state_.diverged_time = state_.time;
-      return;
-    }
+  if (!all_finite(state_.bodies)) {
+    state_.diverged = true;
+    state_.diverged_time = state_.time;
   }
 }
 

@@ -205,7 +205,7 @@ void RigidSolver::step(double dt) {
   // exactly one internal step of dt: maxSubSteps = 0 turns Bullet's fixed-step accumulator off
   world_->stepSimulation(dt, 0, dt);
   read_state(states_);
-  for (const BodyState& b : states_) diverged_ = diverged_ || !is_finite(b);
+  diverged_ = diverged_ || !all_finite(states_);
 }
 
 void RigidSolver::read_state(std::span<BodyState> out) const {

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
+#include <vector>
 
 #include "puppet/model/environment.h"
 #include "puppet/model/model.h"
@@ -74,6 +76,30 @@ TEST(Shape, WorldInverseInertiaInvertsTheWorldInertia) {
       const Matrix3d product = world_inertia_inv(segment, q) * world_inertia(segment, q);
       EXPECT_LT((product - Matrix3d::Identity()).cwiseAbs().maxCoeff(), 1e-13)
           << static_cast<int>(shape.type);
+    }
+  }
+}
+
+// every component of every body is checked: one inf or NaN anywhere makes the state not finite
+TEST(BodyState, AllFiniteFindsAnyNonFiniteComponent) {
+  std::vector<BodyState> bodies(3);
+  bodies[1].x = Vector3d(1e3, -2.0, 0.5);
+  bodies[2].w = Vector3d(0.0, -7.0, 1e-300);
+  EXPECT_TRUE(all_finite(bodies));
+  for (int body = 0; body < 3; ++body) {
+    for (int component = 0; component < 13; ++component) {
+      for (double bad :
+           {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+            std::numeric_limits<double>::quiet_NaN()}) {
+        std::vector<BodyState> broken = bodies;
+        BodyState& b = broken[body];
+        double* slot = component < 3    ? &b.x[component]
+                       : component < 7  ? &b.q.coeffs()[component - 3]
+                       : component < 10 ? &b.v[component - 7]
+                                        : &b.w[component - 10];
+        *slot = bad;
+        EXPECT_FALSE(all_finite(broken)) << body << " " << component << " " << bad;
+      }
     }
   }
 }

@@ -24,10 +24,6 @@ Run make_run(const std::string& solver, const compare::SolverOptions& options, c
   return run;
 }
 
-bool all_finite(std::span<const BodyState> bodies) {
-  return std::all_of(bodies.begin(), bodies.end(), [](const BodyState& b) { return is_finite(b); });
-}
-
 }  // namespace
 
 void History::push(float value) {

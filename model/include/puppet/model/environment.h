@@ -2,6 +2,8 @@
 // (shared/DESIGN.md, "Environment"), so that differences between solvers are the solvers'.
 #pragma once
 
+#include <span>
+
 #include <vector>
 
 #include "puppet/model/model.h"
@@ -28,9 +30,16 @@ struct BodyState {
   Vector3d w{0, 0, 0};
 };
 
-// every component is a finite number (solvers flag a state that is not as diverged)
-inline bool is_finite(const BodyState& b) {
-  return b.x.allFinite() && b.q.coeffs().allFinite() && b.v.allFinite() && b.w.allFinite();
+// every component of every body is a finite number (solvers flag a state that is not as
+// diverged), in one pass without a branch per value: 0·x is NaN exactly when x is ±inf or NaN,
+// and NaN survives any sum. Values so large (≳ 1e307) that their sum overflows are reported as
+// well, which is what a solver calls diverged anyway.
+inline bool all_finite(std::span<const BodyState> bodies) {
+  double zero = 0.0;
+  for (const BodyState& b : bodies) {
+    zero += 0.0 * ((b.x.sum() + b.q.coeffs().sum()) + (b.v.sum() + b.w.sum()));
+  }
+  return zero == 0.0;
 }
 
 // a point of a segment held at a world target (a user's drag, a marionette string)
