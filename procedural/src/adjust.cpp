@@ -103,16 +103,15 @@ void close_segment_link(const Model& model, const Workspace& ws, Rule rule,
   const Correction closing = close_point(rule, single_body(model.segments[link.b], b),
                                          world_point(b, local_b), c_a, &local_b);
   const Quaterniond b_closed = closing.rotates() ? closing.rotation * b.q : b.q;
-  const Quaterniond clamp =
-      limit_correction(joint, ws.limit_free_w[link.joint], link.b_is_child, a.q, b_closed);
-  b.x += closing.translation;
-  if (!rotates(clamp)) {
+  if (!limited_orientation(joint, ws.limit_free_w[link.joint], link.b_is_child, a.q, b_closed,
+                           &b.q)) {
+    b.x += closing.translation;
     if (closing.rotates()) b.q = renormalized(b_closed);
     return;
   }
-  // eq. 4: rotate b about the (now closed) joint point
-  b.x = c_a + clamp * (b.x - c_a);
-  b.q = renormalized(clamp * b_closed);
+  // eq. 4: b rotated about the (now closed) joint point, which stays at c_a
+  b.q = renormalized(b.q);
+  b.x = c_a - b.q * local_b;
 }
 
 void close_secondary_pins(const Model& model, Rule rule, const PinTargets& targets, State& state) {

@@ -161,22 +161,31 @@ double limit_free_w(const Joint& joint) {
   return free_angle > 0.0 ? std::cos(0.5 * free_angle) : 2.0;
 }
 
-Quaterniond limit_correction(const Joint& joint, double free_w, bool b_is_child,
-                             const Quaterniond& q_a, const Quaterniond& q_b) {
+bool limited_orientation(const Joint& joint, double free_w, bool b_is_child, const Quaterniond& q_a,
+                         const Quaterniond& q_b, Quaterniond* q_b_limited) {
   const Quaterniond& q_parent = b_is_child ? q_a : q_b;
   const Quaterniond& q_child = b_is_child ? q_b : q_a;
   const Quaterniond q_rel = joint_relative_rotation(joint, q_parent, q_child);
-  if (std::abs(q_rel.w()) > free_w) return Quaterniond::Identity();
+  if (std::abs(q_rel.w()) > free_w) return false;
   const Quaterniond clamped = clamp_to_limits(joint, q_rel);
-  if (clamped.coeffs() == q_rel.coeffs()) return Quaterniond::Identity();
+  if (clamped.coeffs() == q_rel.coeffs()) return false;
   // rebuild b from a and the clamped q_rel (inverted when b is the parent), never from a
   // re-decomposed inverse
-  const Quaterniond q_b_new =
-      b_is_child ? times_frame(times_frame(q_a, joint.frame_in_parent) * clamped,
-                               joint.frame_in_child.conjugate())
-                 : times_frame(times_frame(q_a, joint.frame_in_child) * clamped.conjugate(),
-                               joint.frame_in_parent.conjugate());
-  return (q_b_new * q_b.conjugate()).normalized();
+  *q_b_limited = b_is_child
+                     ? times_frame(times_frame(q_a, joint.frame_in_parent) * clamped,
+                                   joint.frame_in_child.conjugate())
+                     : times_frame(times_frame(q_a, joint.frame_in_child) * clamped.conjugate(),
+                                   joint.frame_in_parent.conjugate());
+  return true;
+}
+
+Quaterniond limit_correction(const Joint& joint, double free_w, bool b_is_child,
+                             const Quaterniond& q_a, const Quaterniond& q_b) {
+  Quaterniond q_b_limited;
+  if (!limited_orientation(joint, free_w, b_is_child, q_a, q_b, &q_b_limited)) {
+    return Quaterniond::Identity();
+  }
+  return (q_b_limited * q_b.conjugate()).normalized();
 }
 
 }  // namespace puppet::procedural

@@ -100,9 +100,15 @@ Matrix3d diagonal_point_mass_matrix(double inv_mass, const Vector3d& inertia_inv
 Correction close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, const Vector3d& c_a,
                        const Vector3d* r_frame = nullptr);
 
-// The rotation of b about the joint point that brings the joint back inside its limits (eq. 4),
-// evaluated on q_rel = (parent frame)⁻¹(child frame) whichever side b is; identity when inside.
-// free_w: |w| of q_rel above which the joint is surely inside its limits (limit_free_w)
+// The orientation of b that brings the joint back inside its limits with a fixed (eq. 4),
+// evaluated on q_rel = (parent frame)⁻¹(child frame) whichever side b is: false when the joint
+// is inside, and *q_b_limited is left alone; else a product of unit quaternions (unit but for
+// rounding: renormalized() is enough). free_w: |w| of q_rel above which the joint is
+// surely inside its limits (limit_free_w)
+bool limited_orientation(const Joint& joint, double free_w, bool b_is_child, const Quaterniond& q_a,
+                         const Quaterniond& q_b, Quaterniond* q_b_limited);
+// the same as the rotation that takes b there (world; identity when inside), for the callers that
+// move more than b about the joint point
 Quaterniond limit_correction(const Joint& joint, double free_w, bool b_is_child,
                              const Quaterniond& q_a, const Quaterniond& q_b);
 // cos(ρ/2) for the largest angle ρ that no limit of the joint can reach in any direction (> 1
