@@ -168,10 +168,10 @@ void share_limit_correction(const Model& model, const Workspace& ws, int j, Stat
   const Joint& joint = model.joints[j];
   BodyState& parent = state.bodies[joint.parent];
   BodyState& child = state.bodies[joint.child];
-  const Quaterniond correction =
-      limit_correction(joint, ws.limit_free_w[j], true, parent.q, child.q);
-  if (correction.w() == 1.0) return;
-  const Vector3d error = quat_log(correction);  // rotation the child needs, parent fixed
+  Quaterniond limited;
+  if (!limited_orientation(joint, ws.limit_free_w[j], true, parent.q, child.q, &limited)) return;
+  // the rotation the child needs, parent fixed (quat_log is blind to the length of its argument)
+  const Vector3d error = quat_log(limited * child.q.conjugate());
   const Matrix3d inv_p = world_inertia_inv(model.segments[joint.parent], parent.q);
   const Matrix3d inv_c = world_inertia_inv(model.segments[joint.child], child.q);
   const Vector3d impulse = solve3(inv_p + inv_c, error);

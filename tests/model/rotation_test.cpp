@@ -35,6 +35,12 @@ TEST(Rotation, ExpLogRoundTrip) {
   Quaterniond q = quat_exp(Vector3d(0, 0, 0.5));
   q.coeffs() *= -1;
   EXPECT_LT((quat_log(q) - Vector3d(0, 0, 0.5)).norm(), 1e-12);
+  // blind to the length of its argument (the solvers log unnormalised products), on both sides
+  // of the series' switch
+  for (const Vector3d& v : {Vector3d(0.01, -0.02, 0.03), Vector3d(0.3, -0.2, 0.1)}) {
+    const Quaterniond scaled((1.0 + 1e-6) * quat_exp(v).coeffs());
+    EXPECT_LT((quat_log(scaled) - v).norm(), 1e-15);
+  }
 }
 
 // q ⊗ exp(r) written out is the product with exp(r), and one Newton step brings a product of unit
