@@ -96,8 +96,18 @@ AnchorOrder make_anchor_order(const Model& model, int anchor) {
   return order;
 }
 
-Solver::Solver(const Model& model, const Settings& settings, const Environment& environment)
-    : model_(model), settings_(settings), environment_(environment) {
+std::shared_ptr<const AnchorOrders> make_anchor_orders(const Model& model) {
+  auto orders = std::make_shared<AnchorOrders>();
+  orders->reserve(model.segment_count());
+  for (int anchor = 0; anchor < model.segment_count(); ++anchor) {
+    orders->push_back(make_anchor_order(model, anchor));
+  }
+  return orders;
+}
+
+Solver::Solver(const Model& model, const Settings& settings, const Environment& environment,
+               std::shared_ptr<const AnchorOrders> orders)
+    : model_(model), settings_(settings), environment_(environment), orders_(std::move(orders)) {
   const std::string problem = validate(settings);
   if (!problem.empty()) throw std::invalid_argument(problem);
   const int n = model.segment_count();
@@ -114,18 +124,12 @@ Solver::Solver(const Model& model, const Settings& settings, const Environment& 
   workspace_.motion_t.resize(n);
   workspace_.tremble_delta.assign(n, Vector3d::Zero());
   for (const Joint& joint : model.joints) workspace_.limit_free_w.push_back(limit_free_w(joint));
-  orders_.resize(n);
-  order_for(0);
-  // a contact may re-anchor the pass at any segment: build every order now, not in step()
-  if (environment.ground) {
-    for (int s = 0; s < n; ++s) order_for(s);
+  // a pin or a contact may anchor the pass at any segment: every order is there before step()
+  if (!orders_) orders_ = make_anchor_orders(model);
+  if (static_cast<int>(orders_->size()) != n) {
+    throw std::invalid_argument("anchor orders of another model");
   }
   reset(rest_pose(model));
-}
-
-const AnchorOrder& Solver::order_for(int anchor) {
-  if (orders_[anchor].anchor != anchor) orders_[anchor] = make_anchor_order(model_, anchor);
-  return orders_[anchor];
 }
 
 void Solver::reset(std::span<const BodyState> bodies) {
@@ -155,7 +159,6 @@ void Solver::set_pins(std::span<const Pin> pins) {
     if (pin.segment < 0 || pin.segment >= model_.segment_count()) {
       throw std::invalid_argument("pin on a segment that does not exist");
     }
-    order_for(pin.segment);
   }
   state_.pin_count = static_cast<int>(pins.size());
   for (size_t i = 0; i < pins.size(); ++i) {
@@ -211,8 +214,8 @@ void Solver::run_stage(Stage stage, double h) {
       if (settings_.tremble) tremble(model_, settings_, state_, h, workspace_.tremble_delta);
       break;
     case kAdjust:
-      adjust(model_, settings_, environment_, orders_, anchor, substep_targets_, state_, workspace_,
-             h);
+      adjust(model_, settings_, environment_, *orders_, anchor, substep_targets_, state_,
+             workspace_, h);
       break;
     case kContacts:
       if (environment_.ground) {
@@ -222,8 +225,8 @@ void Solver::run_stage(Stage stage, double h) {
         // its final pass at a foot made the whole body swing on the ankle's limit (measured:
         // 100 m/s in `drop`), so what this push-out leaves open is reported as joint gap instead.
         if (lowest >= 0 && settings_.rule != Rule::kRelaxed) {
-          one_sided_pass(model_, settings_.rule, orders_[lowest], false, substep_targets_, state_,
-                         workspace_);
+          one_sided_pass(model_, settings_.rule, (*orders_)[lowest], false, substep_targets_,
+                         state_, workspace_);
         }
       }
       break;
@@ -259,8 +262,8 @@ void Solver::prefetch() const {
   prefetch_range(workspace_.tremble_delta);
   prefetch_range(workspace_.limit_free_w);
   const int anchor = state_.pin_count > 0 ? state_.pins[0].segment : 0;
-  prefetch_range(orders_[anchor].links);
-  prefetch_range(orders_[anchor].level_links);
+  prefetch_range((*orders_)[anchor].links);
+  prefetch_range((*orders_)[anchor].level_links);
 }
 
 void Solver::check_finite() {

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
+
 #include "puppet/compare/scenario.h"
 
 namespace puppet::procedural {
@@ -64,6 +66,20 @@ TEST(Crowd, EveryPuppetMatchesALoneSolverBitForBit) {
   }
   // and the puppets really differ
   EXPECT_NE(lone[0][5].x, lone[1][5].x);
+}
+
+// a crowd's puppets share one table of anchor orders; a table built for another model is refused
+TEST(Crowd, AnchorOrdersAreSharedOnlyWithinAModel) {
+  const Model model = compare::load_named_model("pinocchio");
+  const std::shared_ptr<const AnchorOrders> orders = make_anchor_orders(model);
+  ASSERT_EQ(static_cast<int>(orders->size()), model.segment_count());
+  for (int anchor = 0; anchor < model.segment_count(); ++anchor) {
+    EXPECT_EQ((*orders)[anchor].anchor, anchor);
+    EXPECT_EQ(static_cast<int>((*orders)[anchor].links.size()), model.joint_count());
+  }
+  EXPECT_NO_THROW(Solver(model, Settings{}, Environment{}, orders));
+  const Model chain = make_chain(3);
+  EXPECT_THROW(Solver(chain, Settings{}, Environment{}, orders), std::invalid_argument);
 }
 
 TEST(Crowd, RejectsEmptyCounts) {

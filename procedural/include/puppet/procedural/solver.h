@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string_view>
@@ -83,6 +84,10 @@ struct AnchorOrder {
   std::vector<AnchorOrder::Link> level_links;
 };
 AnchorOrder make_anchor_order(const Model& model, int anchor);
+// the order from every segment, indexed by anchor. It depends on the model alone, so solvers of
+// one model (a crowd's puppets) can share one table instead of each holding a copy.
+using AnchorOrders = std::vector<AnchorOrder>;
+std::shared_ptr<const AnchorOrders> make_anchor_orders(const Model& model);
 
 // sized and filled once for the model; apart from limit_free_w nothing in it outlives a step
 struct Workspace {
@@ -99,13 +104,16 @@ struct Workspace {
 
 class Solver {
  public:
-  // the model must outlive the solver; throws std::invalid_argument on invalid settings
-  Solver(const Model& model, const Settings& settings, const Environment& environment);
+  // the model must outlive the solver; throws std::invalid_argument on invalid settings.
+  // `orders`: make_anchor_orders(model), to share it with other solvers of the model (built
+  // here when null)
+  Solver(const Model& model, const Settings& settings, const Environment& environment,
+         std::shared_ptr<const AnchorOrders> orders = nullptr);
 
   // place every segment (poses and velocities in world); clears pins, forces and time
   void reset(std::span<const BodyState> bodies);
-  // pins change rarely (a user grabs or lets go): orders for their anchors are built here, so
-  // that step() never allocates. At most kMaxPins; the first pin is the adjust pass's anchor.
+  // pins change rarely (a user grabs or lets go). At most kMaxPins; the first pin is the adjust
+  // pass's anchor.
   void set_pins(std::span<const Pin> pins);
   // move the pins' targets (world) for the end of the next step
   void set_pin_targets(std::span<const Vector3d> targets);
@@ -128,14 +136,13 @@ class Solver {
  private:
   void substep(double h, double target_fraction);
   void check_finite();
-  const AnchorOrder& order_for(int anchor);
 
   const Model& model_;
   Settings settings_;
   Environment environment_;
   State state_;
   Workspace workspace_;
-  std::vector<AnchorOrder> orders_;  // by anchor segment; built outside step()
+  std::shared_ptr<const AnchorOrders> orders_;  // by anchor segment, every one
   std::array<double, kStageCount> stage_seconds_{};
   std::array<Vector3d, kMaxPins> substep_targets_{};  // pins' targets at the end of the substep
 };
