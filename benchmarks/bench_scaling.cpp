@@ -29,8 +29,9 @@ void scaling_benchmark(benchmark::State& state, const SolverConfig& config) {
 }
 
 // K Pinocchios in `drag`, all restored to the state one of them reached after the warm-up, then
-// kCrowdBatchSteps steps timed (each puppet follows its own pin target), as a step/ benchmark
-// does for one puppet; the restore (a copy of every puppet's state) is not timed
+// kCrowdBatchSteps steps timed (each puppet's pin target is set by the crowd's control, just
+// before it steps), as a step/ benchmark does for one puppet; the restore (a copy of every
+// puppet's state) is not timed
 constexpr int kCrowdBatchSteps = 8;
 
 void crowd_benchmark(benchmark::State& state, const std::string& rule) {
@@ -42,12 +43,16 @@ void crowd_benchmark(benchmark::State& state, const std::string& rule) {
   procedural::Crowd crowd(pinocchio(), procedural_settings(workload, rule), scenario.environment,
                           puppets, threads);
   for (int k = 0; k < puppets; ++k) crowd.puppet(k).set_pins(scenario.initial_pins());
+  const std::vector<Vector3d>* step_targets = nullptr;
+  const procedural::Crowd::Control follow = [&step_targets](int, procedural::Solver& puppet) {
+    puppet.set_pin_targets(*step_targets);
+  };
   for (auto _ : state) {
     for (int k = 0; k < puppets; ++k) crowd.puppet(k).mutable_state() = lone->state();
     state.SetIterationTime(seconds_of([&] {
-      for (const std::vector<Vector3d>& step_targets : workload.batch_targets) {
-        for (int k = 0; k < puppets; ++k) crowd.puppet(k).set_pin_targets(step_targets);
-        crowd.step(kDt);
+      for (const std::vector<Vector3d>& targets : workload.batch_targets) {
+        step_targets = &targets;
+        crowd.step(kDt, follow);
       }
     }));
   }

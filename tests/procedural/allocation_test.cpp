@@ -92,6 +92,17 @@ TEST(Allocation, NoneInsideACrowdStep) {
         crowd.step(1.0 / 60.0);
       });
   EXPECT_EQ(during, 0);
+  // with a control, built once outside the steps as the crowd's interface asks
+  const std::vector<Vector3d>* current = nullptr;
+  const Crowd::Control control = [&current](int, Solver& puppet) {
+    puppet.set_pin_targets(*current);
+  };
+  const long with_control =
+      allocations_while_stepping(scenario, 20, [&](const std::vector<Vector3d>& targets) {
+        current = &targets;
+        crowd.step(1.0 / 60.0, control);
+      });
+  EXPECT_EQ(with_control, 0);
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include "puppet/compare/scenario.h"
 
@@ -39,25 +41,34 @@ TEST(Crowd, EveryPuppetMatchesALoneSolverBitForBit) {
     lone[k] = solver.state().bodies;
   }
 
-  for (int threads : {1, 3}) {
+  // targets set by the caller between steps, or by the crowd's control on the stepping threads
+  for (auto [threads, with_control] : {std::pair{1, false}, {3, false}, {1, true}, {3, true}}) {
+    SCOPED_TRACE(::testing::Message() << threads << " threads, control " << with_control);
     Crowd crowd(model, settings, environment, kPuppets, threads);
     ASSERT_EQ(crowd.threads(), threads);
     for (int k = 0; k < kPuppets; ++k) {
       crowd.puppet(k).reset(scenarios[k].initial);
       crowd.puppet(k).set_pins(scenarios[k].initial_pins());
     }
-    std::vector<Vector3d> targets;
+    std::vector<std::vector<Vector3d>> targets(kPuppets);  // one buffer per puppet: no race
+    double t = 0.0;
+    const Crowd::Control control = [&](int k, Solver& puppet) {
+      scenarios[k].targets_at(t, targets[k]);
+      puppet.set_pin_targets(targets[k]);
+    };
     for (int step = 0; step < 120; ++step) {
-      for (int k = 0; k < kPuppets; ++k) {
-        scenarios[k].targets_at((step + 1) * kDt, targets);
-        crowd.puppet(k).set_pin_targets(targets);
+      t = (step + 1) * kDt;
+      if (with_control) {
+        crowd.step(kDt, control);
+        continue;
       }
+      for (int k = 0; k < kPuppets; ++k) control(k, crowd.puppet(k));
       crowd.step(kDt);
     }
     for (int k = 0; k < kPuppets; ++k) {
       const auto& bodies = crowd.puppet(k).state().bodies;
       for (size_t s = 0; s < bodies.size(); ++s) {
-        EXPECT_EQ(bodies[s].x, lone[k][s].x) << "threads " << threads << " puppet " << k;
+        EXPECT_EQ(bodies[s].x, lone[k][s].x) << "puppet " << k;
         EXPECT_EQ(bodies[s].q.coeffs(), lone[k][s].q.coeffs());
         EXPECT_EQ(bodies[s].v, lone[k][s].v);
         EXPECT_EQ(bodies[s].w, lone[k][s].w);

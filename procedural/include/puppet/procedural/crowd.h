@@ -5,6 +5,7 @@
 #pragma once
 
 #include <condition_variable>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -29,12 +30,18 @@ class Crowd {
   Solver& puppet(int k) { return *puppets_[k]; }
   const Solver& puppet(int k) const { return *puppets_[k]; }
 
-  // steps every puppet by dt (each with its own pins and targets); returns when all are done.
-  // Puppets are split into one contiguous range per thread; nothing is allocated.
-  void step(double dt);
+  // what the user does to puppet k just before it steps (move its pins' targets, set its
+  // forces), called on the thread that steps it: the puppet is in that core's cache then, and
+  // the work is shared between the threads instead of being a serial pass over every puppet
+  using Control = std::function<void(int k, Solver& puppet)>;
+
+  // steps every puppet by dt (each with its own pins and targets), calling `control` (when not
+  // empty) for each just before; returns when all are done. Puppets are split into one
+  // contiguous range per thread; nothing is allocated (build `control` once, outside the loop).
+  void step(double dt, const Control& control = {});
 
  private:
-  void step_range(int thread, double dt);
+  void step_range(int thread, double dt, const Control& control);
   void work(int thread);
 
   std::vector<std::unique_ptr<Solver>> puppets_;
@@ -44,6 +51,7 @@ class Crowd {
   long generation_ = 0;  // one per step, guarded by mutex_
   int pending_ = 0;      // workers still stepping the current generation
   double dt_ = 0.0;
+  const Control* control_ = nullptr;  // the current step's, guarded like dt_
   bool stop_ = false;
 };
 
