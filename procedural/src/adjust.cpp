@@ -196,8 +196,8 @@ void relaxed_sweeps(const Model& model, const Settings& settings, const Environm
       share_limit_correction(model, ws, link.joint, state);
     }
     // the shared corrections compose unit quaternions and leave them unnormalised (off by a
-    // few ulps): one normalisation per segment and sweep instead of one per correction
-    for (BodyState& body : state.bodies) body.q.normalize();
+    // few ulps): one renormalisation per segment and sweep instead of one per correction
+    for (BodyState& body : state.bodies) body.q = renormalized(body.q);
     if (environment.ground) {
       for (int s = 0; s < model.segment_count(); ++s) {
         push_out_of_ground(model, environment, s, state);
