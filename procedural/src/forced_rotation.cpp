@@ -89,39 +89,6 @@ MovingBody single_body(const Segment& segment, const BodyState& body) {
   return out;
 }
 
-Matrix3d diagonal_point_mass_matrix(double inv_mass, const Vector3d& inertia_inv,
-                                    const Vector3d& r) {
-  // −[r]× D⁻¹ [r]× for D⁻¹ = diag(a, b, c), written out: symmetric, ~20 flops
-  const double a = inertia_inv.x(), b = inertia_inv.y(), c = inertia_inv.z();
-  const double x = r.x(), y = r.y(), z = r.z();
-  const double m = inv_mass;
-  Matrix3d k;
-  k << m + b * z * z + c * y * y, -c * x * y, -b * x * z,  //
-      -c * x * y, m + a * z * z + c * x * x, -a * y * z,   //
-      -b * x * z, -a * y * z, m + a * y * y + b * x * x;
-  return k;
-}
-
-Matrix3d point_mass_matrix(double inv_mass, const Matrix3d& inertia_inv, const Vector3d& r) {
-  // E/m − [r]× A [r]× = E/m + Σ (r × eᵢ)ᵀ A (r × eⱼ) for a symmetric A = I⁻¹, written out:
-  // the columns A (r × eᵢ), then six dot products
-  const Matrix3d& a = inertia_inv;
-  const double x = r.x(), y = r.y(), z = r.z();
-  const Vector3d au_x = z * a.col(1) - y * a.col(2);  // A (r × e_x), r × e_x = (0, z, −y)
-  const Vector3d au_y = x * a.col(2) - z * a.col(0);  // r × e_y = (−z, 0, x)
-  const Vector3d au_z = y * a.col(0) - x * a.col(1);  // r × e_z = (y, −x, 0)
-  const double xx = z * au_x.y() - y * au_x.z(), yy = x * au_y.z() - z * au_y.x(),
-               zz = y * au_z.x() - x * au_z.y();
-  const double xy = z * au_y.y() - y * au_y.z(), xz = z * au_z.y() - y * au_z.z(),
-               yz = x * au_z.z() - z * au_z.x();
-  const double m = inv_mass;
-  Matrix3d k;
-  k << m + xx, xy, xz,  //
-      xy, m + yy, yz,   //
-      xz, yz, m + zz;
-  return k;
-}
-
 Correction close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, const Vector3d& c_a,
                        const Vector3d* r_frame) {
   const Vector3d r = c_b - body.centre;
