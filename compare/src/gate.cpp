@@ -1,5 +1,6 @@
 #include "puppet/compare/gate.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -87,6 +88,12 @@ std::vector<GateSpec> read_gate_specs(const std::string& path) {
     spec.max = optional_number(gate, "max", where);
     spec.floor = optional_number(gate, "floor", where);
     spec.measured = optional_number(gate, "measured", where);
+    if (gate.contains("measured_on")) {
+      if (!gate["measured_on"].is_string()) {
+        throw GateError(where + ": \"measured_on\" must be a string (a machine)");
+      }
+      spec.measured_on = gate["measured_on"].get<std::string>();
+    }
     if (spec.min.has_value() == spec.max.has_value()) {
       throw GateError(where + " (" + spec.name + "): exactly one of \"min\" and \"max\"");
     }
@@ -180,11 +187,17 @@ std::string gate_table(const std::vector<GateResult>& results) {
   std::snprintf(line, sizeof line, "%-52s %9s %11s %9s %9s  %s\n", "gate", "ratio", "threshold",
                 "floor", "measured", "status");
   out << line;
+  std::vector<std::string> machines;  // where the measured values come from, in order of use
   for (const GateResult& r : results) {
     const std::string threshold =
         r.spec.min ? format(">= %.2f", *r.spec.min) : format("<= %.2f", *r.spec.max);
     const std::string floor = r.spec.floor ? format("%.2f", *r.spec.floor) : "-";
-    const std::string measured = r.spec.measured ? format("%.2f", *r.spec.measured) : "-";
+    std::string measured = r.spec.measured ? format("%.2f", *r.spec.measured) : "-";
+    if (r.spec.measured && !r.spec.measured_on.empty()) {
+      auto at = std::find(machines.begin(), machines.end(), r.spec.measured_on);
+      if (at == machines.end()) at = machines.insert(machines.end(), r.spec.measured_on);
+      measured.append(1, '^').append(std::to_string(at - machines.begin() + 1));
+    }
     const std::string ratio = std::isnan(r.ratio) ? "-" : format("%.2f", r.ratio);
     std::snprintf(line, sizeof line, "%-52s %9s %11s %9s %9s  %s\n", r.spec.name.c_str(),
                   ratio.c_str(), threshold.c_str(), floor.c_str(), measured.c_str(),
@@ -194,6 +207,9 @@ std::string gate_table(const std::vector<GateResult>& results) {
       out << "    missing benchmark: " << r.spec.numerator << " or " << r.spec.denominator << '\n';
     }
     if (r.status == GateStatus::kKnownFailure) out << "    known: " << r.spec.known_failure << '\n';
+  }
+  for (size_t i = 0; i < machines.size(); ++i) {
+    out << "^" << i + 1 << " measured on " << machines[i] << '\n';
   }
   return out.str();
 }

@@ -49,7 +49,7 @@ TEST(Gate, RatiosOfMediansPerItemAgainstThresholds) {
 
   const auto specs = read_gate_specs(write_temp("g.json", R"({"gates": [
       {"name": "speedup", "numerator": "step/hang/slow", "denominator": "step/hang/fast",
-       "min": 20, "floor": 10},
+       "min": 20, "floor": 10, "measured": 31.5, "measured_on": "machine-a"},
       {"name": "too slow", "numerator": "step/hang/slow", "denominator": "step/hang/fast",
        "min": 30, "floor": 10},
       {"name": "per segment", "numerator": "chain/1024", "numerator_per": 1024,
@@ -78,6 +78,10 @@ TEST(Gate, RatiosOfMediansPerItemAgainstThresholds) {
   EXPECT_FALSE(gate_passed(results));
   EXPECT_TRUE(gate_passed({results[0], results[2], results[3]}));
   EXPECT_NE(gate_table(results).find("FAIL"), std::string::npos);
+  // the machine a threshold was measured on is named under the table
+  EXPECT_EQ(specs[0].measured_on, "machine-a");
+  EXPECT_NE(gate_table(results).find("31.50^1"), std::string::npos);
+  EXPECT_NE(gate_table(results).find("^1 measured on machine-a"), std::string::npos);
 }
 
 TEST(Gate, BadInputNamesTheFileAndTheProblem) {

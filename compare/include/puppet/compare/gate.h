@@ -28,6 +28,7 @@ struct GateSpec {
   double numerator_per = 1.0, denominator_per = 1.0;
   std::optional<double> min, max;
   std::optional<double> floor, measured;
+  std::string measured_on;    // the machine whose full run gave `measured` (may be empty)
   std::string known_failure;  // empty: a failure fails the gate
 };
 
