@@ -6,8 +6,9 @@
 The CSV is what scripts/bench.sh writes (`testbed gate --csv`): the median seconds per item of
 every benchmark. A benchmark that is missing was skipped because its run diverged.
 """
-import csv
 import sys
+
+from gate_thresholds import medians  # the same reading of a machine's CSV
 
 RULES = ["literal", "smoothed", "weighted", "subtree", "relaxed"]
 SCENARIOS = ["hang", "drag", "drop"]
@@ -16,8 +17,7 @@ SCENARIOS = ["hang", "drag", "drop"]
 def main():
     if len(sys.argv) != 2:
         sys.exit("usage: bench_tables.py MACHINE.csv")
-    with open(sys.argv[1]) as f:
-        t = {row["benchmark"]: float(row["median_s_per_item"]) for row in csv.DictReader(f)}
+    t = medians(sys.argv[1])
 
     print("| scenario | " + " | ".join(RULES) + " | bullet-multibody | bullet-rigid | floor |")
     print("|---" * (len(RULES) + 4) + "|")
