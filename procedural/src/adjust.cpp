@@ -2,9 +2,10 @@
 // anchor (the first pinned segment, else the root).
 //
 // For each link the placed segment is a (fixed) and the moved one b: close_point() gives the
-// forced rotation of the rule and the translation of eq. 5, then limit_correction() clamps the
+// forced rotation of the rule and the translation of eq. 5, then limited_orientation() clamps the
 // joint (eq. 4) and rotates b about the joint point, which keeps the joint closed. A pin is a
-// joint between the world (a) and a point of its segment.
+// joint between the world (a) and a point of its segment. For a single segment the weighted
+// rotation is a constant matrix of the gap in b's frame (JointTerms::rotation_gain).
 //
 // Rule `subtree` moves the whole subtree hanging from b as one rigid body: composite mass and
 // inertia come from one backward pass, and each segment's accumulated motion is composed on the
@@ -12,7 +13,9 @@
 //
 // Rule `relaxed` first runs `iterations` two-sided sweeps (Gauss–Seidel, as position-based
 // dynamics does): every correction is shared by both sides through K_a + K_b, limits and
-// ground contacts included; then the one-sided `weighted` pass closes every joint exactly.
+// ground contacts included (a joint's in the child's frame, where both sides' K are constants
+// but for the parent's rotation into it); then the one-sided `weighted` pass closes every joint
+// exactly.
 //
 // seed: with two pins the pass starts from the first; every other pin is closed on its own
 // segment before the pass (world as a), so the pass leaves the joints closed and what is left
@@ -77,8 +80,9 @@ LinkAnchors link_anchors(const Joint& joint, const AnchorOrder::Link& link) {
 
 // close the joint of link k and clamp its limits for a composite b (rule `subtree`); returns the
 // motion applied to everything b carries
-Motion close_link(const Model& model, const Workspace& ws, Rule rule, const AnchorOrder::Link& link,
-                  const MovingBody& body, const BodyState& a, const BodyState& b_current) {
+Motion close_link(const Model& model, const JointTerms& terms, Rule rule,
+                  const AnchorOrder::Link& link, const MovingBody& body, const BodyState& a,
+                  const BodyState& b_current) {
   const Joint& joint = model.joints[link.joint];
   const auto [local_a, local_b] = link_anchors(joint, link);
   const Vector3d c_a = world_point(a, local_a);
@@ -88,29 +92,41 @@ Motion close_link(const Model& model, const Workspace& ws, Rule rule, const Anch
   // eq. 4: clamp to the limits, rotating b about the (now closed) joint point
   const Quaterniond b_closed = closing.rotates() ? closing.q * b_current.q : b_current.q;
   const Quaterniond clamp =
-      limit_correction(joint, ws.limit_free_w[link.joint], link.b_is_child, a.q, b_closed);
+      limit_correction(joint, terms.limit_free_w, link.b_is_child, a.q, b_closed);
   const Motion clamping = Motion::about(clamp, c_a);
   return clamping.rotates() ? clamping.after(closing) : closing;
 }
 
 // close_link for a single segment b, applied in place: b's joint point is known in its own
 // frame, and the motion is applied without being built (x ↦ x + T, then the clamp about c_a)
-void close_segment_link(const Model& model, const Workspace& ws, Rule rule,
+void close_segment_link(const Model& model, const JointTerms& terms, Rule rule,
                         const AnchorOrder::Link& link, const BodyState& a, BodyState& b) {
   const Joint& joint = model.joints[link.joint];
   const auto [local_a, local_b] = link_anchors(joint, link);
   const Vector3d c_a = world_point(a, local_a);
-  const Correction closing = close_point(rule, single_body(model.segments[link.b], b),
-                                         world_point(b, local_b), c_a, &local_b);
-  const Quaterniond b_closed = closing.rotates() ? closing.rotation * b.q : b.q;
-  if (!limited_orientation(joint, ws.limit_free_w[link.joint], link.b_is_child, a.q, b_closed,
-                           &b.q)) {
-    b.x += closing.translation;
-    if (closing.rotates()) b.q = renormalized(b_closed);
-    return;
+  Quaterniond turned;
+  if (rule == Rule::kWeighted) {
+    // the gap in b's frame, where the weighted rotation is a constant matrix of it
+    const Vector3d gap = b.q.conjugate() * (c_a - b.x) - local_b;
+    turned = times_exp(b.q, terms.rotation_gain[link.b_is_child] * gap);
+  } else {
+    const Correction closing = close_point(rule, single_body(model.segments[link.b], b),
+                                           world_point(b, local_b), c_a, &local_b);
+    if (!closing.rotates()) {
+      // a pure translation (nearly every literal link): the clamp, if any, turns b about c_a
+      b.x += closing.translation;
+      if (!limited_orientation(joint, terms.limit_free_w, link.b_is_child, a.q, b.q, &b.q)) {
+        return;
+      }
+      b.q = renormalized(b.q);
+      b.x = c_a - b.q * local_b;
+      return;
+    }
+    turned = closing.rotation * b.q;
   }
-  // eq. 4: b rotated about the (now closed) joint point, which stays at c_a
-  b.q = renormalized(b.q);
+  // eq. 5 for the rotated b, then eq. 4: either way its joint point ends at c_a
+  limited_orientation(joint, terms.limit_free_w, link.b_is_child, a.q, turned, &turned);
+  b.q = renormalized(turned);
   b.x = c_a - b.q * local_b;
 }
 
@@ -125,75 +141,76 @@ void close_secondary_pins(const Model& model, Rule rule, const PinTargets& targe
   }
 }
 
-// relaxed: one side of a shared point correction, a segment with its point at world offset r.
-// A = R D⁻¹ Rᵀ (its inverse inertia in world, symmetric) is built once and serves both its
-// effective mass and the rotation of the impulse.
-struct SharedSide {
-  SharedSide(const Segment& segment, const BodyState& body, const Vector3d& offset)
-      : a(world_inertia_inv(segment, body.q)), inv_mass(segment.inv_mass), r(offset) {}
-  // K = E/m − [r]× A [r]×
-  Matrix3d point_mass() const { return point_mass_matrix(inv_mass, a, r); }
-  // the rotation vector of an impulse λ at the point: I⁻¹ (r × λ), in world
-  Vector3d rotation_of(const Vector3d& lambda) const { return a * r.cross(lambda); }
-
-  Matrix3d a;
-  double inv_mass;
-  Vector3d r;
-};
-
-// relaxed: one two-sided correction of a point shared by segments a and b (a = −1: the world)
-void share_point_correction(const Model& model, int a, int b, const Vector3d& c_a,
-                            const Vector3d& c_b, State& state) {
-  BodyState& body_b = state.bodies[b];
-  const SharedSide side_b(model.segments[b], body_b, c_b - body_b.x);
-  Matrix3d k = side_b.point_mass();
-  if (a < 0) {
-    const Vector3d lambda = solve3(k, c_a - c_b);
-    body_b.x += side_b.inv_mass * lambda;
-    body_b.q = quat_exp(side_b.rotation_of(lambda)) * body_b.q;
-    return;
-  }
-  BodyState& body_a = state.bodies[a];
-  const SharedSide side_a(model.segments[a], body_a, c_a - body_a.x);
-  k += side_a.point_mass();
-  const Vector3d lambda = solve3(k, c_a - c_b);
-  body_b.x += side_b.inv_mass * lambda;
-  body_b.q = quat_exp(side_b.rotation_of(lambda)) * body_b.q;
-  body_a.x -= side_a.inv_mass * lambda;
-  body_a.q = quat_exp(-side_a.rotation_of(lambda)) * body_a.q;
+// relaxed: a pin, the world's point c_a and its segment's c_b corrected on the segment's side
+// alone (the world does not move)
+void share_pin_correction(const Model& model, int b, const Vector3d& c_a, const Vector3d& c_b,
+                          State& state) {
+  BodyState& body = state.bodies[b];
+  const Segment& segment = model.segments[b];
+  const Matrix3d a = world_inertia_inv(segment, body.q);
+  const Vector3d r = c_b - body.x;
+  const Vector3d lambda = solve3(point_mass_matrix(segment.inv_mass, a, r), c_a - c_b);
+  body.x += segment.inv_mass * lambda;
+  body.q = quat_exp(a * r.cross(lambda)) * body.q;
 }
 
-// relaxed: a limit's angular correction shared through I_a⁻¹ + I_b⁻¹
-void share_limit_correction(const Model& model, const Workspace& ws, int j, State& state) {
-  const Joint& joint = model.joints[j];
+// relaxed: the joint point corrected on both sides, the gap shared through K = K_c + R K_p Rᵀ.
+// Everything is in the child's frame: each side's K is constant in its own frame
+// (JointTerms::point_mass), and R, the parent's frame seen from the child's, carries K_p over.
+void share_joint_correction(const Model& model, const JointTerms& terms, const Joint& joint,
+                            State& state) {
+  BodyState& parent = state.bodies[joint.parent];
+  BodyState& child = state.bodies[joint.child];
+  const Segment& parent_segment = model.segments[joint.parent];
+  const Segment& child_segment = model.segments[joint.child];
+  const Matrix3d rotation = (child.q.conjugate() * parent.q).toRotationMatrix();
+  const Matrix3d k = terms.point_mass[1] + rotation * terms.point_mass[0] * rotation.transpose();
+  const Vector3d gap = child.q.conjugate() * (parent.x - child.x) +
+                       rotation * joint.anchor_in_parent - joint.anchor_in_child;
+  const Vector3d lambda = solve3(k, gap);  // the impulse on the child, in its frame
+  const Vector3d lambda_parent = rotation.transpose() * lambda;
+  const Vector3d lambda_world = child.q * lambda;
+  child.x += child_segment.inv_mass * lambda_world;
+  child.q = times_exp(child.q,
+                      child_segment.inv_inertia.cwiseProduct(joint.anchor_in_child.cross(lambda)));
+  parent.x -= parent_segment.inv_mass * lambda_world;
+  parent.q = times_exp(parent.q, -parent_segment.inv_inertia.cwiseProduct(
+                                     joint.anchor_in_parent.cross(lambda_parent)));
+}
+
+// relaxed: a limit's angular correction shared through I_p⁻¹ + I_c⁻¹, in the child's frame
+void share_limit_correction(const Model& model, const JointTerms& terms, const Joint& joint,
+                            State& state) {
   BodyState& parent = state.bodies[joint.parent];
   BodyState& child = state.bodies[joint.child];
   Quaterniond limited;
-  if (!limited_orientation(joint, ws.limit_free_w[j], true, parent.q, child.q, &limited)) return;
-  // the rotation the child needs, parent fixed (quat_log is blind to the length of its argument)
-  const Vector3d error = quat_log(limited * child.q.conjugate());
-  const Matrix3d inv_p = world_inertia_inv(model.segments[joint.parent], parent.q);
-  const Matrix3d inv_c = world_inertia_inv(model.segments[joint.child], child.q);
-  const Vector3d impulse = solve3(inv_p + inv_c, error);
-  child.q = quat_exp(inv_c * impulse) * child.q;
-  parent.q = quat_exp(-(inv_p * impulse)) * parent.q;
+  if (!limited_orientation(joint, terms.limit_free_w, true, parent.q, child.q, &limited)) return;
+  // the rotation the child needs, parent fixed, in the child's frame (quat_log is blind to the
+  // length of its argument)
+  const Vector3d error = quat_log(child.q.conjugate() * limited);
+  const Vector3d& inv_parent = model.segments[joint.parent].inv_inertia;
+  const Vector3d& inv_child = model.segments[joint.child].inv_inertia;
+  const Matrix3d rotation = (child.q.conjugate() * parent.q).toRotationMatrix();
+  Matrix3d inv_sum = rotation * inv_parent.asDiagonal() * rotation.transpose();
+  inv_sum.diagonal() += inv_child;
+  const Vector3d impulse = solve3(inv_sum, error);
+  child.q = times_exp(child.q, inv_child.cwiseProduct(impulse));
+  parent.q = times_exp(parent.q, -inv_parent.cwiseProduct(rotation.transpose() * impulse));
 }
 
-void relaxed_sweeps(const Model& model, const Settings& settings, const Environment& environment,
-                    const AnchorOrder& order, const PinTargets& targets, State& state,
-                    const Workspace& ws) {
+void relaxed_sweeps(const Model& model, std::span<const JointTerms> joints,
+                    const Settings& settings, const Environment& environment,
+                    const AnchorOrder& order, const PinTargets& targets, State& state) {
   for (int iteration = 0; iteration < settings.iterations; ++iteration) {
     for (int i = 0; i < state.pin_count; ++i) {
       const Pin& pin = state.pins[i];
-      share_point_correction(model, -1, pin.segment, targets[i],
-                             world_point(state.bodies[pin.segment], pin.local_point), state);
+      share_pin_correction(model, pin.segment, targets[i],
+                           world_point(state.bodies[pin.segment], pin.local_point), state);
     }
     for (const AnchorOrder::Link& link : order.links) {
       const Joint& joint = model.joints[link.joint];
-      share_point_correction(model, joint.parent, joint.child,
-                             world_point(state.bodies[joint.parent], joint.anchor_in_parent),
-                             world_point(state.bodies[joint.child], joint.anchor_in_child), state);
-      share_limit_correction(model, ws, link.joint, state);
+      share_joint_correction(model, joints[link.joint], joint, state);
+      share_limit_correction(model, joints[link.joint], joint, state);
     }
     // the shared corrections compose unit quaternions and leave them unnormalised (off by a
     // few ulps): one renormalisation per segment and sweep instead of one per correction
@@ -208,8 +225,9 @@ void relaxed_sweeps(const Model& model, const Settings& settings, const Environm
 
 }  // namespace
 
-void one_sided_pass(const Model& model, Rule rule, const AnchorOrder& order, bool with_pins,
-                    const PinTargets& targets, State& state, Workspace& ws) {
+void one_sided_pass(const Model& model, std::span<const JointTerms> joints, Rule rule,
+                    const AnchorOrder& order, bool with_pins, const PinTargets& targets,
+                    State& state, Workspace& ws) {
   const bool pinned = with_pins && state.pin_count > 0 && state.pins[0].segment == order.anchor;
   if (with_pins) close_secondary_pins(model, rule, targets, state);
   const bool subtree = rule == Rule::kSubtree;
@@ -239,7 +257,8 @@ void one_sided_pass(const Model& model, Rule rule, const AnchorOrder& order, boo
   // every joint, parent-before-child from the anchor
   if (!subtree) {
     for (const AnchorOrder::Link& link : order.level_links) {
-      close_segment_link(model, ws, rule, link, state.bodies[link.a], state.bodies[link.b]);
+      close_segment_link(model, joints[link.joint], rule, link, state.bodies[link.a],
+                         state.bodies[link.b]);
     }
     return;
   }
@@ -252,8 +271,9 @@ void one_sided_pass(const Model& model, Rule rule, const AnchorOrder& order, boo
     const Motion inherited{ws.motion_q[parent], ws.motion_t[parent]};
     BodyState current = b;
     inherited.apply(current);
-    const Motion motion = close_link(model, ws, rule, link, composite_body(ws, position, inherited),
-                                     state.bodies[link.a], current);
+    const Motion motion =
+        close_link(model, joints[link.joint], rule, link, composite_body(ws, position, inherited),
+                   state.bodies[link.a], current);
     const Motion total = motion.after(inherited);
     ws.motion_q[position] = total.q;
     ws.motion_t[position] = total.t;
@@ -263,8 +283,8 @@ void one_sided_pass(const Model& model, Rule rule, const AnchorOrder& order, boo
 }
 
 void adjust(const Model& model, const Settings& settings, const Environment& environment,
-            std::span<const AnchorOrder> orders, int anchor, const PinTargets& targets,
-            State& state, Workspace& ws, double h) {
+            const ModelTables& tables, int anchor, const PinTargets& targets, State& state,
+            Workspace& ws, double h) {
   // the pins' pull, expressed as the force that would close them in one step (eq. 2's f)
   for (int i = 0; i < state.pin_count; ++i) {
     const Pin& pin = state.pins[i];
@@ -273,13 +293,16 @@ void adjust(const Model& model, const Settings& settings, const Environment& env
     state.pin_force[i] = 2.0 * model.segments[pin.segment].mass * gap / (h * h);
   }
   if (settings.rule != Rule::kRelaxed) {
-    one_sided_pass(model, settings.rule, orders[anchor], true, targets, state, ws);
+    one_sided_pass(model, tables.joints, settings.rule, tables.orders[anchor], true, targets, state,
+                   ws);
     return;
   }
   // relaxed: the sweeps share every correction, then the one-sided pass closes the joints
   // exactly from the anchor
-  relaxed_sweeps(model, settings, environment, orders[anchor], targets, state, ws);
-  one_sided_pass(model, Rule::kWeighted, orders[anchor], true, targets, state, ws);
+  relaxed_sweeps(model, tables.joints, settings, environment, tables.orders[anchor], targets,
+                 state);
+  one_sided_pass(model, tables.joints, Rule::kWeighted, tables.orders[anchor], true, targets, state,
+                 ws);
 }
 
 }  // namespace puppet::procedural

@@ -9,9 +9,9 @@ Crowd::Crowd(const Model& model, const Settings& settings, const Environment& en
   if (puppets < 1) throw std::invalid_argument("a crowd needs at least one puppet");
   if (threads < 1) throw std::invalid_argument("a crowd needs at least one thread");
   puppets_.reserve(puppets);
-  const std::shared_ptr<const AnchorOrders> orders = make_anchor_orders(model);
+  const std::shared_ptr<const ModelTables> tables = make_model_tables(model);
   for (int k = 0; k < puppets; ++k) {
-    puppets_.push_back(std::make_unique<Solver>(model, settings, environment, orders));
+    puppets_.push_back(std::make_unique<Solver>(model, settings, environment, tables));
   }
   for (int t = 1; t < threads; ++t) workers_.emplace_back([this, t] { work(t); });
 }

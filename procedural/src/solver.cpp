@@ -96,18 +96,49 @@ AnchorOrder make_anchor_order(const Model& model, int anchor) {
   return order;
 }
 
-std::shared_ptr<const AnchorOrders> make_anchor_orders(const Model& model) {
-  auto orders = std::make_shared<AnchorOrders>();
-  orders->reserve(model.segment_count());
-  for (int anchor = 0; anchor < model.segment_count(); ++anchor) {
-    orders->push_back(make_anchor_order(model, anchor));
+namespace {
+
+Matrix3d cross_matrix(const Vector3d& r) {
+  Matrix3d m;
+  m << 0, -r.z(), r.y(),  //
+      r.z(), 0, -r.x(),   //
+      -r.y(), r.x(), 0;
+  return m;
+}
+
+JointTerms make_joint_terms(const Model& model, const Joint& joint) {
+  JointTerms terms;
+  terms.limit_free_w = limit_free_w(joint);
+  const std::array<const Segment*, 2> segments = {&model.segments[joint.parent],
+                                                  &model.segments[joint.child]};
+  const std::array<const Vector3d*, 2> anchors = {&joint.anchor_in_parent, &joint.anchor_in_child};
+  for (int side = 0; side < 2; ++side) {
+    const Segment& segment = *segments[side];
+    const Vector3d& r = *anchors[side];
+    terms.point_mass[side] = diagonal_point_mass_matrix(segment.inv_mass, segment.inv_inertia, r);
+    // the impulse λ = K⁻¹ s closes the gap s; it turns the segment by D⁻¹ (r × λ)
+    terms.rotation_gain[side] =
+        segment.inv_inertia.asDiagonal() * cross_matrix(r) * terms.point_mass[side].inverse();
   }
-  return orders;
+  return terms;
+}
+
+}  // namespace
+
+std::shared_ptr<const ModelTables> make_model_tables(const Model& model) {
+  auto tables = std::make_shared<ModelTables>();
+  tables->orders.reserve(model.segment_count());
+  for (int anchor = 0; anchor < model.segment_count(); ++anchor) {
+    tables->orders.push_back(make_anchor_order(model, anchor));
+  }
+  tables->joints.reserve(model.joint_count());
+  for (const Joint& joint : model.joints) tables->joints.push_back(make_joint_terms(model, joint));
+  return tables;
 }
 
 Solver::Solver(const Model& model, const Settings& settings, const Environment& environment,
-               std::shared_ptr<const AnchorOrders> orders)
-    : model_(model), settings_(settings), environment_(environment), orders_(std::move(orders)) {
+               std::shared_ptr<const ModelTables> tables)
+    : model_(model), settings_(settings), environment_(environment), tables_(std::move(tables)) {
   const std::string problem = validate(settings);
   if (!problem.empty()) throw std::invalid_argument(problem);
   const int n = model.segment_count();
@@ -123,11 +154,11 @@ Solver::Solver(const Model& model, const Settings& settings, const Environment& 
   workspace_.motion_q.resize(n);
   workspace_.motion_t.resize(n);
   workspace_.tremble_delta.assign(n, Vector3d::Zero());
-  for (const Joint& joint : model.joints) workspace_.limit_free_w.push_back(limit_free_w(joint));
   // a pin or a contact may anchor the pass at any segment: every order is there before step()
-  if (!orders_) orders_ = make_anchor_orders(model);
-  if (static_cast<int>(orders_->size()) != n) {
-    throw std::invalid_argument("anchor orders of another model");
+  if (!tables_) tables_ = make_model_tables(model);
+  if (static_cast<int>(tables_->orders.size()) != n ||
+      static_cast<int>(tables_->joints.size()) != model.joint_count()) {
+    throw std::invalid_argument("model tables of another model");
   }
   reset(rest_pose(model));
 }
@@ -214,7 +245,7 @@ void Solver::run_stage(Stage stage, double h) {
       if (settings_.tremble) tremble(model_, settings_, state_, h, workspace_.tremble_delta);
       break;
     case kAdjust:
-      adjust(model_, settings_, environment_, *orders_, anchor, substep_targets_, state_,
+      adjust(model_, settings_, environment_, *tables_, anchor, substep_targets_, state_,
              workspace_, h);
       break;
     case kContacts:
@@ -225,8 +256,8 @@ void Solver::run_stage(Stage stage, double h) {
         // its final pass at a foot made the whole body swing on the ankle's limit (measured:
         // 100 m/s in `drop`), so what this push-out leaves open is reported as joint gap instead.
         if (lowest >= 0 && settings_.rule != Rule::kRelaxed) {
-          one_sided_pass(model_, settings_.rule, (*orders_)[lowest], false, substep_targets_,
-                         state_, workspace_);
+          one_sided_pass(model_, tables_->joints, settings_.rule, tables_->orders[lowest], false,
+                         substep_targets_, state_, workspace_);
         }
       }
       break;
@@ -260,10 +291,9 @@ void Solver::prefetch() const {
   prefetch_range(state_.user_force);
   prefetch_range(state_.user_torque);
   prefetch_range(workspace_.tremble_delta);
-  prefetch_range(workspace_.limit_free_w);
   const int anchor = state_.pin_count > 0 ? state_.pins[0].segment : 0;
-  prefetch_range((*orders_)[anchor].links);
-  prefetch_range((*orders_)[anchor].level_links);
+  prefetch_range(tables_->orders[anchor].links);
+  prefetch_range(tables_->orders[anchor].level_links);
 }
 
 void Solver::check_finite() {

@@ -131,8 +131,8 @@ Correction close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, c
 // The orientation of b that brings the joint back inside its limits with a fixed (eq. 4),
 // evaluated on q_rel = (parent frame)⁻¹(child frame) whichever side b is: false when the joint
 // is inside, and *q_b_limited is left alone; else a product of unit quaternions (unit but for
-// rounding: renormalized() is enough). free_w: |w| of q_rel above which the joint is
-// surely inside its limits (limit_free_w)
+// rounding: renormalized() is enough; q_b_limited may point at q_b). free_w: |w| of q_rel above
+// which the joint is surely inside its limits (limit_free_w)
 bool limited_orientation(const Joint& joint, double free_w, bool b_is_child, const Quaterniond& q_a,
                          const Quaterniond& q_b, Quaterniond* q_b_limited);
 // the same as the rotation that takes b there (world; identity when inside), for the callers that
@@ -166,11 +166,12 @@ void tremble(const Model& model, const Settings& settings, State& state, double 
              std::vector<Vector3d>& delta);
 // stage 2: pins, joints and limits from the anchor
 void adjust(const Model& model, const Settings& settings, const Environment& environment,
-            std::span<const AnchorOrder> orders, int anchor, const PinTargets& targets,
-            State& state, Workspace& workspace, double h);
+            const ModelTables& tables, int anchor, const PinTargets& targets, State& state,
+            Workspace& workspace, double h);
 // one-sided pass of `rule` over `order`; pins closed only when with_pins
-void one_sided_pass(const Model& model, Rule rule, const AnchorOrder& order, bool with_pins,
-                    const PinTargets& targets, State& state, Workspace& workspace);
+void one_sided_pass(const Model& model, std::span<const JointTerms> joints, Rule rule,
+                    const AnchorOrder& order, bool with_pins, const PinTargets& targets,
+                    State& state, Workspace& workspace);
 // stage 3: push shape points out of the ground with friction; returns the deepest-penetrating
 // segment before correction, or -1 without contact
 int resolve_contacts(const Model& model, const Environment& environment, State& state);

@@ -79,18 +79,19 @@ TEST(Crowd, EveryPuppetMatchesALoneSolverBitForBit) {
   EXPECT_NE(lone[0][5].x, lone[1][5].x);
 }
 
-// a crowd's puppets share one table of anchor orders; a table built for another model is refused
-TEST(Crowd, AnchorOrdersAreSharedOnlyWithinAModel) {
+// a crowd's puppets share one set of model tables; tables built for another model are refused
+TEST(Crowd, ModelTablesAreSharedOnlyWithinAModel) {
   const Model model = compare::load_named_model("pinocchio");
-  const std::shared_ptr<const AnchorOrders> orders = make_anchor_orders(model);
-  ASSERT_EQ(static_cast<int>(orders->size()), model.segment_count());
+  const std::shared_ptr<const ModelTables> tables = make_model_tables(model);
+  ASSERT_EQ(static_cast<int>(tables->orders.size()), model.segment_count());
+  ASSERT_EQ(static_cast<int>(tables->joints.size()), model.joint_count());
   for (int anchor = 0; anchor < model.segment_count(); ++anchor) {
-    EXPECT_EQ((*orders)[anchor].anchor, anchor);
-    EXPECT_EQ(static_cast<int>((*orders)[anchor].links.size()), model.joint_count());
+    EXPECT_EQ(tables->orders[anchor].anchor, anchor);
+    EXPECT_EQ(static_cast<int>(tables->orders[anchor].links.size()), model.joint_count());
   }
-  EXPECT_NO_THROW(Solver(model, Settings{}, Environment{}, orders));
+  EXPECT_NO_THROW(Solver(model, Settings{}, Environment{}, tables));
   const Model chain = make_chain(3);
-  EXPECT_THROW(Solver(chain, Settings{}, Environment{}, orders), std::invalid_argument);
+  EXPECT_THROW(Solver(chain, Settings{}, Environment{}, tables), std::invalid_argument);
 }
 
 TEST(Crowd, RejectsEmptyCounts) {

@@ -20,7 +20,7 @@ namespace {
 const std::string kPinocchio = std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json";
 constexpr double kDt = 1.0 / 240.0;
 // pinned: any change to the solver's arithmetic shows here first (update it deliberately)
-constexpr uint64_t kExpectedDragHash = 0xe32601efcabd7612ULL;
+constexpr uint64_t kExpectedDragHash = 0xbb3971162ad4f238ULL;
 
 using test::analytic_period;
 using test::rods;
@@ -325,6 +325,39 @@ TEST(AnchorOrder, PreorderWithContiguousSubtrees) {
     const int p = order.parent_position[k];
     EXPECT_LT(p, static_cast<int>(k));
     EXPECT_LE(order.subtree_end[k], order.subtree_end[p]);
+  }
+}
+
+// The weighted rule's constant gain against a generic minimum-norm solve: a segment moved by
+// Δx and turned by ω (its frame) so that its joint point r moves by the gap s, to first order
+// Δx + ω × r = s, with the least kinetic energy ½ m |Δx|² + ½ ωᵀ D ω. In y = (√m Δx, √D ω) that
+// is the least-norm y of A y = s, A = [E/√m, −[r]× D^(−1/2)], solved here by pseudo-inverse.
+TEST(JointTerms, WeightedGainIsTheLeastEnergyCorrection) {
+  const Model model = load_model(kPinocchio);
+  const std::shared_ptr<const ModelTables> tables = make_model_tables(model);
+  const Vector3d gap(0.003, -0.001, 0.002);
+  for (int j = 0; j < model.joint_count(); ++j) {
+    const Joint& joint = model.joints[j];
+    for (int side = 0; side < 2; ++side) {
+      const Segment& segment = model.segments[side == 0 ? joint.parent : joint.child];
+      const Vector3d& r = side == 0 ? joint.anchor_in_parent : joint.anchor_in_child;
+      Eigen::Matrix<double, 3, 6> a;
+      a.leftCols<3>() = Matrix3d::Identity() / std::sqrt(segment.mass);
+      Matrix3d r_cross;
+      r_cross << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
+      const Vector3d inv_sqrt_inertia = segment.inertia.cwiseSqrt().cwiseInverse();
+      a.rightCols<3>() = -r_cross * inv_sqrt_inertia.asDiagonal();
+      const Eigen::Matrix<double, 6, 1> y =
+          a.completeOrthogonalDecomposition().pseudoInverse() * gap;
+      const Vector3d omega = inv_sqrt_inertia.cwiseProduct(y.tail<3>());
+      const JointTerms& terms = tables->joints[j];
+      EXPECT_LT((terms.rotation_gain[side] * gap - omega).norm(), 1e-9 * omega.norm() + 1e-15)
+          << model.joints[j].name << " side " << side;
+      // and K is A Aᵀ, the point's response to an impulse
+      EXPECT_LT((terms.point_mass[side] - a * a.transpose()).norm(),
+                1e-12 * terms.point_mass[side].norm())
+          << model.joints[j].name << " side " << side;
+    }
   }
 }
 

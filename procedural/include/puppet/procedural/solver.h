@@ -84,14 +84,31 @@ struct AnchorOrder {
   std::vector<AnchorOrder::Link> level_links;
 };
 AnchorOrder make_anchor_order(const Model& model, int anchor);
-// the order from every segment, indexed by anchor. It depends on the model alone, so solvers of
-// one model (a crowd's puppets) can share one table instead of each holding a copy.
-using AnchorOrders = std::vector<AnchorOrder>;
-std::shared_ptr<const AnchorOrders> make_anchor_orders(const Model& model);
 
-// sized and filled once for the model; apart from limit_free_w nothing in it outlives a step
+// What the corrections read of one joint. A segment's inertia is diagonal and constant in its own
+// frame, and so is its joint point, so everything here is too: [0] is the parent's side, [1] the
+// child's (index by b_is_child).
+struct JointTerms {
+  // cos(ρ/2) for the largest angle ρ that no limit of the joint can reach (limit_free_w())
+  double limit_free_w = 2.0;
+  // K = E/m − [r]× D⁻¹ [r]× of the joint point, r its offset from the segment's centre:
+  // relaxed's shared corrections add the two sides' K in one frame
+  std::array<Matrix3d, 2> point_mass;
+  // the weighted rule's rotation vector of that side per unit gap, both in its frame:
+  // D⁻¹ [r]× K⁻¹ (the minimum-energy correction of the gap, made a constant matrix)
+  std::array<Matrix3d, 2> rotation_gain;
+};
+
+// Everything the solver reads that depends on the model alone, built once. Solvers of one model
+// (a crowd's puppets) share one table instead of each holding a copy.
+struct ModelTables {
+  std::vector<AnchorOrder> orders;  // by anchor segment, every one
+  std::vector<JointTerms> joints;   // by joint
+};
+std::shared_ptr<const ModelTables> make_model_tables(const Model& model);
+
+// sized once for the model; nothing in it outlives a step
 struct Workspace {
-  std::vector<double> limit_free_w;  // per joint: see limit_free_w() in stages.h
   // composite mass properties of each preorder subtree (rule `subtree`)
   std::vector<double> subtree_mass;
   std::vector<Vector3d> subtree_moment;  // Σ m·x
@@ -105,10 +122,10 @@ struct Workspace {
 class Solver {
  public:
   // the model must outlive the solver; throws std::invalid_argument on invalid settings.
-  // `orders`: make_anchor_orders(model), to share it with other solvers of the model (built
-  // here when null)
+  // `tables`: make_model_tables(model), to share them with other solvers of the model (built
+  // here when null; tables of another model throw std::invalid_argument)
   Solver(const Model& model, const Settings& settings, const Environment& environment,
-         std::shared_ptr<const AnchorOrders> orders = nullptr);
+         std::shared_ptr<const ModelTables> tables = nullptr);
 
   // place every segment (poses and velocities in world); clears pins, forces and time
   void reset(std::span<const BodyState> bodies);
@@ -142,7 +159,7 @@ class Solver {
   Environment environment_;
   State state_;
   Workspace workspace_;
-  std::shared_ptr<const AnchorOrders> orders_;  // by anchor segment, every one
+  std::shared_ptr<const ModelTables> tables_;
   std::array<double, kStageCount> stage_seconds_{};
   std::array<Vector3d, kMaxPins> substep_targets_{};  // pins' targets at the end of the substep
 };
