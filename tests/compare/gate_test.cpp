@@ -84,6 +84,30 @@ TEST(Gate, RatiosOfMediansPerItemAgainstThresholds) {
   EXPECT_NE(gate_table(results).find("^1 measured on machine-a"), std::string::npos);
 }
 
+// A floor not reached yet is a known failure, and its threshold guards what was measured: the
+// gate still fails when the ratio falls past it, and says so when the floor is reached.
+TEST(Gate, AKnownFailureStillFailsWhenItRegressesPastItsGuard) {
+  const auto specs = read_gate_specs(write_temp("guard.json", R"({"gates": [
+      {"name": "guard", "numerator": "slow", "denominator": "fast", "min": 4.5, "floor": 12,
+       "measured": 7.5, "known_failure": "not reached yet"},
+      {"name": "ceiling", "numerator": "fast", "denominator": "floor", "max": 4.8, "floor": 3,
+       "measured": 3.4, "known_failure": "not reached yet"}
+    ]})"));
+  auto status_at = [&](size_t gate, double numerator_per_s, double denominator_per_s) {
+    const std::string file =
+        write_temp("guard_b.json", bench_json({{gate == 0 ? "slow" : "fast", numerator_per_s},
+                                               {gate == 0 ? "fast" : "floor", denominator_per_s}}));
+    return evaluate_gates({specs[gate]}, read_bench_times(file))[0].status;
+  };
+  // ratio = denominator's rate / numerator's rate
+  EXPECT_EQ(status_at(0, 1000, 7000), GateStatus::kKnownFailure);     // 7: under the floor
+  EXPECT_EQ(status_at(0, 1000, 4000), GateStatus::kFail);             // 4: past the guard
+  EXPECT_EQ(status_at(0, 1000, 13000), GateStatus::kUnexpectedPass);  // 13: the floor reached
+  EXPECT_EQ(status_at(1, 1000, 3500), GateStatus::kKnownFailure);     // 3.5
+  EXPECT_EQ(status_at(1, 1000, 5000), GateStatus::kFail);             // 5
+  EXPECT_EQ(status_at(1, 1000, 2900), GateStatus::kUnexpectedPass);   // 2.9
+}
+
 TEST(Gate, BadInputNamesTheFileAndTheProblem) {
   auto error_of = [](auto read, const std::string& file) -> std::string {
     try {
