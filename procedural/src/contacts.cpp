@@ -77,7 +77,7 @@ double push_out_of_ground(const Model& model, const Environment& environment, in
       const double stick = environment.friction * depth;
       target -= slide_norm <= stick ? slide : (stick / slide_norm) * slide;
 
-      close_point(Rule::kWeighted, single_body(seg, body), p, target, &local).apply(body);
+      close_segment_point(seg, local, target, body);
     }
   }
   return deepest;
