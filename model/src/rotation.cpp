@@ -25,12 +25,22 @@ struct ShortTwist {
   double half_sin = 0.0;  // sin(angle / 2)
 };
 
-ShortTwist split_twist(const Quaterniond& q, const Vector3d& axis) {
+// the twist alone, as (w, p): cos and sin of its half-angle, w ≥ 0; false for a half turn of
+// swing, which has no twist
+bool twist_of(const Quaterniond& q, const Vector3d& axis, double* w, double* p) {
   const double projection = q.vec().dot(axis);
-  const double norm = std::sqrt(q.w() * q.w() + projection * projection);
-  if (norm < 1e-12) return {q, Quaterniond::Identity(), 0.0};  // a half turn of swing: no twist
-  const double sign = q.w() < 0.0 ? -1.0 : 1.0;
-  const double w = sign * q.w() / norm, p = sign * projection / norm;
+  const double norm2 = q.w() * q.w() + projection * projection;
+  if (norm2 < 1e-24) return false;
+  // one square root and one division; the sign of q.w() folded in (shortest arc)
+  const double scale = (q.w() < 0.0 ? -1.0 : 1.0) / std::sqrt(norm2);
+  *w = scale * q.w();
+  *p = scale * projection;
+  return true;
+}
+
+ShortTwist split_twist(const Quaterniond& q, const Vector3d& axis) {
+  double w, p;
+  if (!twist_of(q, axis, &w, &p)) return {q, Quaterniond::Identity(), 0.0};
   const Quaterniond twist(w, p * axis.x(), p * axis.y(), p * axis.z());
   return {q * twist.conjugate(), twist, p};
 }
@@ -121,14 +131,15 @@ Quaterniond clamp_ball(const Joint& joint, const Quaterniond& q_rel) {
 Quaterniond clamp_hinge(const Joint& joint, const Quaterniond& q_rel) {
   // other directions are not allowed at all: keep only the rotation about the axis (the twist
   // itself when its angle is in range), else the nearer end of the range
-  const ShortTwist st = split_twist(q_rel, joint.hinge_axis);
-  if (st.half_sin < joint.lower_half_sin) {
+  double half_cos = 1.0, half_sin = 0.0;  // a half turn of swing: no twist
+  twist_of(q_rel, joint.hinge_axis, &half_cos, &half_sin);
+  if (half_sin < joint.lower_half_sin) {
     return about_axis(joint.hinge_axis, joint.lower_half_sin, joint.lower_half_cos);
   }
-  if (st.half_sin > joint.upper_half_sin) {
+  if (half_sin > joint.upper_half_sin) {
     return about_axis(joint.hinge_axis, joint.upper_half_sin, joint.upper_half_cos);
   }
-  return st.twist;
+  return about_axis(joint.hinge_axis, half_sin, half_cos);
 }
 
 }  // namespace
