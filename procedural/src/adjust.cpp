@@ -141,17 +141,18 @@ void close_secondary_pins(const Model& model, Rule rule, const PinTargets& targe
   }
 }
 
-// relaxed: a pin, the world's point c_a and its segment's c_b corrected on the segment's side
-// alone (the world does not move)
-void share_pin_correction(const Model& model, int b, const Vector3d& c_a, const Vector3d& c_b,
+// relaxed: a pin's point pulled toward its target on the segment's side alone (the world does not
+// move), in the segment's frame, where its inertia is diagonal
+void share_pin_correction(const Model& model, const Pin& pin, const Vector3d& target,
                           State& state) {
-  BodyState& body = state.bodies[b];
-  const Segment& segment = model.segments[b];
-  const Matrix3d a = world_inertia_inv(segment, body.q);
-  const Vector3d r = c_b - body.x;
-  const Vector3d lambda = solve3(point_mass_matrix(segment.inv_mass, a, r), c_a - c_b);
-  body.x += segment.inv_mass * lambda;
-  body.q = quat_exp(a * r.cross(lambda)) * body.q;
+  BodyState& body = state.bodies[pin.segment];
+  const Segment& segment = model.segments[pin.segment];
+  const Vector3d& r = pin.local_point;
+  const Vector3d gap = body.q.conjugate() * (target - body.x) - r;
+  const Vector3d lambda =
+      solve3(diagonal_point_mass_matrix(segment.inv_mass, segment.inv_inertia, r), gap);
+  body.x += segment.inv_mass * (body.q * lambda);
+  body.q = times_exp(body.q, segment.inv_inertia.cwiseProduct(r.cross(lambda)));
 }
 
 // relaxed: the joint point corrected on both sides, the gap shared through K = K_c + R K_p Rᵀ.
@@ -203,9 +204,7 @@ void relaxed_sweeps(const Model& model, std::span<const JointTerms> joints,
                     const AnchorOrder& order, const PinTargets& targets, State& state) {
   for (int iteration = 0; iteration < settings.iterations; ++iteration) {
     for (int i = 0; i < state.pin_count; ++i) {
-      const Pin& pin = state.pins[i];
-      share_pin_correction(model, pin.segment, targets[i],
-                           world_point(state.bodies[pin.segment], pin.local_point), state);
+      share_pin_correction(model, state.pins[i], targets[i], state);
     }
     for (const AnchorOrder::Link& link : order.links) {
       const Joint& joint = model.joints[link.joint];
