@@ -78,6 +78,10 @@ TEST(Gate, RatiosOfMediansPerItemAgainstThresholds) {
   EXPECT_FALSE(gate_passed(results));
   EXPECT_TRUE(gate_passed({results[0], results[2], results[3]}));
   EXPECT_NE(gate_table(results).find("FAIL"), std::string::npos);
+  // the missing benchmark is named; the skipped one is explained by its reason instead
+  EXPECT_NE(gate_table(results).find("missing benchmark: step/hang/none"), std::string::npos);
+  EXPECT_EQ(gate_table(results).find("missing benchmark: step/hang/slow"), std::string::npos);
+  EXPECT_NE(gate_table(results).find("known: diverges in the warm-up"), std::string::npos);
   // the machine a threshold was measured on is named under the table
   EXPECT_EQ(specs[0].measured_on, "machine-a");
   EXPECT_NE(gate_table(results).find("31.50^1"), std::string::npos);
