@@ -2,6 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <thread>
+
 #include <memory>
 #include <utility>
 #include <vector>
@@ -77,6 +82,42 @@ TEST(Crowd, EveryPuppetMatchesALoneSolverBitForBit) {
   }
   // and the puppets really differ
   EXPECT_NE(lone[0][5].x, lone[1][5].x);
+}
+
+// A thread done with its own range takes puppets from the back of another's: every puppet is
+// still stepped exactly once per step, and the same as alone. The first thread's puppets are made
+// slow (its control sleeps), so the other thread runs out of work and must take some of them.
+TEST(Crowd, AThreadDoneEarlyTakesTheOthersPuppetsEachSteppedOnce) {
+  const Model model = compare::load_named_model("pinocchio");
+  constexpr int kPuppets = 96, kSteps = 5;  // 48 per thread: 3 of the chunks a thread takes
+  constexpr double kDt = 1.0 / 240.0;
+  Settings settings;
+  settings.rule = Rule::kWeighted;
+  const Environment environment;
+  Crowd crowd(model, settings, environment, kPuppets, 2);
+  std::array<std::atomic<int>, kPuppets> calls{};
+  std::atomic<int> taken{0};  // slow puppets stepped by another thread than the caller's
+  const std::thread::id caller = std::this_thread::get_id();
+  const Crowd::Control control = [&](int k, Solver&) {
+    calls[k].fetch_add(1);
+    if (k < kPuppets / 2) {
+      if (std::this_thread::get_id() != caller) taken.fetch_add(1);
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+  };
+  for (int step = 0; step < kSteps; ++step) crowd.step(kDt, control);
+
+  Solver lone(model, settings, environment);
+  for (int step = 0; step < kSteps; ++step) lone.step(kDt);
+  for (int k = 0; k < kPuppets; ++k) {
+    EXPECT_EQ(calls[k].load(), kSteps) << "puppet " << k;
+    const auto& bodies = crowd.puppet(k).state().bodies;
+    for (size_t s = 0; s < bodies.size(); ++s) {
+      EXPECT_EQ(bodies[s].x, lone.state().bodies[s].x) << "puppet " << k;
+      EXPECT_EQ(bodies[s].q.coeffs(), lone.state().bodies[s].q.coeffs()) << "puppet " << k;
+    }
+  }
+  EXPECT_GT(taken.load(), 0);
 }
 
 // a crowd's puppets share one set of model tables; tables built for another model are refused

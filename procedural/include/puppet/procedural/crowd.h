@@ -4,7 +4,9 @@
 // number of threads (each puppet is stepped by exactly one thread, in the same arithmetic).
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -37,11 +39,14 @@ class Crowd {
 
   // steps every puppet by dt (each with its own pins and targets), calling `control` (when not
   // empty) for each just before; returns when all are done. Puppets are split into one
-  // contiguous range per thread; nothing is allocated (build `control` once, outside the loop).
+  // contiguous range per thread; a thread done with its own takes chunks from the back of the
+  // others'. Nothing is allocated (build `control` once, outside the loop).
   void step(double dt, const Control& control = {});
 
  private:
   void step_range(int thread, double dt, const Control& control);
+  // the next chunk of `owner`'s range, from its front for the owner, else from its back
+  bool take(int owner, bool own, int* begin, int* end);
   void work(int thread);
 
   std::vector<std::unique_ptr<Solver>> puppets_;
@@ -53,6 +58,12 @@ class Crowd {
   double dt_ = 0.0;
   const Control* control_ = nullptr;  // the current step's, guarded like dt_
   bool stop_ = false;
+  // each thread's range of puppets this step, (front, back) in one word; written before the
+  // workers are woken (under mutex_), then moved only by compare-and-swap
+  struct alignas(64) Range {
+    std::atomic<uint64_t> span{0};
+  };
+  std::unique_ptr<Range[]> ranges_;
 };
 
 }  // namespace puppet::procedural
