@@ -175,7 +175,8 @@ std::vector<GateResult> evaluate_gates(const std::vector<GateSpec>& specs,
         result.status = meets(threshold) ? GateStatus::kPass : GateStatus::kFail;
       } else if (meets(spec.floor.value_or(threshold))) {
         result.status = GateStatus::kUnexpectedPass;
-      } else if (!spec.floor || threshold == *spec.floor || meets(threshold)) {
+      } else if (const bool guarded = spec.floor && threshold != *spec.floor;
+                 !guarded || meets(threshold)) {
         // below the floor, as known; a threshold looser than the floor guards the measured
         // value, and only falling past it fails
         result.status = GateStatus::kKnownFailure;

@@ -98,7 +98,8 @@ Motion close_link(const Model& model, const JointTerms& terms, Rule rule,
 }
 
 // close_link for a single segment b, applied in place: b's joint point is known in its own
-// frame, and the motion is applied without being built (x ↦ x + T, then the clamp about c_a)
+// frame, so the motion is never built: b is turned (the rule's rotation, then the clamp) and
+// placed with its joint point on c_a, or only translated when neither turns it
 void close_segment_link(const Model& model, const JointTerms& terms, Rule rule,
                         const AnchorOrder::Link& link, const BodyState& a, BodyState& b) {
   const Joint& joint = model.joints[link.joint];
@@ -148,9 +149,7 @@ void share_pin_correction(const Model& model, const Pin& pin, const Vector3d& ta
   BodyState& body = state.bodies[pin.segment];
   const Segment& segment = model.segments[pin.segment];
   const Vector3d& r = pin.local_point;
-  const Vector3d gap = body.q.conjugate() * (target - body.x) - r;
-  const Vector3d lambda =
-      solve3(diagonal_point_mass_matrix(segment.inv_mass, segment.inv_inertia, r), gap);
+  const Vector3d lambda = point_impulse(segment, body, r, target);
   body.x += segment.inv_mass * (body.q * lambda);
   body.q = times_exp(body.q, segment.inv_inertia.cwiseProduct(r.cross(lambda)));
 }

@@ -36,6 +36,9 @@ uint64_t pack(uint32_t front, uint32_t back) { return static_cast<uint64_t>(fron
 uint32_t front_of(uint64_t span) { return static_cast<uint32_t>(span >> 32); }
 uint32_t back_of(uint64_t span) { return static_cast<uint32_t>(span); }
 
+// where thread t's own range of n puppets starts (and thread t − 1's ends)
+uint32_t range_start(long n, long t, long parts) { return static_cast<uint32_t>(n * t / parts); }
+
 }  // namespace
 
 bool Crowd::take(int owner, bool own, int* begin, int* end) {
@@ -60,7 +63,7 @@ void Crowd::step_range(int thread, double dt, const Control& control) {
   // its own contiguous range first (the same puppets every step: they stay in this core's
   // cache), then what is left at the back of the others' (a late worker does not hold the step)
   const long n = size(), parts = threads();
-  const int own_end = static_cast<int>(n * (thread + 1) / parts);
+  const int own_end = static_cast<int>(range_start(n, thread + 1, parts));
   for (int i = 0; i < parts; ++i) {
     const int owner = static_cast<int>((thread + i) % parts);
     const bool own = owner == thread;
@@ -102,9 +105,8 @@ void Crowd::work(int thread) {
 void Crowd::step(double dt, const Control& control) {
   const long n = size(), parts = threads();
   for (int t = 0; t < parts; ++t) {
-    ranges_[t].span.store(
-        pack(static_cast<uint32_t>(n * t / parts), static_cast<uint32_t>(n * (t + 1) / parts)),
-        std::memory_order_relaxed);
+    ranges_[t].span.store(pack(range_start(n, t, parts), range_start(n, t + 1, parts)),
+                          std::memory_order_relaxed);
   }
   if (!workers_.empty()) {
     {

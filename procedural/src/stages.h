@@ -156,15 +156,22 @@ inline Vector3d solve3(const Matrix3d& m, const Vector3d& y) {
   return inv_det * Vector3d(y.dot(c12), c0.dot(y.cross(c2)), c0.dot(c1.cross(y)));
 }
 
-// The weighted correction of one segment that moves its point `r_frame` (its own frame, from its
-// centre) onto `target`, applied in place: the least-energy rotation, computed in the segment's
-// frame where its inertia is diagonal, then the translation that puts the point exactly on
+// The least-energy impulse λ that moves a segment's point `r_frame` (its own frame, from its
+// centre) onto `target` to first order, in the segment's frame, where its inertia is diagonal:
+// λ = K⁻¹ (the gap in that frame). It moves the centre by λ/m and turns the segment by
+// D⁻¹ (r × λ).
+inline Vector3d point_impulse(const Segment& segment, const BodyState& body,
+                              const Vector3d& r_frame, const Vector3d& target) {
+  const Vector3d gap = body.q.conjugate() * (target - body.x) - r_frame;
+  return solve3(diagonal_point_mass_matrix(segment.inv_mass, segment.inv_inertia, r_frame), gap);
+}
+
+// The weighted correction of one segment that moves its point `r_frame` onto `target`, applied
+// in place: the rotation of point_impulse(), then the translation that puts the point exactly on
 // target (eq. 5). The same as close_point(kWeighted, ...) but for rounding.
 inline void close_segment_point(const Segment& segment, const Vector3d& r_frame,
                                 const Vector3d& target, BodyState& body) {
-  const Vector3d gap = body.q.conjugate() * (target - body.x) - r_frame;
-  const Vector3d lambda =
-      solve3(diagonal_point_mass_matrix(segment.inv_mass, segment.inv_inertia, r_frame), gap);
+  const Vector3d lambda = point_impulse(segment, body, r_frame, target);
   body.q = renormalized(times_exp(body.q, segment.inv_inertia.cwiseProduct(r_frame.cross(lambda))));
   body.x = target - body.q * r_frame;
 }
