@@ -14,25 +14,21 @@ std::vector<BodyState> rest_pose(const Model& model) {
   return bodies;
 }
 
-void vertical_extent(const Segment& segment, const Quaterniond& q, const Vector3d& x, double* low,
-                     double* high) {
-  // the world's up in the segment's frame is the third row of its rotation matrix; the shape's
-  // half height along it is its support distance
-  const Vector3d up(2.0 * (q.x() * q.z() - q.w() * q.y()), 2.0 * (q.y() * q.z() + q.w() * q.x()),
-                    1.0 - 2.0 * (q.x() * q.x() + q.y() * q.y()));
-  const Shape& shape = segment.shape;
-  double half = 0.0;
+double half_height(const Shape& shape, const Vector3d& up) {
   switch (shape.type) {
     case ShapeType::kSphere:
-      half = shape.radius;
-      break;
+      return shape.radius;
     case ShapeType::kCapsule:
-      half = std::abs(up.z()) * shape.half_length + shape.radius;
-      break;
+      return std::abs(up.z()) * shape.half_length + shape.radius;
     case ShapeType::kBox:
-      half = up.cwiseAbs().dot(shape.half_extents);
-      break;
+      return up.cwiseAbs().dot(shape.half_extents);
   }
+  return 0.0;
+}
+
+void vertical_extent(const Segment& segment, const Quaterniond& q, const Vector3d& x, double* low,
+                     double* high) {
+  const double half = half_height(segment.shape, up_in_frame(q));
   *low = x.z() - half;
   *high = x.z() + half;
 }

@@ -183,14 +183,12 @@ void share_limit_correction(const Model& model, const JointTerms& terms, const J
                             State& state) {
   BodyState& parent = state.bodies[joint.parent];
   BodyState& child = state.bodies[joint.child];
-  Quaterniond limited;
-  if (!limited_orientation(joint, terms.limit_free_w, true, parent.q, child.q, &limited)) return;
-  // the rotation the child needs, parent fixed, in the child's frame (quat_log is blind to the
-  // length of its argument)
-  const Vector3d error = quat_log(child.q.conjugate() * limited);
+  const Quaterniond child_to_parent = child.q.conjugate() * parent.q;
+  Vector3d error;  // the rotation the child needs, parent fixed, in the child's frame
+  if (!limit_error(joint, terms.limit_free_w, child_to_parent, &error)) return;
   const Vector3d& inv_parent = model.segments[joint.parent].inv_inertia;
   const Vector3d& inv_child = model.segments[joint.child].inv_inertia;
-  const Matrix3d rotation = (child.q.conjugate() * parent.q).toRotationMatrix();
+  const Matrix3d rotation = child_to_parent.toRotationMatrix();
   Matrix3d inv_sum = rotation * inv_parent.asDiagonal() * rotation.transpose();
   inv_sum.diagonal() += inv_child;
   const Vector3d impulse = solve3(inv_sum, error);

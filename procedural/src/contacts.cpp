@@ -28,23 +28,18 @@ int candidate_count(const Shape& shape) {
   return 0;
 }
 
-// candidate contact point `c` of a shape, in world, from the body's current pose
-Vector3d contact_candidate(const Shape& shape, const BodyState& body, int c) {
+// candidate contact point `c` of a shape, in its frame, where `up` is the world's up
+Vector3d contact_candidate(const Shape& shape, const Vector3d& up, int c) {
   switch (shape.type) {
     case ShapeType::kSphere:
-      return body.x - shape.radius * Vector3d::UnitZ();
-    case ShapeType::kCapsule: {
-      const Vector3d centre(0, 0, c == 0 ? shape.half_length : -shape.half_length);
-      return world_point(body, centre) - shape.radius * Vector3d::UnitZ();
-    }
-    case ShapeType::kBox: {
-      const Vector3d local((c & 1 ? 1 : -1) * shape.half_extents.x(),
-                           (c & 2 ? 1 : -1) * shape.half_extents.y(),
-                           (c & 4 ? 1 : -1) * shape.half_extents.z());
-      return world_point(body, local);
-    }
+      return -shape.radius * up;
+    case ShapeType::kCapsule:
+      return Vector3d(0, 0, c == 0 ? shape.half_length : -shape.half_length) - shape.radius * up;
+    case ShapeType::kBox:
+      return {(c & 1 ? 1 : -1) * shape.half_extents.x(), (c & 2 ? 1 : -1) * shape.half_extents.y(),
+              (c & 4 ? 1 : -1) * shape.half_extents.z()};
   }
-  return body.x;
+  return Vector3d::Zero();
 }
 
 }  // namespace
@@ -53,22 +48,23 @@ double push_out_of_ground(const Model& model, const Environment& environment, in
                           State& state) {
   const Segment& seg = model.segments[segment];
   BodyState& body = state.bodies[segment];
+  // the world's up in the segment's frame: a candidate's height is one dot product with it, and
+  // only a point found below the plane is carried to world
+  Vector3d up = up_in_frame(body.q);
   // a segment clear of the ground by more than rounding has no candidate below it
-  double low = 0.0, high = 0.0;
-  vertical_extent(seg, body.q, body.x, &low, &high);
-  if (low > kClearance) return 0.0;
+  if (body.x.z() - half_height(seg.shape, up) > kClearance) return 0.0;
   const int count = candidate_count(seg.shape);
   double deepest = 0.0;
   for (int pass = 0; pass < kContactPasses; ++pass) {
     for (int c = 0; c < count; ++c) {
       // every correction moves the segment: each candidate is read from the current pose
-      const Vector3d p = contact_candidate(seg.shape, body, c);
-      if (p.z() >= 0.0) continue;
-      const double depth = -p.z();
+      const Vector3d local = contact_candidate(seg.shape, up, c);
+      const double depth = -(body.x.z() + up.dot(local));
+      if (depth <= 0.0) continue;
       deepest = std::max(deepest, depth);
 
       // the same material point at the start of the step, and its slide along the ground
-      const Vector3d local = body.q.conjugate() * (p - body.x);
+      const Vector3d p = world_point(body, local);
       const Vector3d p_prev = state.x_prev[segment] + state.q_prev[segment] * local;
       Vector3d slide = p - p_prev;
       slide.z() = 0.0;
@@ -78,6 +74,7 @@ double push_out_of_ground(const Model& model, const Environment& environment, in
       target -= slide_norm <= stick ? slide : (stick / slide_norm) * slide;
 
       close_segment_point(seg, local, target, body);
+      up = up_in_frame(body.q);
     }
   }
   return deepest;

@@ -146,6 +146,19 @@ bool limited_orientation(const Joint& joint, double free_w, bool b_is_child, con
   return true;
 }
 
+bool limit_error(const Joint& joint, double free_w, const Quaterniond& child_to_parent,
+                 Vector3d* error) {
+  // q_rel = Fp⁻¹ q_p⁻¹ q_c Fc = (q_c⁻¹ q_p Fp)⁻¹ Fc
+  const Quaterniond parent_frame = times_frame(child_to_parent, joint.frame_in_parent);
+  const Quaterniond q_rel = times_frame(parent_frame.conjugate(), joint.frame_in_child);
+  if (std::abs(q_rel.w()) > free_w) return false;
+  const Quaterniond clamped = clamp_to_limits(joint, q_rel);
+  if (clamped.coeffs() == q_rel.coeffs()) return false;
+  // the limited child is q_p Fp clamped Fc⁻¹, and q_c⁻¹ times it is q_c⁻¹ q_p Fp clamped Fc⁻¹
+  *error = quat_log(times_frame(parent_frame * clamped, joint.frame_in_child.conjugate()));
+  return true;
+}
+
 Quaterniond limit_correction(const Joint& joint, double free_w, bool b_is_child,
                              const Quaterniond& q_a, const Quaterniond& q_b) {
   Quaterniond q_b_limited;

@@ -139,6 +139,11 @@ bool limited_orientation(const Joint& joint, double free_w, bool b_is_child, con
 // move more than b about the joint point
 Quaterniond limit_correction(const Joint& joint, double free_w, bool b_is_child,
                              const Quaterniond& q_a, const Quaterniond& q_b);
+// the same for rule relaxed's shared correction, seen from the child: the rotation vector (child's
+// frame) that turns the child inside the limits with the parent fixed, from
+// child_to_parent = q_c⁻¹ q_p (the parent's frame seen from the child's); false when inside
+bool limit_error(const Joint& joint, double free_w, const Quaterniond& child_to_parent,
+                 Vector3d* error);
 // cos(ρ/2) for the largest angle ρ that no limit of the joint can reach in any direction (> 1
 // when there is none): a relative rotation by less than ρ needs no swing–twist decomposition
 double limit_free_w(const Joint& joint);

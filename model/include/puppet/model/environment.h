@@ -56,6 +56,13 @@ struct Wrench {
   Vector3d torque{0, 0, 0};  // world
 };
 
+// the world's up (+z) seen in a body's frame: the third row of its rotation matrix
+inline Vector3d up_in_frame(const Quaterniond& q) {
+  return {2.0 * (q.x() * q.z() - q.w() * q.y()), 2.0 * (q.y() * q.z() + q.w() * q.x()),
+          1.0 - 2.0 * (q.x() * q.x() + q.y() * q.y())};
+}
+// a shape's half height along a unit direction of its frame (its support distance)
+double half_height(const Shape& shape, const Vector3d& up);
 // world z-extent of a segment's shape
 void vertical_extent(const Segment& segment, const Quaterniond& q, const Vector3d& x, double* low,
                      double* high);
