@@ -91,8 +91,7 @@ Motion close_link(const Model& model, const JointTerms& terms, Rule rule,
 
   // eq. 4: clamp to the limits, rotating b about the (now closed) joint point
   const Quaterniond b_closed = closing.rotates() ? closing.q * b_current.q : b_current.q;
-  const Quaterniond clamp =
-      limit_correction(joint, terms.limit_free_w, link.b_is_child, a.q, b_closed);
+  const Quaterniond clamp = limit_correction(joint, terms, link.b_is_child, a.q, b_closed);
   const Motion clamping = Motion::about(clamp, c_a);
   return clamping.rotates() ? clamping.after(closing) : closing;
 }
@@ -111,12 +110,19 @@ void close_segment_link(const Model& model, const JointTerms& terms, Rule rule,
     const Vector3d gap = b.q.conjugate() * (c_a - b.x) - local_b;
     turned = times_exp(b.q, terms.rotation_gain[link.b_is_child] * gap);
   } else {
-    const Correction closing = close_point(rule, single_body(model.segments[link.b], b),
-                                           world_point(b, local_b), c_a, &local_b);
+    // nearly every literal link is a pure translation by s, decided as close_point() does but
+    // from the side's constant bound
+    const Vector3d c_b = world_point(b, local_b);
+    const Vector3d s = c_a - c_b;
+    Correction closing{Quaterniond::Identity(), s};
+    if (rule != Rule::kLiteral ||
+        (c_b - b.x).cross(s).squaredNorm() >= terms.literal_still_cross2[link.b_is_child]) {
+      closing = close_point(rule, single_body(model.segments[link.b], b), c_b, c_a, &local_b);
+    }
     if (!closing.rotates()) {
-      // a pure translation (nearly every literal link): the clamp, if any, turns b about c_a
+      // a pure translation: the clamp, if any, turns b about c_a
       b.x += closing.translation;
-      if (!limited_orientation(joint, terms.limit_free_w, link.b_is_child, a.q, b.q, &b.q)) {
+      if (!limited_orientation(joint, terms, link.b_is_child, a.q, b.q, &b.q)) {
         return;
       }
       b.q = renormalized(b.q);
@@ -126,7 +132,7 @@ void close_segment_link(const Model& model, const JointTerms& terms, Rule rule,
     turned = closing.rotation * b.q;
   }
   // eq. 5 for the rotated b, then eq. 4: either way its joint point ends at c_a
-  limited_orientation(joint, terms.limit_free_w, link.b_is_child, a.q, turned, &turned);
+  limited_orientation(joint, terms, link.b_is_child, a.q, turned, &turned);
   b.q = renormalized(turned);
   b.x = c_a - b.q * local_b;
 }
@@ -185,7 +191,7 @@ void share_limit_correction(const Model& model, const JointTerms& terms, const J
   BodyState& child = state.bodies[joint.child];
   const Quaterniond child_to_parent = child.q.conjugate() * parent.q;
   Vector3d error;  // the rotation the child needs, parent fixed, in the child's frame
-  if (!limit_error(joint, terms.limit_free_w, child_to_parent, &error)) return;
+  if (!limit_error(joint, terms, child_to_parent, &error)) return;
   const Vector3d& inv_parent = model.segments[joint.parent].inv_inertia;
   const Vector3d& inv_child = model.segments[joint.child].inv_inertia;
   const Matrix3d rotation = child_to_parent.toRotationMatrix();

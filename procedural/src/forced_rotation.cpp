@@ -77,6 +77,10 @@ Quaterniond weighted_rotation(const MovingBody& body, const Vector3d& r, const V
 
 }  // namespace
 
+double literal_still_cross(double largest_moment) {
+  return std::max(kParallel, kSurelyUnderflows / largest_moment);
+}
+
 MovingBody single_body(const Segment& segment, const BodyState& body) {
   MovingBody out;
   out.mass = segment.mass;
@@ -100,7 +104,7 @@ Correction close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, c
     switch (rule) {
       case Rule::kLiteral: {
         // in SI units nearly every link: no axis, no sqrt
-        const double bound = kSurelyUnderflows / body.largest_moment();
+        const double bound = literal_still_cross(body.largest_moment());
         if (cross_norm2 < bound * bound) break;
         rotation = literal_rotation(body, r, s, cross, std::sqrt(cross_norm2));
         break;
@@ -128,12 +132,17 @@ double limit_free_w(const Joint& joint) {
   return free_angle > 0.0 ? std::cos(0.5 * free_angle) : 2.0;
 }
 
-bool limited_orientation(const Joint& joint, double free_w, bool b_is_child, const Quaterniond& q_a,
-                         const Quaterniond& q_b, Quaterniond* q_b_limited) {
+bool limited_orientation(const Joint& joint, const JointTerms& terms, bool b_is_child,
+                         const Quaterniond& q_a, const Quaterniond& q_b, Quaterniond* q_b_limited) {
   const Quaterniond& q_parent = b_is_child ? q_a : q_b;
   const Quaterniond& q_child = b_is_child ? q_b : q_a;
+  // |w(q_rel)| = |q_p · (q_c ⊗ frame_shift)|: surely inside without forming q_rel
+  if (terms.limit_free_w < 1.0 &&
+      std::abs(q_parent.coeffs().dot(times_frame(q_child, terms.frame_shift).coeffs())) >
+          terms.limit_free_w) {
+    return false;
+  }
   const Quaterniond q_rel = joint_relative_rotation(joint, q_parent, q_child);
-  if (std::abs(q_rel.w()) > free_w) return false;
   const Quaterniond clamped = clamp_to_limits(joint, q_rel);
   if (clamped.coeffs() == q_rel.coeffs()) return false;
   // rebuild b from a and the clamped q_rel (inverted when b is the parent), never from a
@@ -146,12 +155,15 @@ bool limited_orientation(const Joint& joint, double free_w, bool b_is_child, con
   return true;
 }
 
-bool limit_error(const Joint& joint, double free_w, const Quaterniond& child_to_parent,
+bool limit_error(const Joint& joint, const JointTerms& terms, const Quaterniond& child_to_parent,
                  Vector3d* error) {
+  // |w(q_rel)| = |w(frame_shift ⊗ (q_c⁻¹ q_p)⁻¹)| = |frame_shift · (q_c⁻¹ q_p)|
+  if (std::abs(terms.frame_shift.coeffs().dot(child_to_parent.coeffs())) > terms.limit_free_w) {
+    return false;
+  }
   // q_rel = Fp⁻¹ q_p⁻¹ q_c Fc = (q_c⁻¹ q_p Fp)⁻¹ Fc
   const Quaterniond parent_frame = times_frame(child_to_parent, joint.frame_in_parent);
   const Quaterniond q_rel = times_frame(parent_frame.conjugate(), joint.frame_in_child);
-  if (std::abs(q_rel.w()) > free_w) return false;
   const Quaterniond clamped = clamp_to_limits(joint, q_rel);
   if (clamped.coeffs() == q_rel.coeffs()) return false;
   // the limited child is q_p Fp clamped Fc⁻¹, and q_c⁻¹ times it is q_c⁻¹ q_p Fp clamped Fc⁻¹
@@ -159,10 +171,10 @@ bool limit_error(const Joint& joint, double free_w, const Quaterniond& child_to_
   return true;
 }
 
-Quaterniond limit_correction(const Joint& joint, double free_w, bool b_is_child,
+Quaterniond limit_correction(const Joint& joint, const JointTerms& terms, bool b_is_child,
                              const Quaterniond& q_a, const Quaterniond& q_b) {
   Quaterniond q_b_limited;
-  if (!limited_orientation(joint, free_w, b_is_child, q_a, q_b, &q_b_limited)) {
+  if (!limited_orientation(joint, terms, b_is_child, q_a, q_b, &q_b_limited)) {
     return Quaterniond::Identity();
   }
   return (q_b_limited * q_b.conjugate()).normalized();

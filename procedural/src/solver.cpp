@@ -109,6 +109,7 @@ Matrix3d cross_matrix(const Vector3d& r) {
 JointTerms make_joint_terms(const Model& model, const Joint& joint) {
   JointTerms terms;
   terms.limit_free_w = limit_free_w(joint);
+  terms.frame_shift = joint.frame_in_child * joint.frame_in_parent.conjugate();
   const std::array<const Segment*, 2> segments = {&model.segments[joint.parent],
                                                   &model.segments[joint.child]};
   const std::array<const Vector3d*, 2> anchors = {&joint.anchor_in_parent, &joint.anchor_in_child};
@@ -119,6 +120,8 @@ JointTerms make_joint_terms(const Model& model, const Joint& joint) {
     // the impulse λ = K⁻¹ s closes the gap s; it turns the segment by D⁻¹ (r × λ)
     terms.rotation_gain[side] =
         segment.inv_inertia.asDiagonal() * cross_matrix(r) * terms.point_mass[side].inverse();
+    const double still = literal_still_cross(segment.inertia.maxCoeff());
+    terms.literal_still_cross2[side] = still * still;
   }
   return terms;
 }

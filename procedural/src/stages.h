@@ -128,21 +128,26 @@ inline Matrix3d diagonal_point_mass_matrix(double inv_mass, const Vector3d& iner
 Correction close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, const Vector3d& c_a,
                        const Vector3d* r_frame = nullptr);
 
+// |r × s| (m²) below which the literal rule surely turns nothing, for a body whose largest
+// principal moment is `largest_moment` (its θ = φ·exp(−1/(I_b |r × s|)) is exactly 0), never
+// below the threshold under which r ∥ s
+double literal_still_cross(double largest_moment);
+
 // The orientation of b that brings the joint back inside its limits with a fixed (eq. 4),
 // evaluated on q_rel = (parent frame)⁻¹(child frame) whichever side b is: false when the joint
 // is inside, and *q_b_limited is left alone; else a product of unit quaternions (unit but for
-// rounding: renormalized() is enough; q_b_limited may point at q_b). free_w: |w| of q_rel above
-// which the joint is surely inside its limits (limit_free_w)
-bool limited_orientation(const Joint& joint, double free_w, bool b_is_child, const Quaterniond& q_a,
-                         const Quaterniond& q_b, Quaterniond* q_b_limited);
+// rounding: renormalized() is enough; q_b_limited may point at q_b). Reads the joint's
+// limit_free_w and frame_shift from `terms`.
+bool limited_orientation(const Joint& joint, const JointTerms& terms, bool b_is_child,
+                         const Quaterniond& q_a, const Quaterniond& q_b, Quaterniond* q_b_limited);
 // the same as the rotation that takes b there (world; identity when inside), for the callers that
 // move more than b about the joint point
-Quaterniond limit_correction(const Joint& joint, double free_w, bool b_is_child,
+Quaterniond limit_correction(const Joint& joint, const JointTerms& terms, bool b_is_child,
                              const Quaterniond& q_a, const Quaterniond& q_b);
 // the same for rule relaxed's shared correction, seen from the child: the rotation vector (child's
 // frame) that turns the child inside the limits with the parent fixed, from
 // child_to_parent = q_c⁻¹ q_p (the parent's frame seen from the child's); false when inside
-bool limit_error(const Joint& joint, double free_w, const Quaterniond& child_to_parent,
+bool limit_error(const Joint& joint, const JointTerms& terms, const Quaterniond& child_to_parent,
                  Vector3d* error);
 // cos(ρ/2) for the largest angle ρ that no limit of the joint can reach in any direction (> 1
 // when there is none): a relative rotation by less than ρ needs no swing–twist decomposition

@@ -91,12 +91,19 @@ AnchorOrder make_anchor_order(const Model& model, int anchor);
 struct JointTerms {
   // cos(ρ/2) for the largest angle ρ that no limit of the joint can reach (limit_free_w())
   double limit_free_w = 2.0;
+  // Fc ⊗ Fp⁻¹, the joint's frame in the child carried into the parent's: w is unchanged by
+  // conjugation, so w(q_rel) = w(Fp⁻¹ q_p⁻¹ q_c Fc) = q_p · (q_c ⊗ frame_shift), a 4-D dot product
+  // that tells a joint surely inside its limits without forming q_rel
+  Quaterniond frame_shift = Quaterniond::Identity();
   // K = E/m − [r]× D⁻¹ [r]× of the joint point, r its offset from the segment's centre:
   // relaxed's shared corrections add the two sides' K in one frame
   std::array<Matrix3d, 2> point_mass;
   // the weighted rule's rotation vector of that side per unit gap, both in its frame:
   // D⁻¹ [r]× K⁻¹ (the minimum-energy correction of the gap, made a constant matrix)
   std::array<Matrix3d, 2> rotation_gain;
+  // the literal rule: |r × s|² below which moving that side closes the joint by translation alone
+  // (literal_still_cross(), squared; at least the parallel threshold)
+  std::array<double, 2> literal_still_cross2{0.0, 0.0};
 };
 
 // Everything the solver reads that depends on the model alone, built once. Solvers of one model
