@@ -59,67 +59,78 @@ SwingTwist decompose_swing_twist(const Quaterniond& q, const Vector3d& axis) {
 
 namespace {
 
-// Surely inside the limits, decided without trigonometry: the twist angle 2·atan(|p|/|w|) and
-// the swing angle 2·atan(|v_s|/w_s) are at most 2|p|/|w| and 2|v_s|/w_s (atan y ≤ y), so when
-// those bounds are inside, so are the angles. It never says inside when the exact test would not.
-bool surely_inside_ball(const Joint& joint, const Quaterniond& q_rel) {
-  const double w = std::abs(q_rel.w()), p = std::abs(q_rel.z());
-  if (!(2.0 * p <= joint.twist * w)) return false;
-  if (!(joint.swing_x > 0.0 && joint.swing_y > 0.0)) return false;
-  // swing = q ⊗ twist⁻¹ with twist = (w, 0, 0, z)/n: w_s = n, v_s = (x w − y z, y w + x z, 0)/n
-  const double x = q_rel.x(), y = q_rel.y(), z = q_rel.z();
-  const double n2 = q_rel.w() * q_rel.w() + z * z;
-  const double sx = x * q_rel.w() - y * z, sy = y * q_rel.w() + x * z;  // n·v_s
-  // (2|v_s|/w_s)² (n_x²/a² + n_y²/b²) ≤ 1  ⟺  4 (sx²/a² + sy²/b²) ≤ n⁴
-  const double ex = sx / joint.swing_x, ey = sy / joint.swing_y;
-  return 4.0 * (ex * ex + ey * ey) <= n2 * n2;
-}
-
 // the rotation by a limit angle about an axis, from the half-angle's sine and cosine
 Quaterniond about_axis(const Vector3d& axis, double half_sin, double half_cos) {
   return Quaterniond(half_cos, half_sin * axis.x(), half_sin * axis.y(), half_sin * axis.z());
 }
 
+// q = swing ⊗ twist about z, both read from q's components without a product. With
+// n² = w² + z² and s = (x w − y z, y w + x z):
+//   twist (shortest arc)  = (|w|, 0, 0, sign(w) z) / n
+//   swing (w ≥ 0)         = (n, s_x, s_y, 0) / n
+// (n = 0 is half a turn of swing: no twist, and the swing is q on its w ≥ 0 arc.)
+// Twist: |angle| ≤ twist limit, clamped onto ±limit. Swing: its vector (angle φ · unit direction
+// u = s/|s|) lies in the frame's xy plane; the ellipse has half-angles a = swing_x and b = swing_y
+// about those axes, so along u the largest swing is φ_max = 1/√E with E = u_x²/a² + u_y²/b².
+// Inside ⟺ φ/2 ≤ α = φ_max/2; with tan(φ/2) = |s|/n² that is |s| cos α ≤ n² sin α, and outside
+// the clamped swing is (cos α, sin α · u): one sincos, no atan2. The swing's test reads s alone,
+// so it never waits for the square root and division that normalise the twist.
 Quaterniond clamp_ball(const Joint& joint, const Quaterniond& q_rel) {
-  if (surely_inside_ball(joint, q_rel)) return q_rel;
-  const ShortTwist st = split_twist(q_rel, Vector3d::UnitZ());
+  const double w = q_rel.w(), x = q_rel.x(), y = q_rel.y(), z = q_rel.z();
+  const bool elliptic = joint.swing_x > 0.0 && joint.swing_y > 0.0;
+  const double n2 = w * w + z * z;
+  double sx, sy, swing_w;  // the swing's vector and w, both scaled by n
+  Quaterniond swing, twist = Quaterniond::Identity();
+  if (n2 >= 1e-24) {
+    sx = x * w - y * z;
+    sy = y * w + x * z;
+    swing_w = n2;
+    // surely inside, decided without trigonometry: the twist angle 2·atan(|z|/|w|) and the swing
+    // angle 2·atan(|s|/n²) are at most 2|z|/|w| and 2|s|/n² (atan y ≤ y); when those bounds are
+    // inside, so are the angles: (2|s|/n²)² E ≤ 1 ⟺ 4 (s_x²/a² + s_y²/b²) ≤ n⁴
+    if (elliptic && 2.0 * std::abs(z) <= joint.twist * std::abs(w)) {
+      const double ex = sx / joint.swing_x, ey = sy / joint.swing_y;
+      if (4.0 * (ex * ex + ey * ey) <= n2 * n2) return q_rel;
+    }
+    const double inv_n = 1.0 / std::sqrt(n2);
+    twist = Quaterniond(std::abs(w) * inv_n, 0.0, 0.0, (w < 0.0 ? -z : z) * inv_n);
+    swing = Quaterniond(n2 * inv_n, sx * inv_n, sy * inv_n, 0.0);
+  } else {
+    const double sign = w < 0.0 ? -1.0 : 1.0;
+    sx = sign * x;
+    sy = sign * y;
+    swing_w = sign * w;
+    swing = Quaterniond(swing_w, sx, sy, 0.0);
+  }
   bool changed = false;
 
-  // twist: |angle| ≤ twist limit, clamped onto ±limit
-  Quaterniond twist = st.twist;
-  if (std::abs(st.half_sin) > joint.twist_half_sin) {
-    twist = about_axis(Vector3d::UnitZ(), std::copysign(joint.twist_half_sin, st.half_sin),
+  if (std::abs(twist.z()) > joint.twist_half_sin) {
+    twist = about_axis(Vector3d::UnitZ(), std::copysign(joint.twist_half_sin, twist.z()),
                        joint.twist_half_cos);
     changed = true;
   }
 
-  // swing: its vector (angle φ · unit direction n) lies in the frame's xy plane; the ellipse has
-  // half-angles a = swing_x and b = swing_y about those axes, so along n the largest swing is
-  // φ_max = 1/√E with E = n_x²/a² + n_y²/b². Inside ⟺ φ/2 ≤ α = φ_max/2; with the swing on its
-  // shortest arc (w ≥ 0), tan(φ/2) = |v|/w, so inside ⟺ |v| cos α ≤ w sin α, and outside the
-  // clamped swing is (cos α, sin α · n): one sincos, no atan2
-  Quaterniond swing = st.swing;
-  if (swing.w() < 0.0) swing.coeffs() *= -1.0;
-  const double v = std::sqrt(swing.x() * swing.x() + swing.y() * swing.y());
-  if (v > 0.0 && joint.swing_x > 0.0 && joint.swing_y > 0.0) {
-    const double nx = swing.x() / v, ny = swing.y() / v;
-    const double ex = nx / joint.swing_x, ey = ny / joint.swing_y;
-    const double alpha = 0.5 / std::sqrt(ex * ex + ey * ey);
+  const double s2 = sx * sx + sy * sy;
+  if (s2 > 0.0 && elliptic) {
+    const double ex = sx / joint.swing_x, ey = sy / joint.swing_y;
+    const double alpha = 0.5 * std::sqrt(s2 / (ex * ex + ey * ey));
     if (alpha < 0.5 * M_PI) {
       const double sin_alpha = std::sin(alpha), cos_alpha = std::cos(alpha);
-      if (v * cos_alpha > swing.w() * sin_alpha) {
-        swing = Quaterniond(cos_alpha, sin_alpha * nx, sin_alpha * ny, 0.0);
+      const double s_norm = std::sqrt(s2);
+      if (s_norm * cos_alpha > swing_w * sin_alpha) {
+        const double k = sin_alpha / s_norm;
+        swing = Quaterniond(cos_alpha, k * sx, k * sy, 0.0);
         changed = true;
       }
     }
-  } else if (v > 0.0) {
+  } else if (s2 > 0.0) {
     // a zero half-angle removes that direction entirely
     const Vector3d swing_vector = quat_log(swing);
-    const double sx = swing_vector.x(), sy = swing_vector.y();
     const Vector3d clamped(
-        joint.swing_x > 0.0 ? std::clamp(sx, -joint.swing_x, joint.swing_x) : 0.0,
-        joint.swing_y > 0.0 ? std::clamp(sy, -joint.swing_y, joint.swing_y) : 0.0, 0.0);
-    if (clamped.x() != sx || clamped.y() != sy) {
+        joint.swing_x > 0.0 ? std::clamp(swing_vector.x(), -joint.swing_x, joint.swing_x) : 0.0,
+        joint.swing_y > 0.0 ? std::clamp(swing_vector.y(), -joint.swing_y, joint.swing_y) : 0.0,
+        0.0);
+    if (clamped.x() != swing_vector.x() || clamped.y() != swing_vector.y()) {
       swing = quat_exp(clamped);
       changed = true;
     }

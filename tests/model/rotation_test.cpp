@@ -174,6 +174,30 @@ TEST(Rotation, ClampsAgreeWithTheClampWrittenWithAngles) {
   EXPECT_LT(clamped, 19000);
 }
 
+// half a turn of swing has no twist (w = z = 0), the one case where swing and twist are not
+// read from n = |(w, z)|: the clamp still lands on the ellipse along the swing's direction, and a
+// zero half-angle removes its direction
+TEST(Rotation, BallClampsAHalfTurnOfSwingOntoTheEllipse) {
+  Joint j;
+  j.type = JointType::kBall;
+  j.swing_x = 0.3;
+  j.swing_y = 0.8;
+  j.twist = 0.4;
+  derive_limit_terms(j);
+  for (int k = 0; k < 16; ++k) {
+    const double angle = 2.0 * M_PI * k / 16;
+    const Vector3d u(std::cos(angle), std::sin(angle), 0.0);
+    const Quaterniond q(0.0, u.x(), u.y(), 0.0);  // a half turn about u
+    const Vector3d on_ellipse =
+        M_PI * u / std::hypot(M_PI * u.x() / j.swing_x, M_PI * u.y() / j.swing_y);
+    EXPECT_LE(angle_between(clamp_to_limits(j, q), quat_exp(on_ellipse)), 1e-12) << k;
+  }
+  j.swing_x = 0.0;  // no swing about x at all: a half turn about x + y keeps 0.8 rad about y
+  derive_limit_terms(j);
+  const Quaterniond q(0.0, std::sqrt(0.5), std::sqrt(0.5), 0.0);
+  EXPECT_LE(angle_between(clamp_to_limits(j, q), quat_exp(Vector3d(0, 0.8, 0))), 1e-12);
+}
+
 TEST(Rotation, HingeKeepsOnlyItsAxis) {
   Joint j;
   j.type = JointType::kHinge;
