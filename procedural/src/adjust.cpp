@@ -117,7 +117,7 @@ void close_segment_link(const Model& model, const JointTerms& terms, Rule rule,
     Correction closing{Quaterniond::Identity(), s};
     if (rule != Rule::kLiteral ||
         (c_b - b.x).cross(s).squaredNorm() >= terms.literal_still_cross2[link.b_is_child]) {
-      closing = close_point(rule, single_body(model.segments[link.b], b), c_b, c_a, &local_b);
+      closing = close_point(rule, single_body(model.segments[link.b], b), c_b, c_a);
     }
     if (!closing.rotates()) {
       // a pure translation: the clamp, if any, turns b about c_a
@@ -137,14 +137,24 @@ void close_segment_link(const Model& model, const JointTerms& terms, Rule rule,
   b.x = c_a - b.q * local_b;
 }
 
+// a pin closed by moving its own segment alone (the world is a): the weighted correction in place,
+// or the rule's forced rotation and translation
+void close_pin(const Model& model, Rule rule, const Pin& pin, const Vector3d& target,
+               BodyState& body) {
+  const Segment& segment = model.segments[pin.segment];
+  if (rule == Rule::kWeighted) {
+    close_segment_point(segment, pin.local_point, target, body);
+    return;
+  }
+  close_point(rule, single_body(segment, body), world_point(body, pin.local_point), target)
+      .apply(body);
+}
+
 void close_secondary_pins(const Model& model, Rule rule, const PinTargets& targets, State& state) {
   const Rule single = rule == Rule::kSubtree ? Rule::kWeighted : rule;
   for (int i = 1; i < state.pin_count; ++i) {
     const Pin& pin = state.pins[i];
-    BodyState& body = state.bodies[pin.segment];
-    const MovingBody moving = single_body(model.segments[pin.segment], body);
-    close_point(single, moving, world_point(body, pin.local_point), targets[i], &pin.local_point)
-        .apply(body);
+    close_pin(model, single, pin, targets[i], state.bodies[pin.segment]);
   }
 }
 
@@ -238,18 +248,14 @@ void one_sided_pass(const Model& model, std::span<const JointTerms> joints, Rule
   // the anchor: closed to its pin (a joint with the world), else left where update put it
   BodyState& anchor = state.bodies[order.anchor];
   Motion anchor_motion;
-  if (pinned) {
-    const Pin& pin = state.pins[0];
-    const MovingBody body = subtree ? composite_body(ws, 0, Motion())
-                                    : single_body(model.segments[order.anchor], anchor);
-    const Correction closing = close_point(rule, body, world_point(anchor, pin.local_point),
-                                           targets[0], subtree ? nullptr : &pin.local_point);
-    anchor_motion = closing.motion(body.centre);
-    if (subtree) {
-      anchor_motion.apply(anchor);
-    } else {
-      closing.apply(anchor);
-    }
+  if (pinned && subtree) {
+    const MovingBody body = composite_body(ws, 0, Motion());
+    anchor_motion =
+        close_point(rule, body, world_point(anchor, state.pins[0].local_point), targets[0])
+            .motion(body.centre);
+    anchor_motion.apply(anchor);
+  } else if (pinned) {
+    close_pin(model, rule, state.pins[0], targets[0], anchor);
   }
   if (subtree) {
     ws.motion_q[0] = anchor_motion.q;

@@ -19,6 +19,7 @@
 //
 // seed: when r ∥ s there is no rotation axis; R = identity and the joint closes by translation.
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 #include "puppet/model/rotation.h"
@@ -59,19 +60,14 @@ Quaterniond smoothed_rotation(const MovingBody& body, const Vector3d& r, const V
   return quat_exp((theta / cross_norm) * cross);
 }
 
-Quaterniond weighted_rotation(const MovingBody& body, const Vector3d& r, const Vector3d& s,
-                              const Vector3d* known_r_frame) {
-  // in the body's frame, where a segment's inertia is diagonal
-  const Vector3d r_frame = known_r_frame ? *known_r_frame : body.to_frame(r);
-  const Vector3d s_frame = body.to_frame(s);
-  if (body.diagonal) {
-    const Vector3d& inertia_inv = body.inertia_inv_diag;
-    const Vector3d lambda =
-        solve3(diagonal_point_mass_matrix(body.inv_mass, inertia_inv, r_frame), s_frame);
-    return quat_exp(body.to_world(inertia_inv.cwiseProduct(r_frame.cross(lambda))));
-  }
+// a composite body (rule subtree); a single segment takes close_segment_point() or its joint's
+// constant gain instead
+Quaterniond weighted_rotation(const MovingBody& body, const Vector3d& r, const Vector3d& s) {
+  assert(!body.diagonal);
+  // in the body's frame, where its tensor was built
+  const Vector3d r_frame = body.to_frame(r);
   const Vector3d lambda =
-      solve3(point_mass_matrix(body.inv_mass, body.inertia_inv, r_frame), s_frame);
+      solve3(point_mass_matrix(body.inv_mass, body.inertia_inv, r_frame), body.to_frame(s));
   return quat_exp(body.to_world(body.inertia_inv * r_frame.cross(lambda)));
 }
 
@@ -89,12 +85,11 @@ MovingBody single_body(const Segment& segment, const BodyState& body) {
   out.frame = body.q;
   out.diagonal = true;
   out.inertia_diag = segment.inertia;
-  out.inertia_inv_diag = segment.inv_inertia;
   return out;
 }
 
-Correction close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, const Vector3d& c_a,
-                       const Vector3d* r_frame) {
+Correction close_point(Rule rule, const MovingBody& body, const Vector3d& c_b,
+                       const Vector3d& c_a) {
   const Vector3d r = c_b - body.centre;
   const Vector3d s = c_a - c_b;
   const Vector3d cross = r.cross(s);
@@ -115,7 +110,7 @@ Correction close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, c
       case Rule::kWeighted:
       case Rule::kSubtree:
       case Rule::kRelaxed:
-        rotation = weighted_rotation(body, r, s, r_frame);
+        rotation = weighted_rotation(body, r, s);
         break;
     }
   }

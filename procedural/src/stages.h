@@ -67,9 +67,8 @@ struct MovingBody {
   Quaterniond frame = Quaterniond::Identity();
   bool diagonal = false;           // a segment: inertia_diag; else the two tensors
   Vector3d inertia_diag{0, 0, 0};  // about the centre, in frame
-  Vector3d inertia_inv_diag{0, 0, 0};
-  Matrix3d inertia;      // a composite's tensor, in frame; unset for a segment
-  Matrix3d inertia_inv;  // its inverse
+  Matrix3d inertia;                // a composite's tensor, in frame; unset for a segment
+  Matrix3d inertia_inv;            // its inverse
 
   Vector3d to_frame(const Vector3d& world) const { return frame.conjugate() * world; }
   Vector3d to_world(const Vector3d& local) const { return frame * local; }
@@ -124,9 +123,9 @@ inline Matrix3d diagonal_point_mass_matrix(double inv_mass, const Vector3d& iner
 // the body's centre (eqs. 2–3 or their readings), then the forced translation of eq. 5,
 // T = (I − R)·r + s, which closes the gap exactly.
 // (The literal rule's dt and mass cancel out of eqs. 2–3: no rule needs the step length.)
-// r_frame: c_b − centre in the body's frame when the caller knows it (a segment's own point).
-Correction close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, const Vector3d& c_a,
-                       const Vector3d* r_frame = nullptr);
+// The weighted reading here is for a composite body (rule subtree); a single segment is closed by
+// close_segment_point(), or in a joint by its constant gain (JointTerms::rotation_gain).
+Correction close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, const Vector3d& c_a);
 
 // |r × s| (m²) below which the literal rule surely turns nothing, for a body whose largest
 // principal moment is `largest_moment` (its θ = φ·exp(−1/(I_b |r × s|)) is exactly 0), never
