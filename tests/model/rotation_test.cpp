@@ -76,14 +76,19 @@ TEST(Rotation, SwingTwistRecomposes) {
   EXPECT_LT(angle_between(st.swing, about(Vector3d(1, 0, 0), 0.4)), 1e-12);
 }
 
-Joint ball(double sx_deg, double sy_deg, double twist_deg) {
+// a ball joint with these swing half-angles and twist limit (rad)
+Joint ball_radians(double swing_x, double swing_y, double twist) {
   Joint j;
   j.type = JointType::kBall;
-  j.swing_x = sx_deg * M_PI / 180;
-  j.swing_y = sy_deg * M_PI / 180;
-  j.twist = twist_deg * M_PI / 180;
+  j.swing_x = swing_x;
+  j.swing_y = swing_y;
+  j.twist = twist;
   derive_limit_terms(j);
   return j;
+}
+
+Joint ball(double sx_deg, double sy_deg, double twist_deg) {
+  return ball_radians(sx_deg * M_PI / 180, sy_deg * M_PI / 180, twist_deg * M_PI / 180);
 }
 
 TEST(Rotation, BallLimitsAlongTheAxes) {
@@ -103,12 +108,7 @@ TEST(Rotation, BallLimitsAlongTheAxes) {
 // the trigonometry-free early "inside" of a ball limit agrees with the exact swing–twist test on
 // random rotations around the limits (an asymmetric ellipse, both signs of w)
 TEST(Rotation, BallInsideShortcutAgreesWithTheExactTest) {
-  Joint j;
-  j.type = JointType::kBall;
-  j.swing_x = 0.3;
-  j.swing_y = 0.8;
-  j.twist = 0.4;
-  derive_limit_terms(j);
+  const Joint j = ball_radians(0.3, 0.8, 0.4);
   uint64_t seed = 12345;
   auto uniform = [&seed] {
     seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
@@ -178,12 +178,7 @@ TEST(Rotation, ClampsAgreeWithTheClampWrittenWithAngles) {
 // read from n = |(w, z)|: the clamp still lands on the ellipse along the swing's direction, and a
 // zero half-angle removes its direction
 TEST(Rotation, BallClampsAHalfTurnOfSwingOntoTheEllipse) {
-  Joint j;
-  j.type = JointType::kBall;
-  j.swing_x = 0.3;
-  j.swing_y = 0.8;
-  j.twist = 0.4;
-  derive_limit_terms(j);
+  Joint j = ball_radians(0.3, 0.8, 0.4);
   for (int k = 0; k < 16; ++k) {
     const double angle = 2.0 * M_PI * k / 16;
     const Vector3d u(std::cos(angle), std::sin(angle), 0.0);
@@ -192,8 +187,8 @@ TEST(Rotation, BallClampsAHalfTurnOfSwingOntoTheEllipse) {
         M_PI * u / std::hypot(M_PI * u.x() / j.swing_x, M_PI * u.y() / j.swing_y);
     EXPECT_LE(angle_between(clamp_to_limits(j, q), quat_exp(on_ellipse)), 1e-12) << k;
   }
-  j.swing_x = 0.0;  // no swing about x at all: a half turn about x + y keeps 0.8 rad about y
-  derive_limit_terms(j);
+  // no swing about x at all: a half turn about x + y keeps 0.8 rad about y
+  j = ball_radians(0.0, 0.8, 0.4);
   const Quaterniond q(0.0, std::sqrt(0.5), std::sqrt(0.5), 0.0);
   EXPECT_LE(angle_between(clamp_to_limits(j, q), quat_exp(Vector3d(0, 0.8, 0))), 1e-12);
 }
