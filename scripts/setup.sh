@@ -14,7 +14,8 @@ packages=(
   libbenchmark-dev   # benchmarks/ and the performance gate
   python3-matplotlib # scripts/plot.py: plots and REPORT.md
   libglfw3-dev libimgui-dev libstb-dev # viewer/: window, panel, PNG screenshots
-  libgl-dev libgl1-mesa-dri libglx-mesa0 # OpenGL 3.3 (Mesa's software renderer without a GPU)
+  libgl-dev libopengl-dev # OpenGL 3.3 headers, GLVND libOpenGL (CMake: OpenGL::OpenGL)
+  libgl1-mesa-dri libglx-mesa0 # Mesa: its software renderer where there is no GPU
   xvfb xauth         # the viewer's headless tests (xvfb-run)
 )
 
