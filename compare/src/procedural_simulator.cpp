@@ -83,7 +83,7 @@ procedural::Settings settings_without_scenario(const SolverOptions& options) {
   settings.derive_velocities = options.derive_velocities;
   const std::string problem = procedural::validate(settings);
   if (!problem.empty()) throw ScenarioError(problem);
-  return settings;
+  return procedural::rule_defaults(settings);
 }
 
 std::unique_ptr<Simulator> make_procedural_simulator(const SolverOptions& options) {

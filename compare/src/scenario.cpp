@@ -150,6 +150,7 @@ Scenario make_scenario(const std::string& name, const Model& model,
     PinPath grab;
     grab.pin = hand;
     grab.pin.target = world_of(s.initial, hand);
+    grab.pin.compliance = options.grab_compliance;
     if (name == "shake") {
       grab.path = TargetPath::kShakeX;
       grab.radius = kShakeAmplitude;

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -154,7 +155,8 @@ struct RunFlags {
   std::string model = "pinocchio", scenario = "all", solver = "all", rule = "all";
   std::string dt = "1/30,1/60,1/120,1/240,1/480", duration, out = "results", pin, grab, gravity,
               air_drag, ground;
-  std::string tilt = "30", hz = "0.5", sample_hz = "30", iterations = "4", substeps = "1";
+  // iterations and substeps empty: the rule's own (relaxed 4 × 1, xpbd 1 × 8)
+  std::string tilt = "30", hz = "0.5", sample_hz = "30", iterations, substeps, grab_compliance;
   std::string bullet_iterations = "10", jobs = std::to_string(default_jobs());
   bool no_velocities = false, no_tremble = false, no_timing = false, bullet_euler_limits = false;
   bool no_accuracy = false;
@@ -219,6 +221,9 @@ ScenarioOptions parse_scenario_options(const RunFlags& f) {
   options.hz = parse_positive("--hz", f.hz);
   if (!f.pin.empty()) options.pin = parse_point("--pin", f.pin);
   if (!f.grab.empty()) options.grab = parse_point("--grab", f.grab);
+  if (!f.grab_compliance.empty()) {
+    options.grab_compliance = parse_non_negative("--grab-compliance", f.grab_compliance);
+  }
   if (!f.gravity.empty()) options.gravity = parse_vector("--gravity", f.gravity);
   if (!f.air_drag.empty()) options.air_drag = parse_non_negative("--air-drag", f.air_drag);
   if (!f.ground.empty()) {
@@ -233,14 +238,24 @@ ScenarioOptions parse_scenario_options(const RunFlags& f) {
 // every solver of --solver, and for procedural every rule of --rule
 std::vector<SolverConfig> parse_solver_configs(const RunFlags& f) {
   SolverOptions options;
-  options.iterations = parse_count("--iterations", f.iterations, 0);
-  options.substeps = parse_count("--substeps", f.substeps, 1);
+  options.iterations = f.iterations.empty() ? procedural::kRuleDefault
+                                            : parse_count("--iterations", f.iterations, 0);
+  options.substeps =
+      f.substeps.empty() ? procedural::kRuleDefault : parse_count("--substeps", f.substeps, 1);
   options.bullet_iterations = parse_count("--bullet-iterations", f.bullet_iterations, 1);
   options.bullet_euler_limits = f.bullet_euler_limits;
   options.derive_velocities = !f.no_velocities;
   options.tremble = !f.no_tremble;
   const auto solvers = expand("--solver", f.solver, solver_names());
   const auto rules = expand("--rule", f.rule, all_rules());
+  if (!f.grab_compliance.empty() &&
+      parse_non_negative("--grab-compliance", f.grab_compliance) > 0 &&
+      std::any_of(solvers.begin(), solvers.end(),
+                  [](const std::string& s) { return s != "procedural"; })) {
+    throw UsageError(
+        "--grab-compliance: only the procedural solver has compliant grabs; add "
+        "--solver procedural");
+  }
   std::vector<SolverConfig> configs;
   for (const auto& solver : solvers) {
     if (solver == "procedural") {
@@ -407,16 +422,19 @@ void add_solver_flags(CLI::App* command, RunFlags& f) {
   command->add_option("--jobs", f.jobs, "worker threads")->capture_default_str();
   command->add_option("--grab", f.grab, "dragged point SEGMENT[:x,y,z] (segment frame)");
   command->add_option("--gravity", f.gravity, "gravity X,Y,Z (m/s^2)");
-  command->add_option("--iterations", f.iterations, "relaxed: two-sided sweeps")
-      ->capture_default_str();
+  command->add_option("--iterations", f.iterations,
+                      "relaxed, xpbd: two-sided sweeps per substep (default: the rule's, 4 and 1)");
+  command->add_option("--grab-compliance", f.grab_compliance,
+                      "the grab's compliance C (m/N): 0 holds the hand on its target (default), "
+                      "C > 0 pulls it with a spring of stiffness 1/C");
   command
       ->add_option("--bullet-iterations", f.bullet_iterations,
                    "Bullet: sequential-impulse sweeps per step")
       ->capture_default_str();
   command->add_flag("--bullet-euler-limits", f.bullet_euler_limits,
                     "bullet-multibody: Bullet's own ball limits (a box of Euler angles)");
-  command->add_option("--substeps", f.substeps, "procedural substeps per step")
-      ->capture_default_str();
+  command->add_option("--substeps", f.substeps,
+                      "procedural substeps per step (default: the rule's, 8 for xpbd, else 1)");
   command->add_flag("--no-velocities", f.no_velocities,
                     "procedural: do not derive velocities from poses");
 }

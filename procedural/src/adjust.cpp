@@ -150,83 +150,63 @@ void close_pin(const Model& model, Rule rule, const Pin& pin, const Vector3d& ta
       .apply(body);
 }
 
-void close_secondary_pins(const Model& model, Rule rule, const PinTargets& targets, State& state) {
+// whether a pin is closed by this one-sided pass
+bool closes(PinClosure closure, const Pin& pin) {
+  return closure == PinClosure::kAll ||
+         (closure == PinClosure::kRigidOnly && pin.compliance == 0.0);
+}
+
+void close_secondary_pins(const Model& model, Rule rule, PinClosure closure,
+                          const PinTargets& targets, State& state) {
   const Rule single = rule == Rule::kSubtree ? Rule::kWeighted : rule;
   for (int i = 1; i < state.pin_count; ++i) {
     const Pin& pin = state.pins[i];
+    if (!closes(closure, pin)) continue;
     close_pin(model, single, pin, targets[i], state.bodies[pin.segment]);
   }
 }
 
-// relaxed: a pin's point pulled toward its target on the segment's side alone (the world does not
-// move), in the segment's frame, where its inertia is diagonal
-void share_pin_correction(const Model& model, const Pin& pin, const Vector3d& target,
-                          State& state) {
-  BodyState& body = state.bodies[pin.segment];
-  const Segment& segment = model.segments[pin.segment];
-  const Vector3d& r = pin.local_point;
-  const Vector3d lambda = point_impulse(segment, body, r, target);
-  body.x += segment.inv_mass * (body.q * lambda);
-  body.q = times_exp(body.q, segment.inv_inertia.cwiseProduct(r.cross(lambda)));
-}
-
-// relaxed: the joint point corrected on both sides, the gap shared through K = K_c + R K_p Rᵀ.
-// Everything is in the child's frame: each side's K is constant in its own frame
-// (JointTerms::point_mass), and R, the parent's frame seen from the child's, carries K_p over.
-void share_joint_correction(const Model& model, const JointTerms& terms, const Joint& joint,
-                            State& state) {
-  BodyState& parent = state.bodies[joint.parent];
-  BodyState& child = state.bodies[joint.child];
-  const Segment& parent_segment = model.segments[joint.parent];
-  const Segment& child_segment = model.segments[joint.child];
-  const Matrix3d rotation = (child.q.conjugate() * parent.q).toRotationMatrix();
-  const Matrix3d k = terms.point_mass[1] + rotation * terms.point_mass[0] * rotation.transpose();
-  const Vector3d gap = child.q.conjugate() * (parent.x - child.x) +
-                       rotation * joint.anchor_in_parent - joint.anchor_in_child;
-  const Vector3d lambda = solve3(k, gap);  // the impulse on the child, in its frame
-  const Vector3d lambda_parent = rotation.transpose() * lambda;
-  const Vector3d lambda_world = child.q * lambda;
-  child.x += child_segment.inv_mass * lambda_world;
-  child.q = times_exp(child.q,
-                      child_segment.inv_inertia.cwiseProduct(joint.anchor_in_child.cross(lambda)));
-  parent.x -= parent_segment.inv_mass * lambda_world;
-  parent.q = times_exp(parent.q, -parent_segment.inv_inertia.cwiseProduct(
-                                     joint.anchor_in_parent.cross(lambda_parent)));
-}
-
-// relaxed: a limit's angular correction shared through I_p⁻¹ + I_c⁻¹, in the child's frame
-void share_limit_correction(const Model& model, const JointTerms& terms, const Joint& joint,
-                            State& state) {
-  BodyState& parent = state.bodies[joint.parent];
-  BodyState& child = state.bodies[joint.child];
-  const Quaterniond child_to_parent = child.q.conjugate() * parent.q;
-  Vector3d error;  // the rotation the child needs, parent fixed, in the child's frame
-  if (!limit_error(joint, terms, child_to_parent, &error)) return;
-  const Vector3d& inv_parent = model.segments[joint.parent].inv_inertia;
-  const Vector3d& inv_child = model.segments[joint.child].inv_inertia;
-  const Matrix3d rotation = child_to_parent.toRotationMatrix();
-  Matrix3d inv_sum = rotation * inv_parent.asDiagonal() * rotation.transpose();
-  inv_sum.diagonal() += inv_child;
-  const Vector3d impulse = solve3(inv_sum, error);
-  child.q = times_exp(child.q, inv_child.cwiseProduct(impulse));
-  parent.q = times_exp(parent.q, -inv_parent.cwiseProduct(rotation.transpose() * impulse));
+// A compliant pin (C > 0) closed by one one-sided correction: its target moved back toward the
+// point by what the compliance holds, t' = t − α̃ (K + α̃E)⁻¹ (t − p), α̃ = C/h², with K the
+// pinned segment's own point mass (XPBD's first iteration, λ = 0). seed: the one-sided rules
+// then carry the rest of the body along: a parent never feels its children, so the spring
+// stretches as if only the pinned segment hung from it (measured in the tests).
+void soften_compliant_targets(const Model& model, const State& state, double h,
+                              PinTargets& targets) {
+  for (int i = 0; i < state.pin_count; ++i) {
+    const Pin& pin = state.pins[i];
+    if (pin.compliance == 0.0) continue;
+    const Segment& segment = model.segments[pin.segment];
+    const BodyState& body = state.bodies[pin.segment];
+    const double alpha_tilde = pin.compliance / (h * h);
+    Matrix3d k = diagonal_point_mass_matrix(segment.inv_mass, segment.inv_inertia, pin.local_point);
+    k.diagonal().array() += alpha_tilde;
+    const Vector3d gap = body.q.conjugate() * (targets[i] - body.x) - pin.local_point;
+    targets[i] -= alpha_tilde * (body.q * solve3(k, gap));
+  }
 }
 
 void relaxed_sweeps(const Model& model, std::span<const JointTerms> joints,
                     const Settings& settings, const Environment& environment,
-                    const AnchorOrder& order, const PinTargets& targets, State& state) {
+                    const AnchorOrder& order, const PinTargets& targets, State& state,
+                    Workspace& ws, double h) {
+  for (int i = 0; i < state.pin_count; ++i) ws.pin_lambda[i].setZero();
   for (int iteration = 0; iteration < settings.iterations; ++iteration) {
     for (int i = 0; i < state.pin_count; ++i) {
-      share_pin_correction(model, state.pins[i], targets[i], state);
+      const Pin& pin = state.pins[i];
+      share_pin_correction(model, pin, targets[i], pin.compliance / (h * h), &ws.pin_lambda[i],
+                           state);
     }
     // every joint, then every limit: a limit corrected right after its own joint is partly undone
     // by the next joint's correction, and what a sweep leaves past a limit the final one-sided
     // pass clamps at the cost of the pins (measured: twice as many runs diverged, see README)
     for (const AnchorOrder::Link& link : order.links) {
-      share_joint_correction(model, joints[link.joint], model.joints[link.joint], state);
+      share_joint_correction(model, joints[link.joint], model.joints[link.joint], 0.0, nullptr,
+                             state);
     }
     for (const AnchorOrder::Link& link : order.links) {
-      share_limit_correction(model, joints[link.joint], model.joints[link.joint], state);
+      share_limit_correction(model, joints[link.joint], model.joints[link.joint], 0.0, nullptr,
+                             state);
     }
     // the shared corrections compose unit quaternions and leave them unnormalised (off by a
     // few ulps): one renormalisation per segment and sweep instead of one per correction
@@ -242,10 +222,11 @@ void relaxed_sweeps(const Model& model, std::span<const JointTerms> joints,
 }  // namespace
 
 void one_sided_pass(const Model& model, std::span<const JointTerms> joints, Rule rule,
-                    const AnchorOrder& order, bool with_pins, const PinTargets& targets,
+                    const AnchorOrder& order, PinClosure closure, const PinTargets& targets,
                     State& state, Workspace& ws) {
-  const bool pinned = with_pins && state.pin_count > 0 && state.pins[0].segment == order.anchor;
-  if (with_pins) close_secondary_pins(model, rule, targets, state);
+  const bool pinned = state.pin_count > 0 && state.pins[0].segment == order.anchor &&
+                      closes(closure, state.pins[0]);
+  close_secondary_pins(model, rule, closure, targets, state);
   const bool subtree = rule == Rule::kSubtree;
   if (subtree) build_subtrees(model, order, state, ws);
 
@@ -304,17 +285,30 @@ void adjust(const Model& model, const Settings& settings, const Environment& env
         (targets[i] - world_point(state.bodies[pin.segment], pin.local_point)).norm();
     state.pin_force[i] = 2.0 * model.segments[pin.segment].mass * gap / (h * h);
   }
-  if (settings.rule != Rule::kRelaxed) {
-    one_sided_pass(model, tables.joints, settings.rule, tables.orders[anchor], true, targets, state,
-                   ws);
-    return;
+  const AnchorOrder& order = tables.orders[anchor];
+  switch (settings.rule) {
+    case Rule::kXpbd:
+      // two-sided sweeps only: no one-sided closure
+      xpbd_sweeps(model, tables.joints, settings, environment, order, targets, state, ws, h);
+      return;
+    case Rule::kRelaxed:
+      // the sweeps share every correction, then the one-sided pass closes the joints exactly
+      // from the anchor; a compliant pin was the sweeps' to pull, and the pass leaves it be
+      relaxed_sweeps(model, tables.joints, settings, environment, order, targets, state, ws, h);
+      one_sided_pass(model, tables.joints, Rule::kWeighted, order, PinClosure::kRigidOnly, targets,
+                     state, ws);
+      return;
+    case Rule::kLiteral:
+    case Rule::kSmoothed:
+    case Rule::kWeighted:
+    case Rule::kSubtree: {
+      PinTargets closing = targets;
+      soften_compliant_targets(model, state, h, closing);
+      one_sided_pass(model, tables.joints, settings.rule, order, PinClosure::kAll, closing, state,
+                     ws);
+      return;
+    }
   }
-  // relaxed: the sweeps share every correction, then the one-sided pass closes the joints
-  // exactly from the anchor
-  relaxed_sweeps(model, tables.joints, settings, environment, tables.orders[anchor], targets,
-                 state);
-  one_sided_pass(model, tables.joints, Rule::kWeighted, tables.orders[anchor], true, targets, state,
-                 ws);
 }
 
 }  // namespace puppet::procedural

@@ -14,6 +14,9 @@ namespace {
 
 constexpr int kContactPasses = 2;    // a capsule lying flat touches with both caps
 constexpr double kClearance = 1e-9;  // m: above this no candidate point can be below z = 0
+// m: a point this close to the plane after the position solve is in contact (its push-out
+// lands it on z = 0 up to rounding)
+constexpr double kTouching = 1e-9;
 
 // how many candidate contact points a shape has
 int candidate_count(const Shape& shape) {
@@ -91,6 +94,73 @@ int resolve_contacts(const Model& model, const Environment& environment, State& 
     }
   }
   return lowest;
+}
+
+void contacts_after_adjust(const Model& model, const Settings& settings,
+                           const Environment& environment, const ModelTables& tables,
+                           const PinTargets& targets, State& state, Workspace& workspace) {
+  switch (settings.rule) {
+    case Rule::kXpbd:
+      return;  // the ground is a constraint of its sweeps, the last of each
+    case Rule::kRelaxed:
+      // seed: relaxed has resolved contacts inside its sweeps; re-anchoring its final pass at a
+      // foot made the whole body swing on the ankle's limit (measured: 100 m/s in `drop`), so
+      // what this push-out leaves open is reported as joint gap instead
+      resolve_contacts(model, environment, state);
+      return;
+    case Rule::kLiteral:
+    case Rule::kSmoothed:
+    case Rule::kWeighted:
+    case Rule::kSubtree: {
+      // a contact move may reopen joints: the one-sided rules re-run their pass from the segment
+      // that hit deepest
+      const int lowest = resolve_contacts(model, environment, state);
+      if (lowest >= 0) {
+        one_sided_pass(model, tables.joints, settings.rule, tables.orders[lowest],
+                       PinClosure::kNone, targets, state, workspace);
+      }
+      return;
+    }
+  }
+}
+
+void ground_velocity_pass(const Model& model, const Environment& environment, State& state) {
+  for (int s = 0; s < model.segment_count(); ++s) {
+    const Segment& seg = model.segments[s];
+    BodyState& body = state.bodies[s];
+    const Vector3d up = up_in_frame(body.q);
+    // a point touches when the position solve left it on the plane (to within kTouching)
+    if (body.x.z() - half_height(seg.shape, up) > kTouching) continue;
+    const int count = candidate_count(seg.shape);
+    for (int c = 0; c < count; ++c) {
+      const Vector3d local = contact_candidate(seg.shape, up, c);
+      if (body.x.z() + up.dot(local) > kTouching) continue;
+      const Vector3d r = body.q * local;  // world, from the centre
+      const Vector3d velocity = body.v + body.w.cross(r);
+      const double approach = velocity.z();
+      if (approach >= 0.0) continue;  // separating or resting: the position solve holds it
+      // the impulse along each direction that cancels the point's velocity there, through the
+      // segment's generalised inverse mass w = 1/m + (r × n)ᵀ I⁻¹ (r × n) (world)
+      const auto inverse_mass_along = [&](const Vector3d& n) {
+        const Vector3d arm = body.q.conjugate() * r.cross(n);
+        return seg.inv_mass + arm.cwiseAbs2().dot(seg.inv_inertia);
+      };
+      const auto apply = [&](const Vector3d& impulse) {
+        body.v += seg.inv_mass * impulse;
+        body.w += body.q * seg.inv_inertia.cwiseProduct(body.q.conjugate() * r.cross(impulse));
+      };
+      const double normal = -approach / inverse_mass_along(Vector3d::UnitZ());
+      apply(normal * Vector3d::UnitZ());
+      // Coulomb: the tangential velocity taken out, by at most μ times the normal impulse
+      const Vector3d after = body.v + body.w.cross(r);
+      const Vector3d tangential(after.x(), after.y(), 0.0);
+      const double speed = tangential.norm();
+      if (speed <= 0.0) continue;
+      const Vector3d direction = tangential / speed;
+      const double stop = speed / inverse_mass_along(direction);
+      apply(-std::min(stop, environment.friction * normal) * direction);
+    }
+  }
 }
 
 }  // namespace puppet::procedural

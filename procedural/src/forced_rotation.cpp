@@ -110,6 +110,7 @@ Correction close_point(Rule rule, const MovingBody& body, const Vector3d& c_b,
       case Rule::kWeighted:
       case Rule::kSubtree:
       case Rule::kRelaxed:
+      case Rule::kXpbd:  // never closes one-sidedly; the weighted reading if asked
         rotation = weighted_rotation(body, r, s);
         break;
     }

@@ -21,6 +21,8 @@ std::string_view rule_name(Rule rule) {
       return "subtree";
     case Rule::kRelaxed:
       return "relaxed";
+    case Rule::kXpbd:
+      return "xpbd";
   }
   return "?";
 }
@@ -33,10 +35,26 @@ std::optional<Rule> parse_rule(std::string_view name) {
 }
 
 std::string validate(const Settings& settings) {
-  if (settings.iterations < 0 || settings.iterations > 1000)
+  if (settings.iterations != kRuleDefault &&
+      (settings.iterations < 0 || settings.iterations > 1000))
     return "iterations must be in [0, 1000]";
-  if (settings.substeps < 1 || settings.substeps > 1000) return "substeps must be in [1, 1000]";
+  if (settings.substeps != kRuleDefault && (settings.substeps < 1 || settings.substeps > 1000))
+    return "substeps must be in [1, 1000]";
+  if (!(settings.joint_compliance >= 0.0 && settings.joint_compliance <= 1e6))
+    return "joint compliance must be in [0, 1e6] m/N";
+  if (!(settings.limit_compliance >= 0.0 && settings.limit_compliance <= 1e6))
+    return "limit compliance must be in [0, 1e6] rad/(N m)";
   return {};
+}
+
+Settings rule_defaults(Settings settings) {
+  // xpbd: many short substeps of one sweep each (Müller et al. 2020), the count chosen by
+  // measurement (docs: the substep sweep); relaxed: the four sweeps of one step the seed's pass
+  // closes; the other rules make one pass and read no iterations
+  const bool xpbd = settings.rule == Rule::kXpbd;
+  if (settings.iterations == kRuleDefault) settings.iterations = xpbd ? 1 : 4;
+  if (settings.substeps == kRuleDefault) settings.substeps = xpbd ? kXpbdSubsteps : 1;
+  return settings;
 }
 
 AnchorOrder make_anchor_order(const Model& model, int anchor) {
@@ -141,7 +159,10 @@ std::shared_ptr<const ModelTables> make_model_tables(const Model& model) {
 
 Solver::Solver(const Model& model, const Settings& settings, const Environment& environment,
                std::shared_ptr<const ModelTables> tables)
-    : model_(model), settings_(settings), environment_(environment), tables_(std::move(tables)) {
+    : model_(model),
+      settings_(rule_defaults(settings)),
+      environment_(environment),
+      tables_(std::move(tables)) {
   const std::string problem = validate(settings);
   if (!problem.empty()) throw std::invalid_argument(problem);
   const int n = model.segment_count();
@@ -157,6 +178,8 @@ Solver::Solver(const Model& model, const Settings& settings, const Environment& 
   workspace_.motion_q.resize(n);
   workspace_.motion_t.resize(n);
   workspace_.tremble_delta.assign(n, Vector3d::Zero());
+  workspace_.joint_lambda.assign(model.joint_count(), Vector3d::Zero());
+  workspace_.limit_lambda.assign(model.joint_count(), Vector3d::Zero());
   // a pin or a contact may anchor the pass at any segment: every order is there before step()
   if (!tables_) tables_ = make_model_tables(model);
   if (static_cast<int>(tables_->orders.size()) != n ||
@@ -252,21 +275,17 @@ void Solver::run_stage(Stage stage, double h) {
              workspace_, h);
       break;
     case kContacts:
-      if (environment_.ground) {
-        const int lowest = resolve_contacts(model_, environment_, state_);
-        // a contact move may reopen joints: one-sided rules re-run their pass from the segment
-        // that hit deepest. seed: relaxed has resolved contacts inside its sweeps; re-anchoring
-        // its final pass at a foot made the whole body swing on the ankle's limit (measured:
-        // 100 m/s in `drop`), so what this push-out leaves open is reported as joint gap instead.
-        if (lowest >= 0 && settings_.rule != Rule::kRelaxed) {
-          one_sided_pass(model_, tables_->joints, settings_.rule, tables_->orders[lowest], false,
-                         substep_targets_, state_, workspace_);
-        }
-      }
+      if (environment_.ground)
+        contacts_after_adjust(model_, settings_, environment_, *tables_, substep_targets_, state_,
+                              workspace_);
       break;
     case kVelocities:
       if (settings_.derive_velocities) {
         derive_velocities(model_, state_, workspace_.tremble_delta, h);
+        // xpbd's velocity pass: what the poses cannot say about the ground (no restitution)
+        if (settings_.rule == Rule::kXpbd && environment_.ground) {
+          ground_velocity_pass(model_, environment_, state_);
+        }
       }
       break;
     case kStageCount:

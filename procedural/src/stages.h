@@ -197,10 +197,34 @@ void tremble(const Model& model, const Settings& settings, State& state, double 
 void adjust(const Model& model, const Settings& settings, const Environment& environment,
             const ModelTables& tables, int anchor, const PinTargets& targets, State& state,
             Workspace& workspace, double h);
-// one-sided pass of `rule` over `order`; pins closed only when with_pins
+// which pins a one-sided pass closes: none (a re-pass after contacts), all, or the rigid ones
+// (relaxed's final pass: its sweeps pulled the compliant ones)
+enum class PinClosure { kNone, kAll, kRigidOnly };
+// one-sided pass of `rule` over `order`
 void one_sided_pass(const Model& model, std::span<const JointTerms> joints, Rule rule,
-                    const AnchorOrder& order, bool with_pins, const PinTargets& targets,
+                    const AnchorOrder& order, PinClosure closure, const PinTargets& targets,
                     State& state, Workspace& workspace);
+// two-sided corrections (two_sided.cpp) of a pin, a joint's point, a joint's limit: α̃ = α/h² is
+// the compliance (0: rigid, and then `lambda` is not read), lambda the multiplier accumulated
+// over the substep (world)
+void share_pin_correction(const Model& model, const Pin& pin, const Vector3d& target,
+                          double alpha_tilde, Vector3d* lambda, State& state);
+void share_joint_correction(const Model& model, const JointTerms& terms, const Joint& joint,
+                            double alpha_tilde, Vector3d* lambda, State& state);
+void share_limit_correction(const Model& model, const JointTerms& terms, const Joint& joint,
+                            double alpha_tilde, Vector3d* lambda, State& state);
+// rule xpbd's position solve of one substep (xpbd.cpp)
+void xpbd_sweeps(const Model& model, std::span<const JointTerms> joints, const Settings& settings,
+                 const Environment& environment, const AnchorOrder& order,
+                 const PinTargets& targets, State& state, Workspace& workspace, double h);
+// stage 3 as each rule has it: the one-sided rules push out of the ground and re-run their pass
+// from the segment that hit deepest; relaxed pushes out only; xpbd's contacts are in its sweeps
+void contacts_after_adjust(const Model& model, const Settings& settings,
+                           const Environment& environment, const ModelTables& tables,
+                           const PinTargets& targets, State& state, Workspace& workspace);
+// xpbd's velocity pass at the ground: a contact point's approaching normal velocity removed (no
+// restitution), Coulomb friction bounded by μ times that impulse
+void ground_velocity_pass(const Model& model, const Environment& environment, State& state);
 // stage 3: push shape points out of the ground with friction; returns the deepest-penetrating
 // segment before correction, or -1 without contact
 int resolve_contacts(const Model& model, const Environment& environment, State& state);

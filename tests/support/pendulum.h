@@ -2,6 +2,7 @@
 // solver, so that each is checked against the same independent answer.
 #pragma once
 
+#include <Eigen/Dense>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -73,6 +74,29 @@ class PeriodMeter {
  private:
   std::vector<double> crossings_;
   double previous_ = 0.0;
+};
+
+// the double physical pendulum of two identical rods, planar, by Lagrange; RK4 at 1e-4 s
+struct DoublePendulum {
+  double m = 1, length = 0.8, inertia, g = 9.81;
+  explicit DoublePendulum(double com_inertia) : inertia(com_inertia) {}
+  // [θ1, θ2, θ1', θ2'] → derivative
+  Eigen::Vector4d derivative(const Eigen::Vector4d& s) const {
+    const double c = m * length * length / 2, delta = s[0] - s[1];
+    Eigen::Matrix2d mass;
+    mass << m * length * length * 1.25 + inertia, c * std::cos(delta), c * std::cos(delta),
+        m * length * length / 4 + inertia;
+    const Eigen::Vector2d rhs(
+        -c * std::sin(delta) * s[3] * s[3] - 1.5 * m * g * length * std::sin(s[0]),
+        c * std::sin(delta) * s[2] * s[2] - 0.5 * m * g * length * std::sin(s[1]));
+    const Eigen::Vector2d acc = mass.inverse() * rhs;
+    return {s[2], s[3], acc[0], acc[1]};
+  }
+  void advance(Eigen::Vector4d& s, double h) const {
+    const Eigen::Vector4d k1 = derivative(s), k2 = derivative(s + h / 2 * k1),
+                          k3 = derivative(s + h / 2 * k2), k4 = derivative(s + h * k3);
+    s += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+  }
 };
 
 }  // namespace puppet::test

@@ -42,6 +42,20 @@ void configure(Session& session, const SessionConfig& config, PanelState& state)
   }
 }
 
+// a slider over a count that may still be the rule's default: it shows the value in force
+bool rule_count_slider(const char* label, const SessionConfig& config, int* count, int lo, int hi) {
+  const auto rule = procedural::parse_rule(config.options.rule);
+  procedural::Settings settings;
+  if (rule) settings.rule = *rule;
+  settings.iterations = config.options.iterations;
+  settings.substeps = config.options.substeps;
+  settings = procedural::rule_defaults(settings);
+  int shown = count == &config.options.iterations ? settings.iterations : settings.substeps;
+  if (!ImGui::SliderInt(label, &shown, lo, hi)) return false;
+  *count = shown;
+  return true;
+}
+
 void solver_section(Session& session, PanelState& state) {
   SessionConfig config = session.config();
   bool changed = combo("solver", config.solver, compare::solver_names());
@@ -50,9 +64,14 @@ void solver_section(Session& session, PanelState& state) {
     for (const procedural::Rule r : procedural::kAllRules) {
       rules.emplace_back(procedural::rule_name(r));
     }
-    changed |= combo("rule", config.options.rule, rules);
-    if (config.options.rule == "relaxed") {
-      changed |= ImGui::SliderInt("sweeps", &config.options.iterations, 1, 16);
+    if (combo("rule", config.options.rule, rules)) {
+      // a new rule starts from its own sweeps and substeps
+      config.options.iterations = procedural::kRuleDefault;
+      config.options.substeps = procedural::kRuleDefault;
+      changed = true;
+    }
+    if (config.options.rule == "relaxed" || config.options.rule == "xpbd") {
+      changed |= rule_count_slider("sweeps", config, &config.options.iterations, 1, 16);
     }
   }
   changed |= combo("anchor", config.anchor, {"auto", "grab", "scenario"});
@@ -126,7 +145,7 @@ void time_section(Session& session, Controller& controller, PanelState& state) {
     ImGui::EndCombo();
   }
   if (config.solver == "procedural" || config.ghost == "procedural") {
-    changed |= ImGui::SliderInt("substeps", &config.options.substeps, 1, 8);
+    changed |= rule_count_slider("substeps", config, &config.options.substeps, 1, 32);
   }
   if (changed) configure(session, config, state);
 

@@ -31,6 +31,7 @@ struct ScenarioOptions {
   double hz = 0.5;         // circle frequency of drag and yank
   std::optional<PointChoice> pin;
   std::optional<PointChoice> grab;
+  double grab_compliance = 0.0;  // m/N of the dragged or shaken point's pin (Pin::compliance)
   std::optional<Vector3d> gravity;
   std::optional<double> air_drag;
   std::optional<bool> ground;

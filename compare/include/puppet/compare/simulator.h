@@ -58,10 +58,10 @@ const std::vector<std::string>& solver_names();
 // options a solver may use: the procedural rule and its settings, the references' sweeps
 struct SolverOptions {
   std::string rule = "relaxed";
-  int iterations = 4;                // relaxed: two-sided sweeps
-  int bullet_iterations = 10;        // Bullet: sequential-impulse sweeps (Bullet's default)
-  bool bullet_euler_limits = false;  // bullet-multibody: Bullet's Euler-box ball limits
-  int substeps = 1;
+  int iterations = procedural::kRuleDefault;  // relaxed, xpbd: two-sided sweeps per substep
+  int bullet_iterations = 10;               // Bullet: sequential-impulse sweeps (Bullet's default)
+  bool bullet_euler_limits = false;         // bullet-multibody: Bullet's Euler-box ball limits
+  int substeps = procedural::kRuleDefault;  // procedural: substeps per step
   bool derive_velocities = true;
   bool tremble = true;  // honoured only where the scenario asks for it
 };

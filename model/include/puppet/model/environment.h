@@ -46,6 +46,9 @@ struct Pin {
   int segment = -1;
   Vector3d local_point{0, 0, 0};  // segment frame
   Vector3d target{0, 0, 0};       // world
+  // m/N: 0 holds the point on its target (the seed's hard pin); C > 0 pulls it with the force
+  // (target − point)/C, a zero-length spring of stiffness 1/C, as a user's grab does in an engine
+  double compliance = 0.0;
 };
 
 // every segment at its rest pose, at rest

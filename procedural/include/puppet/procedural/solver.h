@@ -21,16 +21,26 @@
 namespace puppet::procedural {
 
 // how a joint's gap is split between b's rotation and translation (DESIGN.md, "Adjust rules")
-enum class Rule { kLiteral, kSmoothed, kWeighted, kSubtree, kRelaxed };
+// (the seed's readings, then `xpbd`: the position-based family's substepped two-sided solver)
+enum class Rule { kLiteral, kSmoothed, kWeighted, kSubtree, kRelaxed, kXpbd };
 inline constexpr std::array kAllRules = {Rule::kLiteral, Rule::kSmoothed, Rule::kWeighted,
-                                         Rule::kSubtree, Rule::kRelaxed};
+                                         Rule::kSubtree, Rule::kRelaxed,  Rule::kXpbd};
 std::string_view rule_name(Rule rule);
 std::optional<Rule> parse_rule(std::string_view name);
 
+// iterations or substeps left at this value take the rule's own (rule_defaults())
+constexpr int kRuleDefault = -1;
+// xpbd's substeps per step unless told (chosen by measurement: docs, the substep sweep)
+constexpr int kXpbdSubsteps = 8;
+
 struct Settings {
   Rule rule = Rule::kRelaxed;
-  int iterations = 4;             // two-sided sweeps of `relaxed`
-  int substeps = 1;               // each step(dt) runs this many stages of dt/substeps
+  int iterations = kRuleDefault;  // two-sided sweeps per substep (relaxed: 4, xpbd: 1)
+  int substeps = kRuleDefault;    // each step(dt) runs this many stages of dt/substeps (xpbd: 8)
+  // xpbd: compliance of the joints' point constraints (m/N) and of their limits (rad/(N·m));
+  // 0 is rigid, as every model joint is. A pin's compliance is the pin's own (Pin::compliance).
+  double joint_compliance = 0.0;
+  double limit_compliance = 0.0;
   bool derive_velocities = true;  // v, ω from the corrected poses (the seed is silent)
   bool tremble = false;           // the seed's active response (§3.4)
   bool time_stages = false;       // measure each stage's wall time (costs a few clock reads)
@@ -39,6 +49,8 @@ struct Settings {
 
 // empty when valid, else what is wrong
 std::string validate(const Settings& settings);
+// the settings with every kRuleDefault replaced by the rule's own value
+Settings rule_defaults(Settings settings);
 
 constexpr int kMaxPins = 4;
 
@@ -124,6 +136,11 @@ struct Workspace {
   std::vector<Quaterniond> motion_q;
   std::vector<Vector3d> motion_t;
   std::vector<Vector3d> tremble_delta;  // this substep's tremble displacement per segment
+  // xpbd: each constraint's accumulated multiplier over this substep's sweeps (world), read by
+  // the compliance term α̃λ; reset at every substep
+  std::vector<Vector3d> joint_lambda;  // by joint
+  std::vector<Vector3d> limit_lambda;  // by joint
+  std::array<Vector3d, kMaxPins> pin_lambda{};
 };
 
 class Solver {

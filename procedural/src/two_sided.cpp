@@ -1,0 +1,100 @@
+// Two-sided corrections: a constraint's error shared by both of its bodies in proportion to their
+// generalised inverse masses (Gauss–Seidel position projection, as position-based dynamics does).
+// The sweeps of `relaxed` and of `xpbd` are made of these; the one-sided rules never use them.
+//
+// A point constraint C = c_p − c_c (or point − target for a pin) is closed by the impulse
+//   Δλ = (K + α̃ E)⁻¹ (−C − α̃ λ),   K = K_c + R K_p Rᵀ,  α̃ = α / h²            (XPBD, eq. 18)
+// with K each side's 3×3 point mass matrix E/m − [r]× I⁻¹ [r]× (the block form of XPBD's scalar
+// w₁ + w₂, which it equals along the correction's direction), α the compliance and λ the
+// multiplier accumulated over the substep's sweeps. α = 0 is a rigid constraint, and then the
+// code takes exactly the arithmetic of the rigid form (relaxed's results stay bit for bit).
+// A limit is the same with the angular effective mass I_p⁻¹ + I_c⁻¹ and the clamp's rotation
+// as its error.
+//
+// Müller, Macklin, Chentanez, Jeschke, Kim 2020, "Detailed rigid body simulation with extended
+// position based dynamics", §3.3–3.4; Macklin, Müller, Chentanez 2016 (XPBD).
+#include "puppet/model/rotation.h"
+#include "stages.h"
+
+namespace puppet::procedural {
+namespace {
+
+// Δλ = (K + α̃E)⁻¹ (y − α̃ λ) in a frame where K and y are given; λ (world) is carried into that
+// frame by `to_frame` and the increment added back; α̃ = 0 solves K⁻¹ y alone
+template <typename ToFrame, typename ToWorld>
+Vector3d compliant_solve(Matrix3d k, Vector3d y, double alpha_tilde, Vector3d* lambda,
+                         const ToFrame& to_frame, const ToWorld& to_world) {
+  if (alpha_tilde == 0.0) return solve3(k, y);
+  k.diagonal().array() += alpha_tilde;
+  y -= alpha_tilde * to_frame(*lambda);
+  const Vector3d delta = solve3(k, y);
+  *lambda += to_world(delta);
+  return delta;
+}
+
+}  // namespace
+
+void share_pin_correction(const Model& model, const Pin& pin, const Vector3d& target,
+                          double alpha_tilde, Vector3d* lambda, State& state) {
+  // the world does not move: the segment takes the whole correction, in its own frame, where its
+  // inertia is diagonal
+  BodyState& body = state.bodies[pin.segment];
+  const Segment& segment = model.segments[pin.segment];
+  const Vector3d& r = pin.local_point;
+  const Vector3d gap = body.q.conjugate() * (target - body.x) - r;
+  const Vector3d impulse = compliant_solve(
+      diagonal_point_mass_matrix(segment.inv_mass, segment.inv_inertia, r), gap, alpha_tilde,
+      lambda, [&](const Vector3d& w) { return Vector3d(body.q.conjugate() * w); },
+      [&](const Vector3d& f) { return Vector3d(body.q * f); });
+  body.x += segment.inv_mass * (body.q * impulse);
+  body.q = times_exp(body.q, segment.inv_inertia.cwiseProduct(r.cross(impulse)));
+}
+
+void share_joint_correction(const Model& model, const JointTerms& terms, const Joint& joint,
+                            double alpha_tilde, Vector3d* lambda, State& state) {
+  // everything in the child's frame: each side's K is constant in its own frame
+  // (JointTerms::point_mass), and R, the parent's frame seen from the child's, carries K_p over
+  BodyState& parent = state.bodies[joint.parent];
+  BodyState& child = state.bodies[joint.child];
+  const Segment& parent_segment = model.segments[joint.parent];
+  const Segment& child_segment = model.segments[joint.child];
+  const Matrix3d rotation = (child.q.conjugate() * parent.q).toRotationMatrix();
+  const Matrix3d k = terms.point_mass[1] + rotation * terms.point_mass[0] * rotation.transpose();
+  const Vector3d gap = child.q.conjugate() * (parent.x - child.x) +
+                       rotation * joint.anchor_in_parent - joint.anchor_in_child;
+  // the impulse on the child, in its frame
+  const Vector3d impulse = compliant_solve(
+      k, gap, alpha_tilde, lambda,
+      [&](const Vector3d& w) { return Vector3d(child.q.conjugate() * w); },
+      [&](const Vector3d& f) { return Vector3d(child.q * f); });
+  const Vector3d impulse_parent = rotation.transpose() * impulse;
+  const Vector3d impulse_world = child.q * impulse;
+  child.x += child_segment.inv_mass * impulse_world;
+  child.q = times_exp(child.q,
+                      child_segment.inv_inertia.cwiseProduct(joint.anchor_in_child.cross(impulse)));
+  parent.x -= parent_segment.inv_mass * impulse_world;
+  parent.q = times_exp(parent.q, -parent_segment.inv_inertia.cwiseProduct(
+                                     joint.anchor_in_parent.cross(impulse_parent)));
+}
+
+void share_limit_correction(const Model& model, const JointTerms& terms, const Joint& joint,
+                            double alpha_tilde, Vector3d* lambda, State& state) {
+  BodyState& parent = state.bodies[joint.parent];
+  BodyState& child = state.bodies[joint.child];
+  const Quaterniond child_to_parent = child.q.conjugate() * parent.q;
+  Vector3d error;  // the rotation the child needs, parent fixed, in the child's frame
+  if (!limit_error(joint, terms, child_to_parent, &error)) return;
+  const Vector3d& inv_parent = model.segments[joint.parent].inv_inertia;
+  const Vector3d& inv_child = model.segments[joint.child].inv_inertia;
+  const Matrix3d rotation = child_to_parent.toRotationMatrix();
+  Matrix3d inv_sum = rotation * inv_parent.asDiagonal() * rotation.transpose();
+  inv_sum.diagonal() += inv_child;
+  const Vector3d impulse = compliant_solve(
+      inv_sum, error, alpha_tilde, lambda,
+      [&](const Vector3d& w) { return Vector3d(child.q.conjugate() * w); },
+      [&](const Vector3d& f) { return Vector3d(child.q * f); });
+  child.q = times_exp(child.q, inv_child.cwiseProduct(impulse));
+  parent.q = times_exp(parent.q, -inv_parent.cwiseProduct(rotation.transpose() * impulse));
+}
+
+}  // namespace puppet::procedural

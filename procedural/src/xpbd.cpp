@@ -1,0 +1,62 @@
+// Rule `xpbd`: extended position-based dynamics for rigid bodies (Müller, Macklin, Chentanez,
+// Jeschke, Kim 2020, "Detailed rigid body simulation with extended position based dynamics";
+// Macklin, Müller, Chentanez 2016, "XPBD"), the best of the update/adjust family the seed belongs
+// to. Per substep of h = dt / substeps:
+//
+//   update            every segment alone under its forces (the same stage as every rule)
+//   adjust            `iterations` Gauss–Seidel sweeps (default 1): pins, then every joint's
+//                     point, then every limit, then the ground, each constraint re-evaluated
+//                     from the current poses and closed by both of its bodies in proportion to
+//                     their generalised inverse masses, with compliance α (two_sided.cpp)
+//   velocities        v = Δx/h, ω = log(q q_prev⁻¹)/h, then the velocity pass: the ground's
+//                     normal velocity removed (no restitution) with Coulomb friction on the
+//                     impulse that takes (contacts.cpp, ground_velocity_pass)
+//
+// seed: unlike every seed rule there is no one-sided closure: joints close only to the
+// residual the sweeps leave (joint_gap_m reports it); with many short substeps that residual
+// shrinks as h², and nothing moves a child as if its parent were infinitely heavy. The model
+// has no joint damping, so the velocity pass has none.
+#include "stages.h"
+
+namespace puppet::procedural {
+
+void xpbd_sweeps(const Model& model, std::span<const JointTerms> joints, const Settings& settings,
+                 const Environment& environment, const AnchorOrder& order,
+                 const PinTargets& targets, State& state, Workspace& ws, double h) {
+  const double inv_h2 = 1.0 / (h * h);
+  const double joint_alpha = settings.joint_compliance * inv_h2;
+  const double limit_alpha = settings.limit_compliance * inv_h2;
+  // the multipliers the compliance terms read start from zero at every substep
+  for (int i = 0; i < state.pin_count; ++i) ws.pin_lambda[i].setZero();
+  if (joint_alpha != 0.0) {
+    for (Vector3d& lambda : ws.joint_lambda) lambda.setZero();
+  }
+  if (limit_alpha != 0.0) {
+    for (Vector3d& lambda : ws.limit_lambda) lambda.setZero();
+  }
+  for (int iteration = 0; iteration < settings.iterations; ++iteration) {
+    for (int i = 0; i < state.pin_count; ++i) {
+      share_pin_correction(model, state.pins[i], targets[i], state.pins[i].compliance * inv_h2,
+                           &ws.pin_lambda[i], state);
+    }
+    // parent before child from the anchor, then every limit (as relaxed: a limit corrected right
+    // after its joint is partly undone by the next joint's correction)
+    for (const AnchorOrder::Link& link : order.links) {
+      share_joint_correction(model, joints[link.joint], model.joints[link.joint], joint_alpha,
+                             &ws.joint_lambda[link.joint], state);
+    }
+    for (const AnchorOrder::Link& link : order.links) {
+      share_limit_correction(model, joints[link.joint], model.joints[link.joint], limit_alpha,
+                             &ws.limit_lambda[link.joint], state);
+    }
+    for (BodyState& body : state.bodies) body.q = renormalized(body.q);
+    // the ground is static (infinite mass): its correction is the segment's alone
+    if (environment.ground) {
+      for (int s = 0; s < model.segment_count(); ++s) {
+        push_out_of_ground(model, environment, s, state);
+      }
+    }
+  }
+}
+
+}  // namespace puppet::procedural
