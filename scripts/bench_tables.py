@@ -10,7 +10,7 @@ import sys
 
 from gate_thresholds import medians  # the same reading of a machine's CSV
 
-RULES = ["literal", "smoothed", "weighted", "subtree", "relaxed"]
+RULES = ["literal", "smoothed", "weighted", "subtree", "relaxed", "xpbd"]
 SCENARIOS = ["hang", "drag", "drop"]
 
 

@@ -22,7 +22,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 SCENARIOS = ["hang", "drag", "shake", "spin", "drop", "water", "tremble", "yank"]
-RULES = ["literal", "smoothed", "weighted", "subtree", "relaxed"]
+RULES = ["literal", "smoothed", "weighted", "subtree", "relaxed", "xpbd"]
 CONFIGS = [("procedural", r) for r in RULES] + [("bullet-multibody", ""), ("bullet-rigid", "")]
 STYLE = {
     ("procedural", "literal"): ("#9ecae1", "o"),
@@ -30,6 +30,7 @@ STYLE = {
     ("procedural", "weighted"): ("#6baed6", "s"),
     ("procedural", "subtree"): ("#3182bd", "D"),
     ("procedural", "relaxed"): ("#08519c", "^"),
+    ("procedural", "xpbd"): ("#2ca02c", "P"),
     ("bullet-multibody", ""): ("#000000", "o"),
     ("bullet-rigid", ""): ("#d62728", "s"),
 }
