@@ -169,9 +169,8 @@ ScenarioRun run_scenario(const Model& model, const compare::Scenario& scenario, 
 
 // Pinocchio's scenarios at 1/240 with the default substeps: never diverged (yank's grab circling
 // at 2 Hz), and the joints of hang, drag, shake and tremble within 1 mm after every step (the
-// residual of one sweep per substep). Reported, not required: water's residual (1.5 mm), and
-// what twice the substeps gives, which is larger in water and tremble (a known failure: more,
-// shorter substeps let limbs spin up, measured and open)
+// residual of one sweep per substep). Reported, not required: water's residual (1.5 mm). More,
+// shorter substeps (16 at 1/240) let limbs spin up in water and tremble: a known failure, open.
 TEST(Xpbd, EveryScenarioStaysOkAndPinnedJointsWithinAMillimetre) {
   const Model model = load_model(kPinocchio);
   for (const std::string& name : compare::scenario_names()) {
@@ -179,10 +178,7 @@ TEST(Xpbd, EveryScenarioStaysOkAndPinnedJointsWithinAMillimetre) {
     if (name == "yank") options.hz = 2.0;
     const compare::Scenario scenario = compare::make_scenario(name, model, options);
     const ScenarioRun standard = run_scenario(model, scenario, kXpbdSubsteps);
-    const ScenarioRun fine = run_scenario(model, scenario, 2 * kXpbdSubsteps);
-    std::printf("[ %-8s ] xpbd max joint gap %.2e m, %.2e m with twice the substeps%s\n",
-                name.c_str(), standard.worst_gap, fine.worst_gap,
-                fine.diverged ? " (diverged)" : "");
+    std::printf("[ %-8s ] xpbd max joint gap %.2e m\n", name.c_str(), standard.worst_gap);
     EXPECT_FALSE(standard.diverged) << name;
     if (name == "hang" || name == "drag" || name == "shake" || name == "tremble") {
       EXPECT_LT(standard.worst_gap, 1e-3) << name;
