@@ -10,7 +10,7 @@ import sys
 
 from gate_thresholds import medians  # the same reading of a machine's CSV
 
-RULES = ["literal", "smoothed", "weighted", "subtree", "relaxed", "xpbd"]
+RULES = ["literal", "smoothed", "weighted", "subtree", "relaxed", "xpbd", "tree"]
 SCENARIOS = ["hang", "drag", "drop"]
 
 

@@ -22,7 +22,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 SCENARIOS = ["hang", "drag", "shake", "spin", "drop", "water", "tremble", "yank"]
-RULES = ["literal", "smoothed", "weighted", "subtree", "relaxed", "xpbd"]
+RULES = ["literal", "smoothed", "weighted", "subtree", "relaxed", "xpbd", "tree"]
 CONFIGS = [("procedural", r) for r in RULES] + [("bullet-multibody", ""), ("bullet-rigid", "")]
 STYLE = {
     ("procedural", "literal"): ("#9ecae1", "o"),
@@ -31,6 +31,7 @@ STYLE = {
     ("procedural", "subtree"): ("#3182bd", "D"),
     ("procedural", "relaxed"): ("#08519c", "^"),
     ("procedural", "xpbd"): ("#2ca02c", "P"),
+    ("procedural", "tree"): ("#9467bd", "*"),
     ("bullet-multibody", ""): ("#000000", "o"),
     ("bullet-rigid", ""): ("#d62728", "s"),
 }

@@ -291,6 +291,10 @@ void adjust(const Model& model, const Settings& settings, const Environment& env
       // two-sided sweeps only: no one-sided closure
       xpbd_sweeps(model, tables.joints, settings, environment, order, targets, state, ws, h);
       return;
+    case Rule::kTree:
+      // the exact projection, Newton-iterated: no one-sided closure either
+      tree_projection(model, tables.joints, settings, environment, order, targets, state, ws, h);
+      return;
     case Rule::kRelaxed:
       // the sweeps share every correction, then the one-sided pass closes the joints exactly
       // from the anchor; a compliant pin was the sweeps' to pull, and the pass leaves it be

@@ -101,7 +101,8 @@ void contacts_after_adjust(const Model& model, const Settings& settings,
                            const PinTargets& targets, State& state, Workspace& workspace) {
   switch (settings.rule) {
     case Rule::kXpbd:
-      return;  // the ground is a constraint of its sweeps, the last of each
+    case Rule::kTree:
+      return;  // the ground is a constraint of their sweeps or Newton iterations, the last of each
     case Rule::kRelaxed:
       // seed: relaxed has resolved contacts inside its sweeps; re-anchoring its final pass at a
       // foot made the whole body swing on the ankle's limit (measured: 100 m/s in `drop`), so

@@ -110,7 +110,8 @@ Correction close_point(Rule rule, const MovingBody& body, const Vector3d& c_b,
       case Rule::kWeighted:
       case Rule::kSubtree:
       case Rule::kRelaxed:
-      case Rule::kXpbd:  // never closes one-sidedly; the weighted reading if asked
+      case Rule::kXpbd:  // never close one-sidedly; the weighted reading if asked
+      case Rule::kTree:
         rotation = weighted_rotation(body, r, s);
         break;
     }

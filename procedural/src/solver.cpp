@@ -23,6 +23,8 @@ std::string_view rule_name(Rule rule) {
       return "relaxed";
     case Rule::kXpbd:
       return "xpbd";
+    case Rule::kTree:
+      return "tree";
   }
   return "?";
 }
@@ -51,9 +53,17 @@ Settings rule_defaults(Settings settings) {
   // xpbd: many short substeps of one sweep each (Müller et al. 2020), the count chosen by
   // measurement (docs: the substep sweep); relaxed: the four sweeps of one step the seed's pass
   // closes; the other rules make one pass and read no iterations
-  const bool xpbd = settings.rule == Rule::kXpbd;
-  if (settings.iterations == kRuleDefault) settings.iterations = xpbd ? 1 : 4;
-  if (settings.substeps == kRuleDefault) settings.substeps = xpbd ? kXpbdSubsteps : 1;
+  // tree: a few substeps of a few Newton iterations of the exact projection
+  int iterations = 4, substeps = 1;
+  if (settings.rule == Rule::kXpbd) {
+    iterations = 1;
+    substeps = kXpbdSubsteps;
+  } else if (settings.rule == Rule::kTree) {
+    iterations = kTreeIterations;
+    substeps = kTreeSubsteps;
+  }
+  if (settings.iterations == kRuleDefault) settings.iterations = iterations;
+  if (settings.substeps == kRuleDefault) settings.substeps = substeps;
   return settings;
 }
 
@@ -180,6 +190,10 @@ Solver::Solver(const Model& model, const Settings& settings, const Environment& 
   workspace_.tremble_delta.assign(n, Vector3d::Zero());
   workspace_.joint_lambda.assign(model.joint_count(), Vector3d::Zero());
   workspace_.limit_lambda.assign(model.joint_count(), Vector3d::Zero());
+  workspace_.tree_nodes.resize(n + model.joint_count() + 1);
+  workspace_.tree_solution.resize(workspace_.tree_nodes.size());
+  workspace_.tree_columns.resize(kMaxLoopRows * workspace_.tree_nodes.size());
+  workspace_.tree_loop_factor = Eigen::PartialPivLU<LoopMatrix>(kMaxLoopRows);
   // a pin or a contact may anchor the pass at any segment: every order is there before step()
   if (!tables_) tables_ = make_model_tables(model);
   if (static_cast<int>(tables_->orders.size()) != n ||
@@ -283,7 +297,8 @@ void Solver::run_stage(Stage stage, double h) {
       if (settings_.derive_velocities) {
         derive_velocities(model_, state_, workspace_.tremble_delta, h);
         // xpbd's velocity pass: what the poses cannot say about the ground (no restitution)
-        if (settings_.rule == Rule::kXpbd && environment_.ground) {
+        if ((settings_.rule == Rule::kXpbd || settings_.rule == Rule::kTree) &&
+            environment_.ground) {
           ground_velocity_pass(model_, environment_, state_);
         }
       }

@@ -217,6 +217,11 @@ void share_limit_correction(const Model& model, const JointTerms& terms, const J
 void xpbd_sweeps(const Model& model, std::span<const JointTerms> joints, const Settings& settings,
                  const Environment& environment, const AnchorOrder& order,
                  const PinTargets& targets, State& state, Workspace& workspace, double h);
+// rule tree's position solve of one substep (tree_projection.cpp)
+void tree_projection(const Model& model, std::span<const JointTerms> joints,
+                     const Settings& settings, const Environment& environment,
+                     const AnchorOrder& order, const PinTargets& targets, State& state,
+                     Workspace& workspace, double h);
 // stage 3 as each rule has it: the one-sided rules push out of the ground and re-run their pass
 // from the segment that hit deepest; relaxed pushes out only; xpbd's contacts are in its sweeps
 void contacts_after_adjust(const Model& model, const Settings& settings,

@@ -72,6 +72,8 @@ void solver_section(Session& session, PanelState& state) {
     }
     if (config.options.rule == "relaxed" || config.options.rule == "xpbd") {
       changed |= rule_count_slider("sweeps", config, &config.options.iterations, 1, 16);
+    } else if (config.options.rule == "tree") {
+      changed |= rule_count_slider("Newton", config, &config.options.iterations, 1, 8);
     }
   }
   changed |= combo("anchor", config.anchor, {"auto", "grab", "scenario"});

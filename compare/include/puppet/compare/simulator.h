@@ -58,7 +58,7 @@ const std::vector<std::string>& solver_names();
 // options a solver may use: the procedural rule and its settings, the references' sweeps
 struct SolverOptions {
   std::string rule = "relaxed";
-  int iterations = procedural::kRuleDefault;  // relaxed, xpbd: two-sided sweeps per substep
+  int iterations = procedural::kRuleDefault;  // relaxed, xpbd: sweeps per substep; tree: Newton
   int bullet_iterations = 10;               // Bullet: sequential-impulse sweeps (Bullet's default)
   bool bullet_euler_limits = false;         // bullet-multibody: Bullet's Euler-box ball limits
   int substeps = procedural::kRuleDefault;  // procedural: substeps per step

@@ -15,16 +15,21 @@
 #include <string_view>
 #include <vector>
 
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+
 #include "puppet/model/environment.h"
 #include "puppet/model/model.h"
 
 namespace puppet::procedural {
 
 // how a joint's gap is split between b's rotation and translation (DESIGN.md, "Adjust rules")
-// (the seed's readings, then `xpbd`: the position-based family's substepped two-sided solver)
-enum class Rule { kLiteral, kSmoothed, kWeighted, kSubtree, kRelaxed, kXpbd };
+// (the seed's readings, then `xpbd`, the position-based family's substepped two-sided solver,
+// and `tree`, the same projection solved exactly on the tree)
+enum class Rule { kLiteral, kSmoothed, kWeighted, kSubtree, kRelaxed, kXpbd, kTree };
 inline constexpr std::array kAllRules = {Rule::kLiteral, Rule::kSmoothed, Rule::kWeighted,
-                                         Rule::kSubtree, Rule::kRelaxed,  Rule::kXpbd};
+                                         Rule::kSubtree, Rule::kRelaxed,  Rule::kXpbd,
+                                         Rule::kTree};
 std::string_view rule_name(Rule rule);
 std::optional<Rule> parse_rule(std::string_view name);
 
@@ -32,12 +37,16 @@ std::optional<Rule> parse_rule(std::string_view name);
 constexpr int kRuleDefault = -1;
 // xpbd's substeps per step unless told (chosen by measurement: docs, the substep sweep)
 constexpr int kXpbdSubsteps = 8;
+// tree's substeps and Newton iterations per substep unless told (chosen by measurement)
+constexpr int kTreeSubsteps = 2;
+constexpr int kTreeIterations = 2;
 
 struct Settings {
   Rule rule = Rule::kRelaxed;
-  int iterations = kRuleDefault;  // two-sided sweeps per substep (relaxed: 4, xpbd: 1)
-  int substeps = kRuleDefault;    // each step(dt) runs this many stages of dt/substeps (xpbd: 8)
-  // xpbd: compliance of the joints' point constraints (m/N) and of their limits (rad/(N·m));
+  // two-sided sweeps per substep (relaxed: 4, xpbd: 1); tree: Newton iterations per substep
+  int iterations = kRuleDefault;
+  int substeps = kRuleDefault;  // each step(dt) runs this many stages of dt/substeps (xpbd: 8)
+  // xpbd and tree: compliance of the joints' point constraints (m/N) and of their limits (rad/(N·m));
   // 0 is rigid, as every model joint is. A pin's compliance is the pin's own (Pin::compliance).
   double joint_compliance = 0.0;
   double limit_compliance = 0.0;
@@ -126,6 +135,40 @@ struct ModelTables {
 };
 std::shared_ptr<const ModelTables> make_model_tables(const Model& model);
 
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+using Matrix36d = Eigen::Matrix<double, 3, 6>;
+
+// one node of rule tree's system (tree_projection.cpp): a segment (unknowns Δx world, Δθ in its
+// frame) or a constraint (a joint's point and active limit rows, or a pin; up to six rows)
+struct TreeNode {
+  enum Kind { kSegment, kJoint, kPin };
+  Kind kind = kSegment;
+  int index = -1;   // segment, joint or pin
+  int parent = -1;  // node nearer the root, −1 for the root
+  int rows = 0;     // a constraint's rows in use
+  Matrix6d d;       // diagonal block, then its Schur complement over the subtree
+  Matrix6d up;      // the block coupling this node's rows to its parent's columns
+  Matrix6d x;       // D⁻¹ up
+  Vector6d b;       // right side
+  Vector6d alpha;   // α̃ per row
+  Vector6d lambda;  // a constraint's multipliers accumulated over the substep
+  Eigen::LLT<Matrix6d> factor;  // of sign · D, which is positive definite
+  double sign = 1.0;            // +1 for a segment, −1 for a constraint
+};
+// a pin after the first: a loop through the world, closed through its Schur complement
+struct TreeLoop {
+  int node = -1;  // its segment's node
+  double alpha = 0.0;
+  Matrix36d jacobian;
+  Vector3d c;  // C + α̃ λ
+  Vector3d lambda = Vector3d::Zero();
+};
+inline constexpr int kMaxLoopRows = 3 * (kMaxPins - 1);
+using LoopMatrix =
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxLoopRows, kMaxLoopRows>;
+using LoopVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxLoopRows, 1>;
+
 // sized once for the model; nothing in it outlives a step
 struct Workspace {
   // composite mass properties of each preorder subtree (rule `subtree`)
@@ -141,6 +184,13 @@ struct Workspace {
   std::vector<Vector3d> joint_lambda;  // by joint
   std::vector<Vector3d> limit_lambda;  // by joint
   std::array<Vector3d, kMaxPins> pin_lambda{};
+  // tree: segments, joints and the first pin as the nodes of one factorisation (2n), the
+  // solution per node, H⁻¹Gᵀ's columns per loop row, and the loops
+  std::vector<TreeNode> tree_nodes;
+  std::vector<Vector6d> tree_solution;
+  std::vector<Vector6d> tree_columns;  // kMaxLoopRows × tree_nodes.size()
+  std::array<TreeLoop, kMaxPins - 1> tree_loops{};
+  Eigen::PartialPivLU<LoopMatrix> tree_loop_factor;
 };
 
 class Solver {

@@ -1,0 +1,406 @@
+// Rule `tree`: the mass-weighted position projection of xpbd solved exactly, in O(n), on the
+// tree (Baraff 1996, "Linear-time dynamics using Lagrange multipliers"; Deul, Kugelstadt, Weiler,
+// Bender 2018, "Direct position-based solver for stiff rods"). Per substep of h = dt/substeps:
+//
+//   update            every segment alone under its forces (the same stage as every rule)
+//   adjust            `iterations` Newton iterations (default 2): every pin, joint point and
+//                     active limit linearised at the current poses, and the whole system
+//                        [ M   −Jᵀ ] [ Δx ]   [    0    ]
+//                        [ −J  −α̃  ] [ Δλ ] = [ C + α̃ λ ]
+//                     solved at once by a block LDLᵀ factorisation in tree order; then the
+//                     ground pushed out segment by segment, as xpbd does
+//   velocities        v = Δx/h, ω = log(q q_prev⁻¹)/h, then xpbd's ground velocity pass
+//
+// The matrix's graph is a tree: segments and constraints are its nodes, each constraint linked
+// to the two segments it joins. Eliminated from the leaves, no block fills in (Baraff §5), so
+// one factorisation costs O(n) 6×6 blocks. Unknowns per segment node are (Δx world, Δθ in the
+// segment's frame), where its mass matrix diag(m, m, m, I) is constant. A constraint node holds
+// up to six rows (a joint: its point's three, then up to three of its limit): unused rows are
+// padded with a diagonal −1 and no coupling, so their multiplier is zero.
+//
+// Limits are active constraints re-read at every Newton iteration: a ball joint outside its cone
+// or twist gets a row along each part of the rotation that brings it back (limit_error): its
+// twist about the joint's axis and its swing across it; a hinge two rows
+// across its axis always and a third along it when its angle is out of range, a fixed joint all
+// three. The first pin is the tree's root. A second pin closes a loop through the world (the
+// marionette's head and its dragged hand): its rows join the system through their Schur
+// complement on the factored tree (three more substitutions per pin), so it is exact too. The
+// ground is not in the system: it is pushed out after each Newton iteration, as xpbd does.
+//
+// seed: the same update and velocities as every rule; the adjust that the seed does by local
+// moves is here the exact minimum-energy projection of one linearisation (the "g = 0" of XPBD:
+// the correction from the predicted pose is not carried into the next iteration's right side).
+#include <cmath>
+
+#include "puppet/model/rotation.h"
+#include "stages.h"
+
+namespace puppet::procedural {
+namespace {
+
+Matrix3d cross_matrix(const Vector3d& r) {
+  Matrix3d m;
+  m << 0, -r.z(), r.y(),  //
+      r.z(), 0, -r.x(),   //
+      -r.y(), r.x(), 0;
+  return m;
+}
+
+// the Jacobian of a world point r (segment frame) of `body` in its (Δx, Δθ) block: [E, −R[r]×]
+Matrix36d point_jacobian(const BodyState& body, const Vector3d& r) {
+  Matrix36d jacobian;
+  jacobian.leftCols<3>().setIdentity();
+  jacobian.rightCols<3>() = -(body.q.toRotationMatrix() * cross_matrix(r));
+  return jacobian;
+}
+
+void set_segment_node(const Segment& segment, TreeNode& node) {
+  node.d.setZero();
+  node.d.diagonal() << segment.mass, segment.mass, segment.mass, segment.inertia;
+  node.b.setZero();
+}
+
+// a constraint node's diagonal: −α̃ on its rows, −1 on the padding (so that −D, once its child
+// is eliminated, is positive definite: a Cholesky factor)
+void set_constraint_diagonal(TreeNode& node, int rows, double point_alpha, double limit_alpha) {
+  node.d.setZero();
+  for (int r = 0; r < 6; ++r) {
+    node.d(r, r) = r >= node.rows ? -1.0 : (r < rows ? -point_alpha : -limit_alpha);
+  }
+}
+
+// the pin's rows: C = x + R r − target, and J = [E, −R[r]×] in its segment's coordinates
+void set_pin_rows(const Pin& pin, const Vector3d& target, const BodyState& body, double alpha,
+                  TreeNode& node, Matrix6d& jacobian) {
+  node.rows = 3;
+  set_constraint_diagonal(node, 3, alpha, 0.0);
+  node.alpha.setZero();
+  node.alpha.head<3>().setConstant(alpha);
+  node.b.setZero();
+  node.b.head<3>() = world_point(body, pin.local_point) - target;
+  jacobian.setZero();
+  jacobian.topRows<3>() = point_jacobian(body, pin.local_point);
+}
+
+// a ball joint's limit functions at q_rel (rad, > 0 outside): the twist's excess over its limit
+// and the swing's over the ellipse's half-angle in the swing's direction
+Eigen::Vector2d ball_excess(const Joint& joint, const Quaterniond& q_rel) {
+  const SwingTwist parts = decompose_swing_twist(q_rel, Vector3d::UnitZ());
+  const Vector3d swing = quat_log(parts.swing);
+  const double angle = swing.norm();
+  double swing_excess = -std::min(joint.swing_x, joint.swing_y);
+  if (angle > 0.0) {
+    const double ux = swing.x() / (angle * joint.swing_x), uy = swing.y() / (angle * joint.swing_y);
+    swing_excess = angle - 1.0 / std::sqrt(ux * ux + uy * uy);
+  }
+  return {std::abs(parts.twist_angle) - joint.twist, swing_excess};
+}
+
+// A ball joint's limit rows: one per limit function that is positive, along its gradient with
+// respect to a turn of the child (its frame). Swing and twist are not independent coordinates:
+// past 90° of swing a turn across the swing changes the twist at first order (by about
+// tan(φ/2)), so rows along the two parts of the clamp's rotation do not reduce both and Newton
+// stalls at the corner of the two limits (measured at a shoulder at 110° swing and 80° twist).
+// The gradients are central differences (step 1e-6 rad: truncation ~1e-12, rounding ~1e-10).
+int ball_limit_rows(const Joint& joint, const Quaterniond& q_rel, Matrix3d& directions,
+                    Vector3d& targets) {
+  constexpr double kStep = 1e-6;
+  const Eigen::Vector2d excess = ball_excess(joint, q_rel);
+  if (excess.maxCoeff() <= 0.0) return 0;
+  Eigen::Matrix<double, 2, 3> gradient;
+  for (int axis = 0; axis < 3; ++axis) {
+    const Vector3d turn = kStep * Vector3d::Unit(axis);
+    gradient.col(axis) = (ball_excess(joint, times_exp(q_rel, turn)) -
+                          ball_excess(joint, times_exp(q_rel, -turn))) /
+                         (2.0 * kStep);
+  }
+  int count = 0;
+  for (int k = 0; k < 2; ++k) {
+    if (excess(k) <= 0.0) continue;
+    // q_rel exp(δ) for a turn δ_c of the child (its frame) is δ = Fc⁻¹ δ_c: the row is Fc g
+    directions.row(count) = (joint.frame_in_child * Vector3d(gradient.row(k).transpose())).transpose();
+    // a row asks u·δ_c = target: the excess removed at first order
+    targets(count) = -excess(k);
+    ++count;
+  }
+  return count;
+}
+
+// a joint's rows (its point, then its active limit rows) and its two Jacobian blocks, parent's
+// and child's, in those segments' (Δx, Δθ) coordinates
+void set_joint_rows(const Joint& joint, const JointTerms& terms, const BodyState& parent,
+                    const BodyState& child, double point_alpha, double limit_alpha,
+                    TreeNode& node, Matrix6d& j_parent, Matrix6d& j_child) {
+  j_parent.setZero();
+  j_child.setZero();
+  node.b.setZero();
+  // the point: C = p_parent − p_child (world)
+  node.b.head<3>() =
+      world_point(parent, joint.anchor_in_parent) - world_point(child, joint.anchor_in_child);
+  j_parent.topRows<3>() = point_jacobian(parent, joint.anchor_in_parent);
+  j_child.topRows<3>() = -point_jacobian(child, joint.anchor_in_child);
+  int rows = 3;
+  // the limit: the child needs the rotation e (its frame) with the parent fixed; a change of
+  // δc (child's frame) and δp (parent's) turns it by δc − R δp, R the parent's frame seen from
+  // the child's, so a row u asks uᵀ(δc − R δp) = uᵀ e, i.e. C = −uᵀ e
+  const Quaterniond child_to_parent = child.q.conjugate() * parent.q;
+  Vector3d error;
+  if (limit_error(joint, terms, child_to_parent, &error)) {
+    const Matrix3d rotation = child_to_parent.toRotationMatrix();
+    Matrix3d directions;  // rows: the constrained directions in the child's frame
+    Vector3d targets;     // and how far the child must turn along each
+    int count = 0;
+    switch (joint.type) {
+      case JointType::kBall:
+        // two rows built from the limit functions themselves (ball_limit_rows); a zero
+        // half-angle (swing forbidden about one axis) keeps the clamp's rotation as one row
+        if (joint.swing_x > 0.0 && joint.swing_y > 0.0) {
+          count = ball_limit_rows(joint, joint_relative_rotation(joint, parent.q, child.q),
+                                  directions, targets);
+        } else {
+          const double angle = error.norm();
+          if (angle > 0.0) {
+            directions.row(0) = error.transpose() / angle;
+            targets(0) = angle;
+            count = 1;
+          }
+        }
+        break;
+      case JointType::kHinge: {
+        // across the axis always; along it only when the angle is out of its range
+        const Vector3d axis = joint.frame_in_child * joint.hinge_axis;
+        const Vector3d across = any_orthogonal(axis);
+        directions.row(0) = across.transpose();
+        directions.row(1) = axis.cross(across).transpose();
+        targets.head<2>() = directions.topRows<2>() * error;
+        count = 2;
+        const Quaterniond q_rel = joint_relative_rotation(joint, parent.q, child.q);
+        const double angle = decompose_swing_twist(q_rel, joint.hinge_axis).twist_angle;
+        if (angle < joint.lower || angle > joint.upper) {
+          directions.row(2) = axis.transpose();
+          targets(2) = axis.dot(error);
+          count = 3;
+        }
+        break;
+      }
+      case JointType::kFixed:
+        directions.setIdentity();
+        targets = error;
+        count = 3;
+        break;
+    }
+    for (int k = 0; k < count; ++k) {
+      const Vector3d u = directions.row(k).transpose();
+      node.b(rows) = -targets(k);
+      j_child.block<1, 3>(rows, 3) = u.transpose();
+      j_parent.block<1, 3>(rows, 3) = -u.transpose() * rotation;
+      ++rows;
+    }
+  }
+  node.rows = rows;
+  set_constraint_diagonal(node, 3, point_alpha, limit_alpha);
+  node.alpha.setZero();
+  node.alpha.head<3>().setConstant(point_alpha);
+  for (int r = 3; r < rows; ++r) node.alpha(r) = limit_alpha;
+  // the accumulated multiplier's compliance term: the right side is C + α̃ λ
+  node.b += node.alpha.cwiseProduct(node.lambda);
+}
+
+// the nodes of one anchor's tree, root first: [the first pin], the anchor's segment, then per
+// link its joint and the segment it places; each later pin is a loop, and ws.tree_loops keeps
+// the node of its segment
+int build_topology(const AnchorOrder& order, const State& state, Workspace& ws) {
+  std::vector<TreeNode>& nodes = ws.tree_nodes;
+  int count = 0;
+  const auto place = [&](TreeNode::Kind kind, int index, int parent) {
+    TreeNode& node = nodes[count++];
+    node.kind = kind;
+    node.index = index;
+    node.parent = parent;
+  };
+  const bool pinned = state.pin_count > 0;
+  if (pinned) place(TreeNode::kPin, 0, -1);
+  const int n = static_cast<int>(order.preorder.size());
+  // segment node of preorder position k: 0 or 1 for the anchor, then 2k or 2k + 1
+  const int first = count;
+  const auto segment_node = [first](int k) { return k == 0 ? first : first + 2 * k; };
+  place(TreeNode::kSegment, order.preorder[0], pinned ? 0 : -1);
+  for (int k = 1; k < n; ++k) {
+    const AnchorOrder::Link& link = order.links[k - 1];
+    const int joint_node = count;
+    place(TreeNode::kJoint, link.joint, segment_node(order.parent_position[k]));
+    place(TreeNode::kSegment, order.preorder[k], joint_node);
+  }
+  for (int i = 1; i < state.pin_count; ++i) {
+    int k = 0;
+    while (order.preorder[k] != state.pins[i].segment) ++k;
+    ws.tree_loops[i - 1].node = segment_node(k);
+  }
+  return count;
+}
+
+// every node's diagonal and right side, and each node's coupling to its parent, `up`, from the
+// current poses; then the loops' rows
+void linearise(const Model& model, std::span<const JointTerms> joints, const Settings& settings,
+               int count, const PinTargets& targets, const State& state, Workspace& ws,
+               double inv_h2) {
+  std::vector<TreeNode>& nodes = ws.tree_nodes;
+  const double point_alpha = settings.joint_compliance * inv_h2;
+  const double limit_alpha = settings.limit_compliance * inv_h2;
+  for (int i = 0; i < count; ++i) {
+    TreeNode& node = nodes[i];
+    switch (node.kind) {
+      case TreeNode::kSegment:
+        // (only d and b: the coupling a joint or the root pin wrote into `up` stands)
+        set_segment_node(model.segments[node.index], node);
+        break;
+      case TreeNode::kPin: {
+        // the root pin is its segment's parent: node 1, whose `up` is then −Jᵀ
+        const Pin& pin = state.pins[node.index];
+        Matrix6d jacobian;
+        set_pin_rows(pin, targets[node.index], state.bodies[pin.segment], pin.compliance * inv_h2,
+                     node, jacobian);
+        node.b += node.alpha.cwiseProduct(node.lambda);
+        nodes[1].up = -jacobian.transpose();
+        break;
+      }
+      case TreeNode::kJoint: {
+        const Joint& joint = model.joints[node.index];
+        Matrix6d j_parent, j_child;
+        set_joint_rows(joint, joints[node.index], state.bodies[joint.parent],
+                       state.bodies[joint.child], point_alpha, limit_alpha, node, j_parent,
+                       j_child);
+        // the tree's parent of a joint node is the segment nearer the anchor, which is the
+        // model's parent unless the anchor order walks the edge backwards
+        const bool parent_is_nearer = nodes[node.parent].index == joint.parent;
+        node.up = -(parent_is_nearer ? j_parent : j_child);
+        nodes[i + 1].up = -(parent_is_nearer ? j_child : j_parent).transpose();
+        break;
+      }
+    }
+  }
+  for (int l = 0; l + 1 < state.pin_count; ++l) {
+    TreeLoop& loop = ws.tree_loops[l];
+    const Pin& pin = state.pins[l + 1];
+    const BodyState& body = state.bodies[pin.segment];
+    loop.alpha = pin.compliance * inv_h2;
+    loop.jacobian = point_jacobian(body, pin.local_point);
+    loop.c = world_point(body, pin.local_point) - targets[l + 1] + loop.alpha * loop.lambda;
+  }
+}
+
+// A segment's D is positive definite (its mass plus what its subtree's constraints add), a
+// constraint's negative definite (−α̃ minus its child's inverse effective mass): each is
+// ±L Lᵀ, a Cholesky factor of ±D
+void factor_block(TreeNode& node) {
+  if (node.kind == TreeNode::kSegment) {
+    node.factor.compute(node.d);
+    node.sign = 1.0;
+  } else {
+    node.factor.compute(-node.d);
+    node.sign = -1.0;
+  }
+}
+template <typename Rhs>
+auto block_solve(const TreeNode& node, const Rhs& rhs) {
+  return node.sign * node.factor.solve(rhs);
+}
+
+// H = L D Lᵀ from the leaves: D_i = H_ii − Σ_children Uᵀ D⁻¹ U, each D factored, X = D⁻¹ U kept
+void factor(int count, std::vector<TreeNode>& nodes) {
+  for (int i = count - 1; i > 0; --i) {
+    TreeNode& node = nodes[i];
+    factor_block(node);
+    node.x = block_solve(node, node.up);
+    nodes[node.parent].d.noalias() -= node.up.transpose() * node.x;
+  }
+  factor_block(nodes[0]);
+}
+
+// H y = r in place (r per node in, y out): forward from the leaves, back from the root
+void substitute(int count, const std::vector<TreeNode>& nodes, std::span<Vector6d> r) {
+  for (int i = count - 1; i > 0; --i) {
+    r[i] = block_solve(nodes[i], r[i]);
+    r[nodes[i].parent].noalias() -= nodes[i].up.transpose() * r[i];
+  }
+  r[0] = block_solve(nodes[0], r[0]);
+  for (int i = 1; i < count; ++i) r[i].noalias() -= nodes[i].x * r[nodes[i].parent];
+}
+
+// one Newton iteration: linearise, factor, solve, close the loops, apply
+void solve_once(const Model& model, std::span<const JointTerms> joints, const Settings& settings,
+                int count, const PinTargets& targets, State& state, Workspace& ws, double h) {
+  std::vector<TreeNode>& nodes = ws.tree_nodes;
+  linearise(model, joints, settings, count, targets, state, ws, 1.0 / (h * h));
+  factor(count, nodes);
+  const std::span<Vector6d> y(ws.tree_solution.data(), count);
+  for (int i = 0; i < count; ++i) y[i] = nodes[i].b;
+  substitute(count, nodes, y);
+  // Loops (pins after the first) by their Schur complement on the factored tree: with G = −J a
+  // loop's rows in its segment's columns, the system [H Gᵀ; G −A] [y; μ] = [r; c] gives
+  //   (G H⁻¹ Gᵀ + A) μ = G H⁻¹ r − c,   y = H⁻¹ r − H⁻¹ Gᵀ μ,
+  // so three more solves per loop, each a column of H⁻¹ Gᵀ, and one small dense system
+  const int loops = state.pin_count - 1;
+  if (loops > 0) {
+    const int size = 3 * loops;
+    LoopMatrix schur = LoopMatrix::Zero(size, size);
+    LoopVector rhs(size);
+    for (int col = 0; col < size; ++col) {
+      const TreeLoop& source = ws.tree_loops[col / 3];
+      const std::span<Vector6d> w(ws.tree_columns.data() + col * nodes.size(), count);
+      for (int i = 0; i < count; ++i) w[i].setZero();
+      w[source.node] = -source.jacobian.row(col % 3).transpose();
+      substitute(count, nodes, w);
+      for (int row = 0; row < size; ++row) {
+        const TreeLoop& loop = ws.tree_loops[row / 3];
+        schur(row, col) = -loop.jacobian.row(row % 3).dot(w[loop.node]);
+      }
+    }
+    for (int row = 0; row < size; ++row) {
+      const TreeLoop& loop = ws.tree_loops[row / 3];
+      schur(row, row) += loop.alpha;
+      rhs(row) = -loop.jacobian.row(row % 3).dot(y[loop.node]) - loop.c(row % 3);
+    }
+    ws.tree_loop_factor.compute(schur);
+    const LoopVector mu = ws.tree_loop_factor.solve(rhs);
+    for (int col = 0; col < size; ++col) {
+      const Vector6d* w = ws.tree_columns.data() + col * nodes.size();
+      for (int i = 0; i < count; ++i) y[i] -= mu(col) * w[i];
+      ws.tree_loops[col / 3].lambda(col % 3) += mu(col);
+    }
+  }
+  // apply: segments move, constraints accumulate their multipliers
+  for (int i = 0; i < count; ++i) {
+    TreeNode& node = nodes[i];
+    if (node.kind == TreeNode::kSegment) {
+      BodyState& body = state.bodies[node.index];
+      body.x += y[i].head<3>();
+      body.q = renormalized(times_exp(body.q, y[i].tail<3>()));
+    } else {
+      for (int r = 0; r < node.rows; ++r) node.lambda(r) += y[i](r);
+    }
+  }
+}
+
+}  // namespace
+
+void tree_projection(const Model& model, std::span<const JointTerms> joints,
+                     const Settings& settings, const Environment& environment,
+                     const AnchorOrder& order, const PinTargets& targets, State& state,
+                     Workspace& ws, double h) {
+  const int count = build_topology(order, state, ws);
+  for (int i = 0; i < count; ++i) ws.tree_nodes[i].lambda.setZero();
+  for (TreeLoop& loop : ws.tree_loops) loop.lambda.setZero();
+  for (int iteration = 0; iteration < settings.iterations; ++iteration) {
+    // the ground is not in the system: pushed out before each solve, which then closes what
+    // the push opened (what it pushes back in is reported as penetration)
+    if (environment.ground) {
+      for (int s = 0; s < model.segment_count(); ++s) {
+        push_out_of_ground(model, environment, s, state);
+      }
+    }
+    solve_once(model, joints, settings, count, targets, state, ws, h);
+  }
+}
+
+}  // namespace puppet::procedural
