@@ -21,15 +21,11 @@ class ReferenceSimulator : public Simulator {
   }
   void reset(const Model& model, const Scenario& scenario) override {
     const std::vector<Pin> pins = scenario.initial_pins();
-    require_rigid(pins);
     solver_ = reference::make_solver(kind_, model, scenario.environment, settings_);
     solver_->set_state(scenario.initial);
     solver_->set_pins(pins);
   }
-  void set_pins(std::span<const Pin> pins) override {
-    require_rigid(pins);
-    solver_->set_pins(pins);
-  }
+  void set_pins(std::span<const Pin> pins) override { solver_->set_pins(pins); }
   void set_pin_targets(std::span<const Vector3d> targets) override {
     solver_->set_pin_targets(targets);
   }
@@ -45,16 +41,6 @@ class ReferenceSimulator : public Simulator {
   bool diverged() const override { return solver_->diverged(); }
 
  private:
-  // the Bullet references hold pins rigidly (btMultiBodyPoint2Point, btPoint2PointConstraint);
-  // a compliant grab is not built for them yet, and is refused rather than held hard
-  void require_rigid(std::span<const Pin> pins) const {
-    for (const Pin& pin : pins) {
-      if (pin.compliance != 0.0) {
-        throw ScenarioError(name() + ": compliant pins are not supported (only C = 0)");
-      }
-    }
-  }
-
   reference::Kind kind_;
   reference::Settings settings_;
   std::unique_ptr<reference::Solver> solver_;

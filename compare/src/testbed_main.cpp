@@ -248,14 +248,6 @@ std::vector<SolverConfig> parse_solver_configs(const RunFlags& f) {
   options.tremble = !f.no_tremble;
   const auto solvers = expand("--solver", f.solver, solver_names());
   const auto rules = expand("--rule", f.rule, all_rules());
-  if (!f.grab_compliance.empty() &&
-      parse_non_negative("--grab-compliance", f.grab_compliance) > 0 &&
-      std::any_of(solvers.begin(), solvers.end(),
-                  [](const std::string& s) { return s != "procedural"; })) {
-    throw UsageError(
-        "--grab-compliance: only the procedural solver has compliant grabs; add "
-        "--solver procedural");
-  }
   std::vector<SolverConfig> configs;
   for (const auto& solver : solvers) {
     if (solver == "procedural") {

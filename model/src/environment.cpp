@@ -55,6 +55,14 @@ EnvironmentForce environment_force(const Segment& segment, const Environment& en
   return out;
 }
 
+Wrench pin_spring_wrench(const Pin& pin, const BodyState& body) {
+  const Vector3d arm = body.q * pin.local_point;
+  Wrench wrench;
+  wrench.force = (pin.target - (body.x + arm)) / pin.compliance;
+  wrench.torque = arm.cross(wrench.force);
+  return wrench;
+}
+
 Wrench environment_wrench(const Segment& segment, const Environment& environment,
                           const BodyState& body) {
   const EnvironmentForce linear = environment_force(segment, environment, body);

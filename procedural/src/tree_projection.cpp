@@ -15,8 +15,8 @@
 // to the two segments it joins. Eliminated from the leaves, no block fills in (Baraff §5), so
 // one factorisation costs O(n) 6×6 blocks. Unknowns per segment node are (Δx world, Δθ in the
 // segment's frame), where its mass matrix diag(m, m, m, I) is constant. A constraint node holds
-// up to six rows (a joint: its point's three, then up to three of its limit): unused rows are
-// padded with a diagonal −1 and no coupling, so their multiplier is zero.
+// three to six rows (a joint: its point's three, then its active limit rows), so a joint inside
+// its limits costs 3×3 and 3×6 blocks.
 //
 // Limits are active constraints re-read at every Newton iteration: a ball joint outside its cone
 // or twist gets a row along each part of the rotation that brings it back (limit_error): its
@@ -55,31 +55,33 @@ Matrix36d point_jacobian(const BodyState& body, const Vector3d& r) {
 }
 
 void set_segment_node(const Segment& segment, TreeNode& node) {
+  node.rows = 6;
   node.d.setZero();
   node.d.diagonal() << segment.mass, segment.mass, segment.mass, segment.inertia;
   node.b.setZero();
 }
 
-// a constraint node's diagonal: −α̃ on its rows, −1 on the padding (so that −D, once its child
-// is eliminated, is positive definite: a Cholesky factor)
-void set_constraint_diagonal(TreeNode& node, int rows, double point_alpha, double limit_alpha) {
+// a constraint node of `rows` rows: its diagonal −α̃, its right side C + α̃ λ (the accumulated
+// multiplier's compliance term); a node of four or five rows is padded to six with −1 on the
+// diagonal, no coupling and no right side, so the padding's multiplier is zero
+void set_constraint_node(int rows, const Vector6d& c, TreeNode& node) {
+  node.rows = rows;
   node.d.setZero();
+  node.b.setZero();
   for (int r = 0; r < 6; ++r) {
-    node.d(r, r) = r >= node.rows ? -1.0 : (r < rows ? -point_alpha : -limit_alpha);
+    node.d(r, r) = r < rows ? -node.alpha(r) : -1.0;
+    if (r < rows) node.b(r) = c(r) + node.alpha(r) * node.lambda(r);
   }
 }
 
 // the pin's rows: C = x + R r − target, and J = [E, −R[r]×] in its segment's coordinates
 void set_pin_rows(const Pin& pin, const Vector3d& target, const BodyState& body, double alpha,
-                  TreeNode& node, Matrix6d& jacobian) {
-  node.rows = 3;
-  set_constraint_diagonal(node, 3, alpha, 0.0);
-  node.alpha.setZero();
+                  TreeNode& node, Matrix36d& jacobian) {
   node.alpha.head<3>().setConstant(alpha);
-  node.b.setZero();
-  node.b.head<3>() = world_point(body, pin.local_point) - target;
-  jacobian.setZero();
-  jacobian.topRows<3>() = point_jacobian(body, pin.local_point);
+  Vector6d c;
+  c.head<3>() = world_point(body, pin.local_point) - target;
+  set_constraint_node(3, c, node);
+  jacobian = point_jacobian(body, pin.local_point);
 }
 
 // a ball joint's limit functions at q_rel (rad, > 0 outside): the twist's excess over its limit
@@ -133,9 +135,9 @@ void set_joint_rows(const Joint& joint, const JointTerms& terms, const BodyState
                     TreeNode& node, Matrix6d& j_parent, Matrix6d& j_child) {
   j_parent.setZero();
   j_child.setZero();
-  node.b.setZero();
+  Vector6d c;
   // the point: C = p_parent − p_child (world)
-  node.b.head<3>() =
+  c.head<3>() =
       world_point(parent, joint.anchor_in_parent) - world_point(child, joint.anchor_in_child);
   j_parent.topRows<3>() = point_jacobian(parent, joint.anchor_in_parent);
   j_child.topRows<3>() = -point_jacobian(child, joint.anchor_in_child);
@@ -191,19 +193,15 @@ void set_joint_rows(const Joint& joint, const JointTerms& terms, const BodyState
     }
     for (int k = 0; k < count; ++k) {
       const Vector3d u = directions.row(k).transpose();
-      node.b(rows) = -targets(k);
+      c(rows) = -targets(k);
       j_child.block<1, 3>(rows, 3) = u.transpose();
       j_parent.block<1, 3>(rows, 3) = -u.transpose() * rotation;
       ++rows;
     }
   }
-  node.rows = rows;
-  set_constraint_diagonal(node, 3, point_alpha, limit_alpha);
-  node.alpha.setZero();
   node.alpha.head<3>().setConstant(point_alpha);
-  for (int r = 3; r < rows; ++r) node.alpha(r) = limit_alpha;
-  // the accumulated multiplier's compliance term: the right side is C + α̃ λ
-  node.b += node.alpha.cwiseProduct(node.lambda);
+  node.alpha.tail<3>().setConstant(limit_alpha);
+  set_constraint_node(rows, c, node);
 }
 
 // the nodes of one anchor's tree, root first: [the first pin], the anchor's segment, then per
@@ -257,11 +255,11 @@ void linearise(const Model& model, std::span<const JointTerms> joints, const Set
       case TreeNode::kPin: {
         // the root pin is its segment's parent: node 1, whose `up` is then −Jᵀ
         const Pin& pin = state.pins[node.index];
-        Matrix6d jacobian;
+        Matrix36d jacobian;
         set_pin_rows(pin, targets[node.index], state.bodies[pin.segment], pin.compliance * inv_h2,
                      node, jacobian);
-        node.b += node.alpha.cwiseProduct(node.lambda);
-        nodes[1].up = -jacobian.transpose();
+        nodes[1].up.setZero();
+        nodes[1].up.topLeftCorner<6, 3>() = -jacobian.transpose();
         break;
       }
       case TreeNode::kJoint: {
@@ -289,42 +287,103 @@ void linearise(const Model& model, std::span<const JointTerms> joints, const Set
   }
 }
 
+// A node's block width: six unknowns for a segment, and for a constraint three (a joint inside
+// its limits, a pin) or six (padded). Every block below is fixed-size: a joint inside its limits
+// costs 3×3 and 3×6 products, not 6×6.
+int width(const TreeNode& node) { return node.rows == 3 ? 3 : 6; }
+
 // A segment's D is positive definite (its mass plus what its subtree's constraints add), a
-// constraint's negative definite (−α̃ minus its child's inverse effective mass): each is
-// ±L Lᵀ, a Cholesky factor of ±D
+// constraint's negative definite (−α̃ minus its child's inverse effective mass): each is a
+// Cholesky factor of ±D
+template <int R>
 void factor_block(TreeNode& node) {
-  if (node.kind == TreeNode::kSegment) {
-    node.factor.compute(node.d);
-    node.sign = 1.0;
+  if constexpr (R == 3) {
+    node.factor3.compute(-node.d.topLeftCorner<3, 3>());
   } else {
-    node.factor.compute(-node.d);
-    node.sign = -1.0;
+    node.factor.compute(node.kind == TreeNode::kSegment ? node.d : Matrix6d(-node.d));
   }
 }
-template <typename Rhs>
+template <int R, typename Rhs>
 auto block_solve(const TreeNode& node, const Rhs& rhs) {
-  return node.sign * node.factor.solve(rhs);
+  if constexpr (R == 3) {
+    return (-node.factor3.solve(rhs)).eval();
+  } else {
+    const double sign = node.kind == TreeNode::kSegment ? 1.0 : -1.0;
+    return (sign * node.factor.solve(rhs)).eval();
+  }
+}
+
+// node (R unknowns) eliminated into its parent (P): X = D⁻¹ U, D_p −= Uᵀ X
+template <int R, int P>
+void eliminate(TreeNode& node, TreeNode& parent) {
+  factor_block<R>(node);
+  const auto up = node.up.topLeftCorner<R, P>();
+  // column by column: Eigen's triangular solve of a matrix right side takes its blocked (GEMM)
+  // path, which costs more than the arithmetic at these sizes (measured)
+  for (int c = 0; c < P; ++c) {
+    node.x.col(c).template head<R>() = block_solve<R>(node, up.col(c));
+  }
+  parent.d.topLeftCorner<P, P>().noalias() -= up.transpose() * node.x.topLeftCorner<R, P>();
 }
 
 // H = L D Lᵀ from the leaves: D_i = H_ii − Σ_children Uᵀ D⁻¹ U, each D factored, X = D⁻¹ U kept
 void factor(int count, std::vector<TreeNode>& nodes) {
   for (int i = count - 1; i > 0; --i) {
     TreeNode& node = nodes[i];
-    factor_block(node);
-    node.x = block_solve(node, node.up);
-    nodes[node.parent].d.noalias() -= node.up.transpose() * node.x;
+    TreeNode& parent = nodes[node.parent];
+    if (width(node) == 3) {
+      eliminate<3, 6>(node, parent);
+    } else if (width(parent) == 3) {
+      eliminate<6, 3>(node, parent);
+    } else {
+      eliminate<6, 6>(node, parent);
+    }
   }
-  factor_block(nodes[0]);
+  if (width(nodes[0]) == 3) {
+    factor_block<3>(nodes[0]);
+  } else {
+    factor_block<6>(nodes[0]);
+  }
+}
+
+template <int R, int P>
+void forward(const TreeNode& node, Vector6d& r, Vector6d& r_parent) {
+  const Eigen::Matrix<double, R, 1> z = block_solve<R>(node, r.head<R>());
+  r.head<R>() = z;
+  r_parent.head<P>().noalias() -= node.up.topLeftCorner<R, P>().transpose() * z;
+}
+template <int R, int P>
+void back(const TreeNode& node, Vector6d& r, const Vector6d& r_parent) {
+  r.head<R>().noalias() -= node.x.topLeftCorner<R, P>() * r_parent.head<P>();
 }
 
 // H y = r in place (r per node in, y out): forward from the leaves, back from the root
 void substitute(int count, const std::vector<TreeNode>& nodes, std::span<Vector6d> r) {
   for (int i = count - 1; i > 0; --i) {
-    r[i] = block_solve(nodes[i], r[i]);
-    r[nodes[i].parent].noalias() -= nodes[i].up.transpose() * r[i];
+    const TreeNode& node = nodes[i];
+    if (width(node) == 3) {
+      forward<3, 6>(node, r[i], r[node.parent]);
+    } else if (width(nodes[node.parent]) == 3) {
+      forward<6, 3>(node, r[i], r[node.parent]);
+    } else {
+      forward<6, 6>(node, r[i], r[node.parent]);
+    }
   }
-  r[0] = block_solve(nodes[0], r[0]);
-  for (int i = 1; i < count; ++i) r[i].noalias() -= nodes[i].x * r[nodes[i].parent];
+  if (width(nodes[0]) == 3) {
+    r[0].head<3>() = block_solve<3>(nodes[0], r[0].head<3>());
+  } else {
+    r[0] = block_solve<6>(nodes[0], r[0]);
+  }
+  for (int i = 1; i < count; ++i) {
+    const TreeNode& node = nodes[i];
+    if (width(node) == 3) {
+      back<3, 6>(node, r[i], r[node.parent]);
+    } else if (width(nodes[node.parent]) == 3) {
+      back<6, 3>(node, r[i], r[node.parent]);
+    } else {
+      back<6, 6>(node, r[i], r[node.parent]);
+    }
+  }
 }
 
 // one Newton iteration: linearise, factor, solve, close the loops, apply

@@ -68,6 +68,9 @@ class RigidSolver final : public Solver {
   std::vector<std::unique_ptr<btRigidBody>> bodies_;
   std::vector<std::unique_ptr<btTypedConstraint>> joints_;
   std::vector<std::unique_ptr<btPoint2PointConstraint>> pins_;
+  // compliant pins: springs applied as forces; slot k ≥ 0 is hard pin k, −1 − k spring k
+  std::vector<Pin> springs_;
+  std::vector<int> pin_slots_;
   Ground ground_;
   std::unique_ptr<btDiscreteDynamicsWorld> world_;
 
@@ -178,7 +181,15 @@ void RigidSolver::build_joints() {
 void RigidSolver::set_pins(std::span<const Pin> pins) {
   for (auto& pin : pins_) world_->removeConstraint(pin.get());
   pins_.clear();
+  springs_.clear();
+  pin_slots_.clear();
   for (const Pin& pin : pins) {
+    if (pin.compliance > 0.0) {
+      pin_slots_.push_back(-1 - static_cast<int>(springs_.size()));
+      springs_.push_back(pin);
+      continue;
+    }
+    pin_slots_.push_back(static_cast<int>(pins_.size()));
     // one body: the pin holds pivotInA at the world point pivotInB
     auto p2p =
         std::make_unique<btPoint2PointConstraint>(*bodies_[pin.segment], to_bt(pin.local_point));
@@ -189,8 +200,13 @@ void RigidSolver::set_pins(std::span<const Pin> pins) {
 }
 
 void RigidSolver::set_pin_targets(std::span<const Vector3d> targets) {
-  for (size_t k = 0; k < pins_.size() && k < targets.size(); ++k) {
-    pins_[k]->setPivotB(to_bt(targets[k]));
+  for (size_t k = 0; k < pin_slots_.size() && k < targets.size(); ++k) {
+    const int slot = pin_slots_[k];
+    if (slot >= 0) {
+      pins_[slot]->setPivotB(to_bt(targets[k]));
+    } else {
+      springs_[-1 - slot].target = targets[k];
+    }
   }
 }
 
@@ -198,7 +214,13 @@ void RigidSolver::step(double dt) {
   if (diverged_) return;
   read_state(states_);
   for (int s = 0; s < model_.segment_count(); ++s) {
-    const Wrench w = environment_wrench(model_.segments[s], environment_, states_[s]);
+    Wrench w = environment_wrench(model_.segments[s], environment_, states_[s]);
+    for (const Pin& spring : springs_) {
+      if (spring.segment != s) continue;
+      const Wrench pull = pin_spring_wrench(spring, states_[s]);
+      w.force += pull.force;
+      w.torque += pull.torque;
+    }
     bodies_[s]->applyCentralForce(to_bt(w.force));
     bodies_[s]->applyTorque(to_bt(w.torque));
   }
@@ -247,6 +269,9 @@ std::vector<double> RigidSolver::save() const {
     const btVector3& target = pin->getPivotInB();
     saved.insert(saved.end(), {target.x(), target.y(), target.z()});
   }
+  for (const Pin& spring : springs_) {
+    saved.insert(saved.end(), {spring.target.x(), spring.target.y(), spring.target.z()});
+  }
   saved.push_back(diverged_ ? 1.0 : 0.0);
   return saved;
 }
@@ -262,6 +287,10 @@ void RigidSolver::load(std::span<const double> saved) {
   }
   for (auto& pin : pins_) {
     pin->setPivotB(btVector3(v[0], v[1], v[2]));
+    v += 3;
+  }
+  for (Pin& spring : springs_) {
+    spring.target = Vector3d(v[0], v[1], v[2]);
     v += 3;
   }
   diverged_ = v[0] != 0.0;

@@ -20,7 +20,7 @@ namespace {
 
 constexpr double kDt = 1.0 / 240.0;
 // pinned: any change to tree's arithmetic shows here first (update it deliberately)
-constexpr uint64_t kExpectedTreeDragHash = 0x0ULL;
+constexpr uint64_t kExpectedTreeDragHash = 0x9e5d8191f926d9eeULL;
 
 Settings tree() {
   Settings settings;
@@ -188,10 +188,10 @@ TEST(Tree, SpinningBoxKeepsItsAngularMomentum) {
 }
 
 // Pinocchio's scenarios at 1/240 with the defaults: never diverged (yank's grab circling at
-// 2 Hz), the joints of hang, drag, shake, spin, water and tremble closed to 10 µm after every
-// step (two Newton iterations per substep leave ~1e-6 m: the bound is an order above), drop's
-// (the ground pushed out before each solve) and yank's (a violent pull two iterations do not
-// finish) within 3 mm (measured 1.6 and 2.3 mm)
+// 2 Hz), and the joints closed after every step to 0.1 mm in the scenarios without ground or
+// yank (one Newton iteration per substep leaves its second-order remainder: ~1e-7 m, 3.5e-5 m in
+// tremble, which displaces segments every substep; xpbd's sweep leaves ~1e-3 m), and to 1 mm in
+// drop (the ground pushed out before each solve) and yank (measured 0.17 and 0.10 mm)
 TEST(Tree, EveryScenarioStaysOkWithItsJointsClosed) {
   const Model model = load_model(test::kPinocchioPath);
   for (const std::string& name : compare::scenario_names()) {
@@ -201,7 +201,7 @@ TEST(Tree, EveryScenarioStaysOkWithItsJointsClosed) {
     const test::ScenarioRun run = test::run_scenario(model, scenario, tree(), kDt);
     std::printf("[ %-8s ] tree max joint gap %.2e m\n", name.c_str(), run.worst_gap);
     EXPECT_FALSE(run.diverged) << name;
-    EXPECT_LT(run.worst_gap, name == "drop" || name == "yank" ? 3e-3 : 1e-5) << name;
+    EXPECT_LT(run.worst_gap, name == "drop" || name == "yank" ? 1e-3 : 1e-4) << name;
   }
 }
 

@@ -133,6 +133,32 @@ TEST(Multibody, PendulumPeriod) {
   }
 }
 
+// Two rods hanging still from a compliant pin (a spring of stiffness 1/C applied as a force),
+// air drag to settle it: the pin point sags by the weight it holds times C, as the procedural
+// rules' compliant pin does (tests/procedural/xpbd_test.cpp). 20 s at 1/240; ω·dt = 0.13.
+TEST(Compliant, GrabSettlesAtTheStaticDeflectionInEverySolver) {
+  const Model model = test::rods(2);
+  Environment air;
+  air.air_drag = 2.0;
+  constexpr double kCompliance = 5e-4;  // m/N: 2 kg stretch it by 9.8 mm
+  const double expected = model.total_mass * 9.81 * kCompliance;
+  for (Kind kind : kKinds) {
+    auto solver = make_solver(kind, model, air);
+    solver->set_state(test::rods_at({0.0, 0.0}));
+    Pin pin = test::top_pin();
+    pin.compliance = kCompliance;
+    const Pin pins[] = {pin};
+    solver->set_pins(pins);
+    for (int k = 0; k < std::lround(20.0 / kDt); ++k) solver->step(kDt);
+    std::vector<BodyState> bodies(2);
+    solver->read_state(bodies);
+    const double sag = -(bodies[0].x + bodies[0].q * pin.local_point).z();
+    std::printf("[ grab     ] bullet-%-9s static deflection / (weight x C): %+.2f %%\n",
+                kind_name(kind), 100 * (sag / expected - 1));
+    EXPECT_NEAR(sag / expected, 1.0, 0.01) << kind_name(kind);
+  }
+}
+
 // reduced coordinates cannot open a joint: every scenario, every step
 TEST(Multibody, JointsStayClosedInEveryScenario) {
   const Model model = load_model(kPinocchio);

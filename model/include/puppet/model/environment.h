@@ -84,6 +84,11 @@ EnvironmentForce environment_force(const Segment& segment, const Environment& en
 Wrench environment_wrench(const Segment& segment, const Environment& environment,
                           const BodyState& body);
 
+// A compliant pin (C > 0) as a zero-length spring of stiffness 1/C between its point and its
+// target: the force (target − p)/C at the point, as a wrench at the COM (world). The Bullet
+// references apply it as an external force, evaluated at the start of the step.
+Wrench pin_spring_wrench(const Pin& pin, const BodyState& body);
+
 // world inertia tensor of a segment in a given orientation
 inline Matrix3d world_inertia(const Segment& segment, const Quaterniond& q) {
   const Matrix3d r = q.toRotationMatrix();

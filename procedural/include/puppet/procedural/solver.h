@@ -38,8 +38,8 @@ constexpr int kRuleDefault = -1;
 // xpbd's substeps per step unless told (chosen by measurement: docs, the substep sweep)
 constexpr int kXpbdSubsteps = 8;
 // tree's substeps and Newton iterations per substep unless told (chosen by measurement)
-constexpr int kTreeSubsteps = 2;
-constexpr int kTreeIterations = 2;
+constexpr int kTreeSubsteps = 8;
+constexpr int kTreeIterations = 1;
 
 struct Settings {
   Rule rule = Rule::kRelaxed;
@@ -139,22 +139,23 @@ using Vector6d = Eigen::Matrix<double, 6, 1>;
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 using Matrix36d = Eigen::Matrix<double, 3, 6>;
 
-// one node of rule tree's system (tree_projection.cpp): a segment (unknowns Δx world, Δθ in its
-// frame) or a constraint (a joint's point and active limit rows, or a pin; up to six rows)
+// one node of rule tree's system (tree_projection.cpp): a segment (six unknowns: Δx world, Δθ in
+// its frame) or a constraint (a joint's point and active limit rows, or the first pin). Blocks
+// are stored 6×6; a three-row constraint uses their top-left 3×3 and 3×6 (or 6×3) corners.
 struct TreeNode {
   enum Kind { kSegment, kJoint, kPin };
   Kind kind = kSegment;
   int index = -1;   // segment, joint or pin
   int parent = -1;  // node nearer the root, −1 for the root
-  int rows = 0;     // a constraint's rows in use
+  int rows = 0;     // its unknowns: 6 for a segment, a constraint's rows (3 to 6)
   Matrix6d d;       // diagonal block, then its Schur complement over the subtree
-  Matrix6d up;      // the block coupling this node's rows to its parent's columns
+  Matrix6d up;      // the block coupling its rows to its parent's
   Matrix6d x;       // D⁻¹ up
   Vector6d b;       // right side
-  Vector6d alpha;   // α̃ per row
-  Vector6d lambda;  // a constraint's multipliers accumulated over the substep
-  Eigen::LLT<Matrix6d> factor;  // of sign · D, which is positive definite
-  double sign = 1.0;            // +1 for a segment, −1 for a constraint
+  Vector6d alpha = Vector6d::Zero();   // a constraint's α̃ per row
+  Vector6d lambda = Vector6d::Zero();  // and its multipliers accumulated over the substep
+  Eigen::LLT<Matrix6d> factor;         // of ±D: a segment's D, a wide constraint's −D
+  Eigen::LLT<Matrix3d> factor3;        // a three-row constraint's −D
 };
 // a pin after the first: a loop through the world, closed through its Schur complement
 struct TreeLoop {
