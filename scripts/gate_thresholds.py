@@ -25,6 +25,9 @@ import sys
 
 MARGIN = 0.40
 ONE_PASS = ["literal", "smoothed", "weighted", "subtree"]
+# the position-based rules of issue 19: 10x bullet-multibody is the target (about 2.6x MuJoCo's
+# Euler step on this machine), not yet reached
+SUBSTEPPED = ["xpbd", "tree"]
 
 
 def medians(path):
@@ -73,8 +76,10 @@ def main():
     times = {os.path.splitext(os.path.basename(path))[0]: medians(path) for path in sys.argv[1:]}
     gates = []
     for scenario in ["hang", "drag", "drop"]:
-        for rule in ONE_PASS + ["relaxed"]:
-            if scenario == "drop":
+        for rule in ONE_PASS + ["relaxed"] + SUBSTEPPED:
+            if rule in SUBSTEPPED:
+                floor = 10
+            elif scenario == "drop":
                 floor = 12 if rule == "relaxed" else 30
             else:
                 floor = 4 if rule == "relaxed" else 10

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The main job: set up, build (release), then on the built-in Pinocchio run every scenario in
 # every solver, rule and dt with accuracy against the truth (testbed run), the stability frontier
-# (testbed frontier), and the plots and REPORT.md (scripts/plot.py), all into results/. Extra
-# arguments go to testbed run.
+# (testbed frontier), the ablation of the position-based rules (scripts/ablation.sh), and the
+# plots and REPORT.md (scripts/plot.py), all into results/. Extra arguments go to testbed run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
@@ -10,4 +10,5 @@ cmake --preset release >/dev/null
 cmake --build --preset release
 ./build/release/testbed run --model pinocchio --out results "$@"
 ./build/release/testbed frontier --model pinocchio --out results
+scripts/ablation.sh results/ablation
 /usr/bin/python3 scripts/plot.py results

@@ -415,7 +415,8 @@ void add_solver_flags(CLI::App* command, RunFlags& f) {
   command->add_option("--grab", f.grab, "dragged point SEGMENT[:x,y,z] (segment frame)");
   command->add_option("--gravity", f.gravity, "gravity X,Y,Z (m/s^2)");
   command->add_option("--iterations", f.iterations,
-                      "relaxed, xpbd: two-sided sweeps per substep; tree: Newton iterations (default: the rule's, 4, 1, 2)");
+                      "relaxed, xpbd: two-sided sweeps per substep; tree: Newton iterations "
+                      "(default: the rule's, 4, 1, 1)");
   command->add_option("--grab-compliance", f.grab_compliance,
                       "the grab's compliance C (m/N): 0 holds the hand on its target (default), "
                       "C > 0 pulls it with a spring of stiffness 1/C");
@@ -425,8 +426,9 @@ void add_solver_flags(CLI::App* command, RunFlags& f) {
       ->capture_default_str();
   command->add_flag("--bullet-euler-limits", f.bullet_euler_limits,
                     "bullet-multibody: Bullet's own ball limits (a box of Euler angles)");
-  command->add_option("--substeps", f.substeps,
-                      "procedural substeps per step (default: the rule's, 8 for xpbd, 2 for tree, else 1)");
+  command->add_option(
+      "--substeps", f.substeps,
+      "procedural substeps per step (default: the rule's, 8 for xpbd and tree, else 1)");
   command->add_flag("--no-velocities", f.no_velocities,
                     "procedural: do not derive velocities from poses");
 }

@@ -112,15 +112,16 @@ int ball_limit_rows(const Joint& joint, const Quaterniond& q_rel, Matrix3d& dire
   Eigen::Matrix<double, 2, 3> gradient;
   for (int axis = 0; axis < 3; ++axis) {
     const Vector3d turn = kStep * Vector3d::Unit(axis);
-    gradient.col(axis) = (ball_excess(joint, times_exp(q_rel, turn)) -
-                          ball_excess(joint, times_exp(q_rel, -turn))) /
-                         (2.0 * kStep);
+    gradient.col(axis) =
+        (ball_excess(joint, times_exp(q_rel, turn)) - ball_excess(joint, times_exp(q_rel, -turn))) /
+        (2.0 * kStep);
   }
   int count = 0;
   for (int k = 0; k < 2; ++k) {
     if (excess(k) <= 0.0) continue;
     // q_rel exp(δ) for a turn δ_c of the child (its frame) is δ = Fc⁻¹ δ_c: the row is Fc g
-    directions.row(count) = (joint.frame_in_child * Vector3d(gradient.row(k).transpose())).transpose();
+    directions.row(count) =
+        (joint.frame_in_child * Vector3d(gradient.row(k).transpose())).transpose();
     // a row asks u·δ_c = target: the excess removed at first order
     targets(count) = -excess(k);
     ++count;
@@ -131,8 +132,8 @@ int ball_limit_rows(const Joint& joint, const Quaterniond& q_rel, Matrix3d& dire
 // a joint's rows (its point, then its active limit rows) and its two Jacobian blocks, parent's
 // and child's, in those segments' (Δx, Δθ) coordinates
 void set_joint_rows(const Joint& joint, const JointTerms& terms, const BodyState& parent,
-                    const BodyState& child, double point_alpha, double limit_alpha,
-                    TreeNode& node, Matrix6d& j_parent, Matrix6d& j_child) {
+                    const BodyState& child, double point_alpha, double limit_alpha, TreeNode& node,
+                    Matrix6d& j_parent, Matrix6d& j_child) {
   j_parent.setZero();
   j_child.setZero();
   Vector6d c;

@@ -47,7 +47,9 @@ Model unlimited_pinocchio() {
   return model;
 }
 
-Vector3d world_point(const BodyState& body, const Vector3d& local) { return body.x + body.q * local; }
+Vector3d world_point(const BodyState& body, const Vector3d& local) {
+  return body.x + body.q * local;
+}
 
 // every joint's point gap (world), then every pin's
 Eigen::VectorXd constraint_values(const Model& model, std::span<const BodyState> bodies,
@@ -141,8 +143,8 @@ TEST(Tree, OneNewtonIterationIsTheDenseKktSolve) {
     worst = std::max(worst, (solved[i].x - dense[i].x).norm());
     worst = std::max(worst, angle_between(solved[i].q, dense[i].q));
   }
-  std::printf("[ dense    ] |C| %.3e m; tree and dense poses differ by %.2e (m or rad)\n",
-              c.norm(), worst);
+  std::printf("[ dense    ] |C| %.3e m; tree and dense poses differ by %.2e (m or rad)\n", c.norm(),
+              worst);
   EXPECT_GT(c.norm(), 0.1);  // a real correction: every joint open by centimetres
   EXPECT_LT(worst, 1e-7);
 }

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "puppet/compare/metrics.h"
 
@@ -110,6 +111,38 @@ TEST(Session, AGrabHoldsThePointAndTheGhostFollowsTheSameTarget) {
   for (int r = 0; r < session.run_count(); ++r) {
     EXPECT_LT(world_point(session, r, forearm, tip).z(), lifted.z() - 0.05);
   }
+}
+
+// a compliant mouse: the grab is a spring of stiffness 1/C in every solver of the session (tree,
+// whose exact system holds it, and the Bullet ghost, which applies it as a force); lifted 0.3 m
+// and held still (air drag settles it), the hand hangs below the cursor, by less than its
+// weight alone would stretch the spring (the string holds the rest), and both agree
+TEST(Session, ACompliantGrabHangsTheHandBelowTheCursorInEverySolver) {
+  SessionConfig c;
+  c.options.rule = "tree";
+  c.ghost = "bullet-multibody";
+  c.grab_compliance = 1e-3;  // m/N
+  Session session(c);
+  Environment air = session.scenario().environment;
+  air.air_drag = 2.0;  // 1/s: settles the swing and the spring within seconds
+  session.set_environment(air, false);
+  const auto [forearm, tip, held] = grab_the_hand(session);
+  EXPECT_EQ(session.pins()[session.grab_index()].compliance, 1e-3);
+  const Vector3d lifted = held + Vector3d(0.0, 0.0, 0.3);
+  session.move_grab(lifted);
+  run_for(session, 6.0);
+  double sag[2];
+  for (int r = 0; r < session.run_count(); ++r) {
+    SCOPED_TRACE(session.run(r).label);
+    EXPECT_FALSE(session.run(r).diverged);
+    const Vector3d point = world_point(session, r, forearm, tip);
+    sag[r] = lifted.z() - point.z();
+    std::printf("[ grab     ] %s: the hand %.4f m below the cursor\n", session.run(r).label.c_str(),
+                sag[r]);
+    EXPECT_GT(sag[r], 0.002);  // the spring stretches
+    EXPECT_LT(sag[r], session.model().total_mass * 9.81 * 1e-3);
+  }
+  EXPECT_NEAR(sag[0], sag[1], 0.2 * sag[1]);
 }
 
 // the grab comes first: the one-sided rules start their pass from it, as the seed anchors the

@@ -273,7 +273,11 @@ int main(int argc, char** argv) {
   app.add_option("--dt", dt_text, "time step (s); fractions such as 1/240 are accepted")
       ->capture_default_str();
   app.add_option("--substeps", config.options.substeps,
-                 "procedural substeps (default: the rule's, 8 for xpbd, 2 for tree, else 1)");
+                 "procedural substeps (default: the rule's, 8 for xpbd and tree, else 1)");
+  app.add_option("--grab-compliance", config.grab_compliance,
+                 "the mouse's grab: 0 holds the point (default), C > 0 (m/N) pulls it with a "
+                 "spring of stiffness 1/C")
+      ->capture_default_str();
   app.add_option("--frames", frames, "headless: run this many frames of 1/60 s, then exit");
   app.add_option("--screenshot", screenshot, "headless: write the last frame to this PNG");
   app.add_option("--script", script_name, "a scripted mouse: drag, shake or hang");

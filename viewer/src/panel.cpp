@@ -149,6 +149,18 @@ void time_section(Session& session, Controller& controller, PanelState& state) {
   if (config.solver == "procedural" || config.ghost == "procedural") {
     changed |= rule_count_slider("substeps", config, &config.options.substeps, 1, 32);
   }
+  // the mouse's spring: 0 is the hard pin; compliance from 1e-5 (100 kN/m) to 0.01 m/N
+  float compliance = static_cast<float>(config.grab_compliance);
+  if (ImGui::SliderFloat("grab C (m/N)", &compliance, 0.0f, 0.01f, "%.1e",
+                         ImGuiSliderFlags_Logarithmic)) {
+    config.grab_compliance = compliance;
+    changed = true;
+  }
+  if (ImGui::IsItemHovered()) {
+    ImGui::SetTooltip(
+        "0 holds the grabbed point on the cursor; C > 0 pulls it with a spring of "
+        "stiffness 1/C");
+  }
   if (changed) configure(session, config, state);
 
   ImGui::Checkbox("pause [space]", &state.paused);

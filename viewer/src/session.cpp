@@ -48,6 +48,9 @@ std::string validate(const SessionConfig& config) {
   if (!is_one_of(compare::solver_names(), config.solver)) {
     return "--solver: unknown solver \"" + config.solver + "\"";
   }
+  if (!(config.grab_compliance >= 0.0 && config.grab_compliance <= 1.0)) {
+    return "--grab-compliance: expected a compliance in [0, 1] m/N";
+  }
   if (config.anchor != "auto" && config.anchor != "grab" && config.anchor != "scenario") {
     return "--anchor: expected auto, grab or scenario, got \"" + config.anchor + "\"";
   }
@@ -227,7 +230,8 @@ void Session::compute_targets(double t) {
 void Session::collect_pins() {
   pins_ = scenario_.initial_pins();
   if (grabbing()) {
-    pins_.insert(pins_.begin() + grab_index(), Pin{grab_segment_, grab_local_, grab_target_});
+    pins_.insert(pins_.begin() + grab_index(),
+                 Pin{grab_segment_, grab_local_, grab_target_, config_.grab_compliance});
   }
   for (size_t i = 0; i < pins_.size(); ++i) pins_[i].target = targets_[i];
 }

@@ -46,8 +46,9 @@ struct Settings {
   // two-sided sweeps per substep (relaxed: 4, xpbd: 1); tree: Newton iterations per substep
   int iterations = kRuleDefault;
   int substeps = kRuleDefault;  // each step(dt) runs this many stages of dt/substeps (xpbd: 8)
-  // xpbd and tree: compliance of the joints' point constraints (m/N) and of their limits (rad/(N·m));
-  // 0 is rigid, as every model joint is. A pin's compliance is the pin's own (Pin::compliance).
+  // xpbd and tree: compliance of the joints' point constraints (m/N) and of their limits
+  // (rad/(N·m)); 0 is rigid, as every model joint is. A pin's compliance is the pin's own
+  // (Pin::compliance).
   double joint_compliance = 0.0;
   double limit_compliance = 0.0;
   bool derive_velocities = true;  // v, ω from the corrected poses (the seed is silent)
@@ -145,14 +146,14 @@ using Matrix36d = Eigen::Matrix<double, 3, 6>;
 struct TreeNode {
   enum Kind { kSegment, kJoint, kPin };
   Kind kind = kSegment;
-  int index = -1;   // segment, joint or pin
-  int parent = -1;  // node nearer the root, −1 for the root
-  int rows = 0;     // its unknowns: 6 for a segment, a constraint's rows (3 to 6)
-  Matrix6d d;       // diagonal block, then its Schur complement over the subtree
-  Matrix6d up;      // the block coupling its rows to its parent's
-  Matrix6d x;       // D⁻¹ up
-  Vector6d b;       // right side
-  Vector6d alpha = Vector6d::Zero();   // a constraint's α̃ per row
+  int index = -1;                     // segment, joint or pin
+  int parent = -1;                    // node nearer the root, −1 for the root
+  int rows = 0;                       // its unknowns: 6 for a segment, a constraint's rows (3 to 6)
+  Matrix6d d;                         // diagonal block, then its Schur complement over the subtree
+  Matrix6d up;                        // the block coupling its rows to its parent's
+  Matrix6d x;                         // D⁻¹ up
+  Vector6d b;                         // right side
+  Vector6d alpha = Vector6d::Zero();  // a constraint's α̃ per row
   Vector6d lambda = Vector6d::Zero();  // and its multipliers accumulated over the substep
   Eigen::LLT<Matrix6d> factor;         // of ±D: a segment's D, a wide constraint's −D
   Eigen::LLT<Matrix3d> factor3;        // a three-row constraint's −D

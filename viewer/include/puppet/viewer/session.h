@@ -44,6 +44,9 @@ struct SessionConfig {
   // stable from any anchor, scenario for the rotating rules, which anchored at a hand lose the
   // puppet within a second (as in yank, results/frontier.csv). Bullet does not care.
   std::string anchor = "auto";
+  // the mouse's grab: 0 holds the point on the cursor's ray (the seed's hard pin); C > 0 (m/N)
+  // pulls it with a spring of stiffness 1/C, as MuJoCo's and Bullet's pickers do
+  double grab_compliance = 0.0;
 };
 
 // "bad input: one message naming it" for a config (dt, names), empty when valid
