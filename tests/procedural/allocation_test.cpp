@@ -13,6 +13,12 @@ namespace {
 std::atomic<long> g_allocations{0};
 }
 
+// the replacements below are new and delete themselves, on malloc and free: at -O1 and up g++
+// inlines them into their callers and reads each pair as mismatched (-Wmismatched-new-delete)
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+
 void* operator new(std::size_t size) {
   ++g_allocations;
   if (void* p = std::malloc(size ? size : 1)) return p;
