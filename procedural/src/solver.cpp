@@ -126,14 +126,6 @@ AnchorOrder make_anchor_order(const Model& model, int anchor) {
 
 namespace {
 
-Matrix3d cross_matrix(const Vector3d& r) {
-  Matrix3d m;
-  m << 0, -r.z(), r.y(),  //
-      r.z(), 0, -r.x(),   //
-      -r.y(), r.x(), 0;
-  return m;
-}
-
 JointTerms make_joint_terms(const Model& model, const Joint& joint) {
   JointTerms terms;
   terms.limit_free_w = limit_free_w(joint);

@@ -105,6 +105,15 @@ inline Matrix3d point_mass_matrix(double inv_mass, const Matrix3d& inertia_inv, 
   return k;
 }
 
+// [r]×, the matrix of r × ·
+inline Matrix3d cross_matrix(const Vector3d& r) {
+  Matrix3d m;
+  m << 0, -r.z(), r.y(),  //
+      r.z(), 0, -r.x(),   //
+      -r.y(), r.x(), 0;
+  return m;
+}
+
 // the same for a segment in its own frame, where D⁻¹ = diag(inertia_inv)
 inline Matrix3d diagonal_point_mass_matrix(double inv_mass, const Vector3d& inertia_inv,
                                            const Vector3d& r) {

@@ -38,14 +38,6 @@
 namespace puppet::procedural {
 namespace {
 
-Matrix3d cross_matrix(const Vector3d& r) {
-  Matrix3d m;
-  m << 0, -r.z(), r.y(),  //
-      r.z(), 0, -r.x(),   //
-      -r.y(), r.x(), 0;
-  return m;
-}
-
 // the Jacobian of a world point r (segment frame) of `body` in its (Δx, Δθ) block: [E, −R[r]×]
 Matrix36d point_jacobian(const BodyState& body, const Vector3d& r) {
   Matrix36d jacobian;
@@ -327,18 +319,25 @@ void eliminate(TreeNode& node, TreeNode& parent) {
   parent.d.topLeftCorner<P, P>().noalias() -= up.transpose() * node.x.topLeftCorner<R, P>();
 }
 
+// f.template operator()<R, P>() for a non-root node of R unknowns under a parent of P: (3, 6),
+// (6, 3) or (6, 6), since segments and constraints alternate
+template <typename F>
+void with_widths(const TreeNode& node, const TreeNode& parent, F&& f) {
+  if (width(node) == 3) {
+    f.template operator()<3, 6>();
+  } else if (width(parent) == 3) {
+    f.template operator()<6, 3>();
+  } else {
+    f.template operator()<6, 6>();
+  }
+}
+
 // H = L D Lᵀ from the leaves: D_i = H_ii − Σ_children Uᵀ D⁻¹ U, each D factored, X = D⁻¹ U kept
 void factor(int count, std::vector<TreeNode>& nodes) {
   for (int i = count - 1; i > 0; --i) {
     TreeNode& node = nodes[i];
     TreeNode& parent = nodes[node.parent];
-    if (width(node) == 3) {
-      eliminate<3, 6>(node, parent);
-    } else if (width(parent) == 3) {
-      eliminate<6, 3>(node, parent);
-    } else {
-      eliminate<6, 6>(node, parent);
-    }
+    with_widths(node, parent, [&]<int R, int P>() { eliminate<R, P>(node, parent); });
   }
   if (width(nodes[0]) == 3) {
     factor_block<3>(nodes[0]);
@@ -347,28 +346,16 @@ void factor(int count, std::vector<TreeNode>& nodes) {
   }
 }
 
-template <int R, int P>
-void forward(const TreeNode& node, Vector6d& r, Vector6d& r_parent) {
-  const Eigen::Matrix<double, R, 1> z = block_solve<R>(node, r.head<R>());
-  r.head<R>() = z;
-  r_parent.head<P>().noalias() -= node.up.topLeftCorner<R, P>().transpose() * z;
-}
-template <int R, int P>
-void back(const TreeNode& node, Vector6d& r, const Vector6d& r_parent) {
-  r.head<R>().noalias() -= node.x.topLeftCorner<R, P>() * r_parent.head<P>();
-}
-
 // H y = r in place (r per node in, y out): forward from the leaves, back from the root
 void substitute(int count, const std::vector<TreeNode>& nodes, std::span<Vector6d> r) {
   for (int i = count - 1; i > 0; --i) {
     const TreeNode& node = nodes[i];
-    if (width(node) == 3) {
-      forward<3, 6>(node, r[i], r[node.parent]);
-    } else if (width(nodes[node.parent]) == 3) {
-      forward<6, 3>(node, r[i], r[node.parent]);
-    } else {
-      forward<6, 6>(node, r[i], r[node.parent]);
-    }
+    with_widths(node, nodes[node.parent], [&]<int R, int P>() {
+      const Eigen::Matrix<double, R, 1> z = block_solve<R>(node, r[i].template head<R>());
+      r[i].template head<R>() = z;
+      r[node.parent].template head<P>().noalias() -=
+          node.up.template topLeftCorner<R, P>().transpose() * z;
+    });
   }
   if (width(nodes[0]) == 3) {
     r[0].head<3>() = block_solve<3>(nodes[0], r[0].head<3>());
@@ -377,13 +364,10 @@ void substitute(int count, const std::vector<TreeNode>& nodes, std::span<Vector6
   }
   for (int i = 1; i < count; ++i) {
     const TreeNode& node = nodes[i];
-    if (width(node) == 3) {
-      back<3, 6>(node, r[i], r[node.parent]);
-    } else if (width(nodes[node.parent]) == 3) {
-      back<6, 3>(node, r[i], r[node.parent]);
-    } else {
-      back<6, 6>(node, r[i], r[node.parent]);
-    }
+    with_widths(node, nodes[node.parent], [&]<int R, int P>() {
+      r[i].template head<R>().noalias() -=
+          node.x.template topLeftCorner<R, P>() * r[node.parent].template head<P>();
+    });
   }
 }
 

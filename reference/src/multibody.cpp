@@ -72,9 +72,7 @@ class MultibodySolver final : public Solver {
   std::vector<std::unique_ptr<btMultiBodyLinkCollider>> colliders_;
   std::vector<std::unique_ptr<btMultiBodyConstraint>> limits_;
   std::vector<std::unique_ptr<btMultiBodyPoint2Point>> pins_;
-  // compliant pins: springs applied as forces; slot k ≥ 0 is hard pin k, −1 − k spring k
-  std::vector<Pin> springs_;
-  std::vector<int> pin_slots_;
+  PinSprings springs_;  // which pins are hard, and the compliant ones
   Ground ground_;
   std::unique_ptr<btMultiBodyDynamicsWorld> world_;
 
@@ -261,14 +259,8 @@ void MultibodySolver::set_pins(std::span<const Pin> pins) {
   for (auto& pin : pins_) world_->removeMultiBodyConstraint(pin.get());
   pins_.clear();
   springs_.clear();
-  pin_slots_.clear();
   for (const Pin& pin : pins) {
-    if (pin.compliance > 0.0) {
-      pin_slots_.push_back(-1 - static_cast<int>(springs_.size()));
-      springs_.push_back(pin);
-      continue;
-    }
-    pin_slots_.push_back(static_cast<int>(pins_.size()));
+    if (!springs_.add(pin, static_cast<int>(pins_.size()))) continue;
     const Vector3d pivot = segment_to_link_[pin.segment].conjugate() * pin.local_point;
     // bodyB = null: the pin holds the point at a world position, pivotInB
     auto p2p = std::make_unique<btMultiBodyPoint2Point>(body_.get(), pin.segment - 1, nullptr,
@@ -281,13 +273,9 @@ void MultibodySolver::set_pins(std::span<const Pin> pins) {
 }
 
 void MultibodySolver::set_pin_targets(std::span<const Vector3d> targets) {
-  for (size_t k = 0; k < pin_slots_.size() && k < targets.size(); ++k) {
-    const int slot = pin_slots_[k];
-    if (slot >= 0) {
-      pins_[slot]->setPivotInB(to_bt(targets[k]));
-    } else {
-      springs_[-1 - slot].target = targets[k];
-    }
+  for (size_t k = 0; k < springs_.slots.size() && k < targets.size(); ++k) {
+    const int hard = springs_.retarget(k, targets[k]);
+    if (hard >= 0) pins_[hard]->setPivotInB(to_bt(targets[k]));
   }
 }
 
@@ -297,13 +285,7 @@ void MultibodySolver::step(double dt) {
   // solver; world frame, at each COM
   read_state(bodies_);
   for (int s = 0; s < model_.segment_count(); ++s) {
-    Wrench w = environment_wrench(model_.segments[s], environment_, bodies_[s]);
-    for (const Pin& spring : springs_) {
-      if (spring.segment != s) continue;
-      const Wrench pull = pin_spring_wrench(spring, bodies_[s]);
-      w.force += pull.force;
-      w.torque += pull.torque;
-    }
+    const Wrench w = springs_.wrench(model_.segments[s], environment_, s, bodies_[s]);
     if (s == 0) {
       body_->addBaseForce(to_bt(w.force));
       body_->addBaseTorque(to_bt(w.torque));
@@ -394,7 +376,7 @@ std::vector<double> MultibodySolver::save() const {
     const double xyz[3] = {target.x(), target.y(), target.z()};
     put(xyz, 3);
   }
-  for (const Pin& spring : springs_) put(spring.target.data(), 3);
+  for (const Pin& spring : springs_.springs) put(spring.target.data(), 3);
   saved.push_back(diverged_ ? 1.0 : 0.0);
   return saved;
 }
@@ -419,7 +401,7 @@ void MultibodySolver::load(std::span<const double> saved) {
     pin->setPivotInB(btVector3(v[0], v[1], v[2]));
     v += 3;
   }
-  for (Pin& spring : springs_) {
+  for (Pin& spring : springs_.springs) {
     spring.target = Vector3d(v[0], v[1], v[2]);
     v += 3;
   }

@@ -68,9 +68,7 @@ class RigidSolver final : public Solver {
   std::vector<std::unique_ptr<btRigidBody>> bodies_;
   std::vector<std::unique_ptr<btTypedConstraint>> joints_;
   std::vector<std::unique_ptr<btPoint2PointConstraint>> pins_;
-  // compliant pins: springs applied as forces; slot k ≥ 0 is hard pin k, −1 − k spring k
-  std::vector<Pin> springs_;
-  std::vector<int> pin_slots_;
+  PinSprings springs_;  // which pins are hard, and the compliant ones
   Ground ground_;
   std::unique_ptr<btDiscreteDynamicsWorld> world_;
 
@@ -182,14 +180,8 @@ void RigidSolver::set_pins(std::span<const Pin> pins) {
   for (auto& pin : pins_) world_->removeConstraint(pin.get());
   pins_.clear();
   springs_.clear();
-  pin_slots_.clear();
   for (const Pin& pin : pins) {
-    if (pin.compliance > 0.0) {
-      pin_slots_.push_back(-1 - static_cast<int>(springs_.size()));
-      springs_.push_back(pin);
-      continue;
-    }
-    pin_slots_.push_back(static_cast<int>(pins_.size()));
+    if (!springs_.add(pin, static_cast<int>(pins_.size()))) continue;
     // one body: the pin holds pivotInA at the world point pivotInB
     auto p2p =
         std::make_unique<btPoint2PointConstraint>(*bodies_[pin.segment], to_bt(pin.local_point));
@@ -200,13 +192,9 @@ void RigidSolver::set_pins(std::span<const Pin> pins) {
 }
 
 void RigidSolver::set_pin_targets(std::span<const Vector3d> targets) {
-  for (size_t k = 0; k < pin_slots_.size() && k < targets.size(); ++k) {
-    const int slot = pin_slots_[k];
-    if (slot >= 0) {
-      pins_[slot]->setPivotB(to_bt(targets[k]));
-    } else {
-      springs_[-1 - slot].target = targets[k];
-    }
+  for (size_t k = 0; k < springs_.slots.size() && k < targets.size(); ++k) {
+    const int hard = springs_.retarget(k, targets[k]);
+    if (hard >= 0) pins_[hard]->setPivotB(to_bt(targets[k]));
   }
 }
 
@@ -214,13 +202,7 @@ void RigidSolver::step(double dt) {
   if (diverged_) return;
   read_state(states_);
   for (int s = 0; s < model_.segment_count(); ++s) {
-    Wrench w = environment_wrench(model_.segments[s], environment_, states_[s]);
-    for (const Pin& spring : springs_) {
-      if (spring.segment != s) continue;
-      const Wrench pull = pin_spring_wrench(spring, states_[s]);
-      w.force += pull.force;
-      w.torque += pull.torque;
-    }
+    const Wrench w = springs_.wrench(model_.segments[s], environment_, s, states_[s]);
     bodies_[s]->applyCentralForce(to_bt(w.force));
     bodies_[s]->applyTorque(to_bt(w.torque));
   }
@@ -269,7 +251,7 @@ std::vector<double> RigidSolver::save() const {
     const btVector3& target = pin->getPivotInB();
     saved.insert(saved.end(), {target.x(), target.y(), target.z()});
   }
-  for (const Pin& spring : springs_) {
+  for (const Pin& spring : springs_.springs) {
     saved.insert(saved.end(), {spring.target.x(), spring.target.y(), spring.target.z()});
   }
   saved.push_back(diverged_ ? 1.0 : 0.0);
@@ -289,7 +271,7 @@ void RigidSolver::load(std::span<const double> saved) {
     pin->setPivotB(btVector3(v[0], v[1], v[2]));
     v += 3;
   }
-  for (Pin& spring : springs_) {
+  for (Pin& spring : springs_.springs) {
     spring.target = Vector3d(v[0], v[1], v[2]);
     v += 3;
   }

@@ -13,6 +13,7 @@
 #include "puppet/compare/scenario.h"
 #include "puppet/model/rotation.h"
 #include "support/pendulum.h"
+#include "support/rule_runs.h"
 #include "support/spinning_box.h"
 #include "support/state_hash.h"
 
@@ -85,34 +86,11 @@ TEST(Pendulum, PeriodMatchesThePhysicalPendulum) {
   }
 }
 
-double double_pendulum_error(Rule rule) {
-  const Model model = rods(2);
-  Settings settings;
-  settings.rule = rule;
-  Solver solver(model, settings, Environment{});
-  solver.reset(rods_at({0.3, -0.2}));
-  const Pin pins[] = {top_pin()};
-  solver.set_pins(pins);
-  const test::DoublePendulum truth(model.segments[0].inertia.x());
-  Eigen::Vector4d s(0.3, -0.2, 0, 0);
-  const int substeps = 40;  // 1e-4 s per RK4 step
-  double sum = 0;
-  int samples = 0;
-  for (int k = 0; k < std::lround(5.0 / kDt); ++k) {
-    solver.step(kDt);
-    for (int i = 0; i < substeps; ++i) truth.advance(s, kDt / substeps);
-    const auto expected = rods_at({s[0], s[1]});
-    double sq = 0;
-    for (int i = 0; i < 2; ++i) sq += (solver.state().bodies[i].x - expected[i].x).squaredNorm();
-    sum += std::sqrt(sq / 2);
-    ++samples;
-  }
-  return sum / samples;
-}
-
 TEST(Pendulum, DoublePendulumAgainstLagrange) {
   for (Rule rule : kAllRules) {
-    const double error = double_pendulum_error(rule);
+    Settings settings;
+    settings.rule = rule;
+    const double error = test::double_pendulum_error(settings, kDt);
     std::printf("[ 2 rods   ] %-8s mean pose error over 5 s: %.4f m\n",
                 std::string(rule_name(rule)).c_str(), error);
     if (rule == Rule::kRelaxed) {
