@@ -3,6 +3,7 @@
 
 #include "puppet/compare/simulator.h"
 #include "puppet/procedural/solver.h"
+#include "puppet/reference/mujoco.h"
 
 namespace puppet::compare {
 namespace {
@@ -103,13 +104,19 @@ std::unique_ptr<Simulator> make_reference_simulator(const std::string& solver,
                                                     const SolverOptions& options);
 
 const std::vector<std::string>& solver_names() {
-  static const std::vector<std::string> names = {"procedural", "bullet-multibody", "bullet-rigid"};
+  // mujoco only where the build has MuJoCo
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out = {"procedural", "bullet-multibody", "bullet-rigid"};
+    if (reference::have_mujoco()) out.push_back("mujoco");
+    return out;
+  }();
   return names;
 }
 
 std::unique_ptr<Simulator> make_simulator(const std::string& solver, const SolverOptions& options) {
   if (solver == "procedural") return make_procedural_simulator(options);
-  if (solver == "bullet-multibody" || solver == "bullet-rigid")
+  if (solver == "bullet-multibody" || solver == "bullet-rigid" ||
+      (solver == "mujoco" && reference::have_mujoco()))
     return make_reference_simulator(solver, options);
   throw ScenarioError("--solver: unknown solver \"" + solver + "\"");
 }

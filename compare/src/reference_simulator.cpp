@@ -1,6 +1,7 @@
 // The Bullet references behind the Simulator interface.
 #include "puppet/compare/simulator.h"
 #include "puppet/reference/bullet.h"
+#include "puppet/reference/mujoco.h"
 
 namespace puppet::compare {
 namespace {
@@ -13,15 +14,26 @@ class ReferenceSnapshot : public Snapshot {
 
 class ReferenceSimulator : public Simulator {
  public:
-  ReferenceSimulator(reference::Kind kind, const reference::Settings& settings)
-      : kind_(kind), settings_(settings) {}
+  ReferenceSimulator(reference::Kind kind, const reference::Settings& settings,
+                     const reference::MujocoSettings& mujoco)
+      : kind_(kind), settings_(settings), mujoco_(mujoco) {}
 
   std::string name() const override {
-    return kind_ == reference::Kind::kMultibody ? "bullet-multibody" : "bullet-rigid";
+    switch (kind_) {
+      case reference::Kind::kMultibody:
+        return "bullet-multibody";
+      case reference::Kind::kRigid:
+        return "bullet-rigid";
+      case reference::Kind::kMujoco:
+        return "mujoco";
+    }
+    return {};
   }
   void reset(const Model& model, const Scenario& scenario) override {
     const std::vector<Pin> pins = scenario.initial_pins();
-    solver_ = reference::make_solver(kind_, model, scenario.environment, settings_);
+    solver_ = kind_ == reference::Kind::kMujoco
+                  ? reference::make_mujoco(model, scenario.environment, mujoco_)
+                  : reference::make_solver(kind_, model, scenario.environment, settings_);
     solver_->set_state(scenario.initial);
     solver_->set_pins(pins);
   }
@@ -43,6 +55,7 @@ class ReferenceSimulator : public Simulator {
  private:
   reference::Kind kind_;
   reference::Settings settings_;
+  reference::MujocoSettings mujoco_;
   std::unique_ptr<reference::Solver> solver_;
 };
 
@@ -55,9 +68,12 @@ std::unique_ptr<Simulator> make_reference_simulator(const std::string& solver,
   settings.euler_ball_limits = options.bullet_euler_limits;
   const std::string problem = reference::validate(settings);
   if (!problem.empty()) throw ScenarioError("--bullet-iterations: " + problem);
-  const auto kind =
-      solver == "bullet-multibody" ? reference::Kind::kMultibody : reference::Kind::kRigid;
-  return std::make_unique<ReferenceSimulator>(kind, settings);
+  reference::MujocoSettings mujoco;
+  mujoco.integrator = options.mujoco_integrator;
+  const auto kind = solver == "bullet-multibody" ? reference::Kind::kMultibody
+                    : solver == "mujoco"         ? reference::Kind::kMujoco
+                                                 : reference::Kind::kRigid;
+  return std::make_unique<ReferenceSimulator>(kind, settings, mujoco);
 }
 
 }  // namespace puppet::compare

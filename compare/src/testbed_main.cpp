@@ -158,6 +158,7 @@ struct RunFlags {
   // iterations and substeps empty: the rule's own (relaxed 4 × 1, xpbd 1 × 8)
   std::string tilt = "30", hz = "0.5", sample_hz = "30", iterations, substeps, grab_compliance;
   std::string bullet_iterations = "10", jobs = std::to_string(default_jobs());
+  std::string mujoco_integrator = "euler";
   bool no_velocities = false, no_tremble = false, no_timing = false, bullet_euler_limits = false;
   bool no_accuracy = false;
 
@@ -244,6 +245,16 @@ std::vector<SolverConfig> parse_solver_configs(const RunFlags& f) {
       f.substeps.empty() ? procedural::kRuleDefault : parse_count("--substeps", f.substeps, 1);
   options.bullet_iterations = parse_count("--bullet-iterations", f.bullet_iterations, 1);
   options.bullet_euler_limits = f.bullet_euler_limits;
+  if (f.mujoco_integrator == "euler") {
+    options.mujoco_integrator = reference::MujocoIntegrator::kEuler;
+  } else if (f.mujoco_integrator == "implicit") {
+    options.mujoco_integrator = reference::MujocoIntegrator::kImplicit;
+  } else if (f.mujoco_integrator == "rk4") {
+    options.mujoco_integrator = reference::MujocoIntegrator::kRk4;
+  } else {
+    throw UsageError("--mujoco-integrator: expected euler, implicit or rk4, got \"" +
+                     f.mujoco_integrator + "\"");
+  }
   options.derive_velocities = !f.no_velocities;
   options.tremble = !f.no_tremble;
   const auto solvers = expand("--solver", f.solver, solver_names());
@@ -426,6 +437,10 @@ void add_solver_flags(CLI::App* command, RunFlags& f) {
       ->capture_default_str();
   command->add_flag("--bullet-euler-limits", f.bullet_euler_limits,
                     "bullet-multibody: Bullet's own ball limits (a box of Euler angles)");
+  command
+      ->add_option("--mujoco-integrator", f.mujoco_integrator,
+                   "mujoco: euler (MuJoCo's semi-implicit Euler), implicit or rk4")
+      ->capture_default_str();
   command->add_option(
       "--substeps", f.substeps,
       "procedural substeps per step (default: the rule's, 8 for xpbd and tree, else 1)");

@@ -10,6 +10,7 @@
 
 #include "puppet/model/environment.h"
 #include "puppet/model/model.h"
+#include "pin_springs.h"
 #include "puppet/reference/bullet.h"
 
 namespace puppet::reference::detail {
@@ -56,44 +57,6 @@ struct CollisionMachinery {
 // contact points carry warm-start impulses from step to step: a state set from outside must
 // start without them, or the same state would step differently depending on its history
 void clear_contact_caches(btCollisionDispatcher& dispatcher);
-
-// A Bullet reference's pins: the hard ones are its own point constraints, the compliant ones
-// springs applied as forces (pin_spring_wrench). Pin k is hard pin slots[k] when that is ≥ 0,
-// else spring −1 − slots[k].
-struct PinSprings {
-  std::vector<Pin> springs;
-  std::vector<int> slots;
-
-  void clear() {
-    springs.clear();
-    slots.clear();
-  }
-  // records `pin`; true when it is hard, and then it is the solver's hard pin `hard_count`
-  bool add(const Pin& pin, int hard_count) {
-    const bool hard = pin.compliance <= 0.0;
-    slots.push_back(hard ? hard_count : -1 - static_cast<int>(springs.size()));
-    if (!hard) springs.push_back(pin);
-    return hard;
-  }
-  // the hard pin that pin k is, or −1 once its spring has taken the target
-  int retarget(size_t k, const Vector3d& target) {
-    if (slots[k] >= 0) return slots[k];
-    springs[-1 - slots[k]].target = target;
-    return -1;
-  }
-  // the environment's wrench on a segment plus its springs' pull (world, at the COM)
-  Wrench wrench(const Segment& segment, const Environment& environment, int index,
-                const BodyState& body) const {
-    Wrench w = environment_wrench(segment, environment, body);
-    for (const Pin& spring : springs) {
-      if (spring.segment != index) continue;
-      const Wrench pull = pin_spring_wrench(spring, body);
-      w.force += pull.force;
-      w.torque += pull.torque;
-    }
-    return w;
-  }
-};
 
 std::unique_ptr<Solver> make_multibody(const Model& model, const Environment& environment,
                                        const Settings& settings);

@@ -12,6 +12,7 @@
 #include "puppet/model/environment.h"
 #include "puppet/model/model.h"
 #include "puppet/procedural/solver.h"
+#include "puppet/reference/mujoco.h"
 
 namespace puppet::compare {
 
@@ -59,8 +60,9 @@ const std::vector<std::string>& solver_names();
 struct SolverOptions {
   std::string rule = "relaxed";
   int iterations = procedural::kRuleDefault;  // relaxed, xpbd: sweeps per substep; tree: Newton
-  int bullet_iterations = 10;               // Bullet: sequential-impulse sweeps (Bullet's default)
-  bool bullet_euler_limits = false;         // bullet-multibody: Bullet's Euler-box ball limits
+  int bullet_iterations = 10;        // Bullet: sequential-impulse sweeps (Bullet's default)
+  bool bullet_euler_limits = false;  // bullet-multibody: Bullet's Euler-box ball limits
+  reference::MujocoIntegrator mujoco_integrator = reference::MujocoIntegrator::kEuler;
   int substeps = procedural::kRuleDefault;  // procedural: substeps per step
   bool derive_velocities = true;
   bool tremble = true;  // honoured only where the scenario asks for it

@@ -21,7 +21,7 @@
 
 namespace puppet::reference {
 
-enum class Kind { kMultibody, kRigid };
+enum class Kind { kMultibody, kRigid, kMujoco };
 
 struct Settings {
   // sequential-impulse sweeps per step; 10 is Bullet's default for both worlds

@@ -1,0 +1,43 @@
+// The same humanoid in MuJoCo 2.2 (reduced coordinates, soft constraints solved as a convex
+// problem), built from the same Model through the MJCF document write_mjcf gives it, driven by
+// the same environment forces and pins (shared/DESIGN.md, "The references"):
+//   - bodies are the segments in their principal frames at their COMs, the inertia the model's;
+//   - gravity, drag and buoyancy are applied as external wrenches (xfrc_applied) from the shared
+//     formulas, evaluated at the start of each step, and MuJoCo's own gravity is off; joints
+//     have no armature, damping or friction;
+//   - one hard pin whose target stays put is exact: the tree hangs from its point by a ball
+//     joint to the world. Other hard pins are connect equalities to mocap bodies at their
+//     targets, soft as MuJoCo's constraints are (time constant τ = 2·dt, critically damped,
+//     impedance 0.9999). A mocap body has no velocity, so MuJoCo's constraint damping would
+//     brake the point's own velocity (a lag of 2τ·v behind a moving target); the mocap body is
+//     placed 2τ·v_target ahead instead, which makes it damp the velocity relative to the target
+//     (exact for a flat impedance: a_ref = −b·(v − v_t) − k·(p − p_t) with b/k = 2τ). A
+//     compliant pin is a spring force, as in the Bullet references;
+//   - ground contact has the model's μ in an elliptic (exact Coulomb) cone, as stiff as pins;
+//   - a ball limit is MuJoCo's cone on the whole rotation angle (mjcf_ball_range), hinge limits
+//     the model's.
+// Compiled only when Debian's libmujoco-dev is installed (PUPPET_HAVE_MUJOCO).
+#pragma once
+
+#include <memory>
+
+#include "puppet/reference/bullet.h"
+
+namespace puppet::reference {
+
+enum class MujocoIntegrator { kEuler, kImplicit, kRk4 };
+
+struct MujocoSettings {
+  // MuJoCo's semi-implicit Euler (its default), implicit in velocity, or RK4
+  MujocoIntegrator integrator = MujocoIntegrator::kEuler;
+};
+
+// whether this build has MuJoCo
+bool have_mujoco();
+
+// builds the model at rest in the environment; throws ModelError when MuJoCo's compiler rejects
+// the document (or the build has no MuJoCo)
+std::unique_ptr<Solver> make_mujoco(const Model& model, const Environment& environment,
+                                    const MujocoSettings& settings = {});
+
+}  // namespace puppet::reference

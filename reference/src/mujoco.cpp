@@ -1,0 +1,401 @@
+// The model in MuJoCo (mujoco.h). Every body's frame is its segment's frame, so MuJoCo's world
+// poses are the segments' poses. With B a body's compiled orientation in its parent and q_P, q_b
+// the parent's and the body's world orientations, a joint's rotation is Q = B⁻¹ q_P⁻¹ q_b:
+//   free   qpos = (x, q_b), qvel = (v, q_b⁻¹ ω) (the angular part in the body frame)
+//   ball   qpos = Q, qvel = q_b⁻¹ (ω_b − ω_P) (in the body frame)
+//   hinge  qpos = θ with Q = rotation by θ about the axis a, qvel = a · q_b⁻¹ (ω_b − ω_P)
+// The pins' configuration (which one hangs the tree, which are mocap-driven) is part of the
+// compiled model: a change rebuilds it and carries the state over through world poses.
+#include "puppet/reference/mujoco.h"
+
+#include <mujoco/mujoco.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <mutex>
+
+#include "pin_springs.h"
+#include "puppet/model/mjcf.h"
+
+namespace puppet::reference {
+namespace {
+
+// MuJoCo reports what it noticed (a bad qacc, a full contact list) on stdout by default; the
+// solver reads the same counts from mjData instead
+void quiet_warning(const char*) {}
+
+std::mutex& compiler_mutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+// MJCF text → mjModel, through MuJoCo's virtual file system (nothing touches the disk)
+mjModel* compile(const std::string& xml) {
+  static std::once_flag quiet;
+  std::call_once(quiet, [] { mju_user_warning = quiet_warning; });
+  const std::lock_guard<std::mutex> lock(compiler_mutex());  // the XML parser keeps globals
+  mjVFS vfs;
+  mj_defaultVFS(&vfs);
+  const char* name = "puppet.xml";
+  if (mj_makeEmptyFileVFS(&vfs, name, static_cast<int>(xml.size())) != 0) {
+    throw ModelError("mujoco: cannot stage the MJCF document");
+  }
+  std::memcpy(vfs.filedata[mj_findFileVFS(&vfs, name)], xml.data(), xml.size());
+  char error[1000] = "";
+  mjModel* m = mj_loadXML(name, &vfs, error, sizeof error);
+  mj_deleteVFS(&vfs);
+  if (m == nullptr) {
+    std::string what = error;
+    std::replace(what.begin(), what.end(), '\n', ' ');
+    throw ModelError("mujoco: the compiler rejected the model: " + what.substr(0, 300));
+  }
+  return m;
+}
+
+Vector3d vec3(const mjtNum* p) { return {p[0], p[1], p[2]}; }
+Quaterniond quat4(const mjtNum* p) { return Quaterniond(p[0], p[1], p[2], p[3]); }
+
+bool same_point(const Pin& a, const Pin& b) {
+  return a.segment == b.segment && a.local_point == b.local_point;
+}
+
+class MujocoSolver final : public Solver {
+ public:
+  MujocoSolver(const Model& model, const Environment& environment, const MujocoSettings& settings)
+      : model_(model), environment_(environment), settings_(settings) {
+    bodies_ = rest_pose(model);
+    build();
+    set_state(bodies_);
+  }
+  ~MujocoSolver() override { release(); }
+
+  Kind kind() const override { return Kind::kMujoco; }
+
+  void set_pins(std::span<const Pin> pins) override {
+    read_state(bodies_);
+    // the exact pin stays exact while it is among the pins, hard, and its target unchanged
+    int exact = -1;
+    for (size_t k = 0; k < pins.size(); ++k) {
+      if (exact_ >= 0 && pins[k].compliance <= 0.0 && same_point(pins[k], pins_[exact_]) &&
+          pins[k].target == pins_[exact_].target) {
+        exact = static_cast<int>(k);
+      }
+    }
+    // else the first hard pin whose point is on its target (a pin that must first pull its
+    // point there is a constraint, not a joint)
+    for (size_t k = 0; exact < 0 && k < pins.size(); ++k) {
+      const Pin& pin = pins[k];
+      const BodyState& b = bodies_[pin.segment];
+      if (pin.compliance <= 0.0 && (b.x + b.q * pin.local_point - pin.target).norm() <= 1e-9) {
+        exact = static_cast<int>(k);
+      }
+    }
+    pins_.assign(pins.begin(), pins.end());
+    exact_ = exact;
+    rebuild();
+  }
+
+  void set_pin_targets(std::span<const Vector3d> targets) override {
+    for (size_t k = 0; k < targets.size() && k < pins_.size(); ++k) {
+      previous_targets_[k] = pins_[k].target;
+      if (static_cast<int>(k) == exact_ && targets[k] != pins_[k].target) {
+        // the exact pin's target moves: from now on it is a driven pin
+        read_state(bodies_);
+        exact_ = -1;
+        pins_[k].target = targets[k];
+        rebuild();
+      }
+      pins_[k].target = targets[k];
+      springs_.retarget(k, targets[k]);
+    }
+  }
+
+  void step(double dt) override {
+    m_->opt.timestep = dt;
+    // the mocap bodies 2τ·v_target ahead of the targets, τ = 2·dt (see mujoco.h)
+    const double lead = 4.0 * dt;
+    for (size_t k = 0; k < mocap_of_pin_.size(); ++k) {
+      if (mocap_of_pin_[k] < 0) continue;
+      const Vector3d velocity = (pins_[k].target - previous_targets_[k]) / dt;
+      const Vector3d at = pins_[k].target + lead * velocity;
+      std::copy_n(at.data(), 3, d_->mocap_pos + 3 * mocap_of_pin_[k]);
+      previous_targets_[k] = pins_[k].target;
+    }
+    if (settings_.integrator == MujocoIntegrator::kRk4) {
+      // RK4 holds the applied wrenches over its four stages: they are evaluated at the start
+      refresh();
+      apply_wrenches();
+      mj_step(m_, d_);
+    } else {
+      // positions and velocities at the start of the step, which body_state reads (MuJoCo's
+      // split step serves Euler and implicit alike)
+      mj_step1(m_, d_);
+      apply_wrenches();
+      mj_step2(m_, d_);
+    }
+    kinematics_current_ = false;
+    // MuJoCo meets a non-finite qpos, qvel or qacc by resetting the state to its initial one
+    // and counting a warning: the count is what says the run diverged
+    for (int w : {mjWARN_BADQPOS, mjWARN_BADQVEL, mjWARN_BADQACC}) {
+      if (d_->warning[w].number > 0) diverged_ = true;
+    }
+  }
+
+  void read_state(std::span<BodyState> out) const override {
+    refresh();
+    for (int s = 0; s < model_.segment_count(); ++s) out[s] = body_state(s);
+  }
+
+  void set_state(std::span<const BodyState> bodies) override {
+    if (exact_ >= 0) {
+      // a state whose point is off the exact pin's target cannot be written in coordinates
+      // hung from it: the pin is driven from now on, and the state is kept as given
+      const Pin& pin = pins_[exact_];
+      const BodyState& b = bodies[pin.segment];
+      if ((b.x + b.q * pin.local_point - pin.target).norm() > 1e-9) {
+        exact_ = -1;
+        build();
+      }
+    }
+    for (int s = 0; s < model_.segment_count(); ++s) {
+      const int b = body_of_[s];
+      const int parent = m_->body_parentid[b];
+      const int ps = parent > 0 ? segment_of_[parent] : -1;
+      const Quaterniond qp = ps >= 0 ? bodies[ps].q : Quaterniond::Identity();
+      const Vector3d wp = ps >= 0 ? bodies[ps].w : Vector3d::Zero();
+      const BodyState& body = bodies[s];
+      if (m_->body_jntnum[b] == 0) continue;
+      const int j = m_->body_jntadr[b];
+      mjtNum* qpos = d_->qpos + m_->jnt_qposadr[j];
+      mjtNum* qvel = d_->qvel + m_->jnt_dofadr[j];
+      const Vector3d relative_w = body.q.conjugate() * (body.w - wp);
+      switch (m_->jnt_type[j]) {
+        case mjJNT_FREE: {
+          std::copy_n(body.x.data(), 3, qpos);
+          const Quaterniond q = body.q.normalized();
+          qpos[3] = q.w(), qpos[4] = q.x(), qpos[5] = q.y(), qpos[6] = q.z();
+          std::copy_n(body.v.data(), 3, qvel);
+          std::copy_n(relative_w.data(), 3, qvel + 3);
+          break;
+        }
+        case mjJNT_BALL: {
+          const Quaterniond q =
+              (quat4(m_->body_quat + 4 * b).conjugate() * qp.conjugate() * body.q).normalized();
+          qpos[0] = q.w(), qpos[1] = q.x(), qpos[2] = q.y(), qpos[3] = q.z();
+          std::copy_n(relative_w.data(), 3, qvel);
+          break;
+        }
+        case mjJNT_HINGE: {
+          const Quaterniond q = quat4(m_->body_quat + 4 * b).conjugate() * qp.conjugate() * body.q;
+          const Vector3d axis = vec3(m_->jnt_axis + 3 * j);
+          qpos[0] = 2.0 * std::atan2(q.vec().dot(axis), q.w());
+          qvel[0] = axis.dot(relative_w);
+          break;
+        }
+        default:
+          break;
+      }
+    }
+    // history the same state must not carry: the constraint solver's warm start
+    mju_zero(d_->qacc_warmstart, m_->nv);
+    kinematics_current_ = false;
+  }
+
+  std::vector<double> save() const override {
+    // first: MuJoCo's kinematics normalise the quaternions in qpos in place, so the state is
+    // saved as it is after they ran (as the next step will find it)
+    read_state(bodies_);
+    std::vector<double> out;
+    out.push_back(static_cast<double>(generation_));
+    out.push_back(d_->time);
+    out.insert(out.end(), d_->qpos, d_->qpos + m_->nq);
+    out.insert(out.end(), d_->qvel, d_->qvel + m_->nv);
+    out.insert(out.end(), d_->qacc_warmstart, d_->qacc_warmstart + m_->nv);
+    for (size_t k = 0; k < pins_.size(); ++k) {
+      out.insert(out.end(), pins_[k].target.data(), pins_[k].target.data() + 3);
+      out.insert(out.end(), previous_targets_[k].data(), previous_targets_[k].data() + 3);
+    }
+    // world poses, for a restore into another pin configuration
+    for (const BodyState& b : bodies_) {
+      out.insert(out.end(), b.x.data(), b.x.data() + 3);
+      out.insert(out.end(), b.q.coeffs().data(), b.q.coeffs().data() + 4);
+      out.insert(out.end(), b.v.data(), b.v.data() + 3);
+      out.insert(out.end(), b.w.data(), b.w.data() + 3);
+    }
+    out.push_back(diverged_ ? 1.0 : 0.0);
+    return out;
+  }
+
+  void load(std::span<const double> saved) override {
+    size_t at = 0;
+    const auto generation = static_cast<long>(saved[at++]);
+    const double time = saved[at++];
+    const double* qpos = &saved[at];
+    at += m_->nq;
+    const double* qvel = &saved[at];
+    at += m_->nv;
+    const double* warm = &saved[at];
+    at += m_->nv;
+
+    const double* targets = &saved[at];
+    at += 6 * pins_.size();
+    if (generation == generation_) {
+      for (size_t k = 0; k < pins_.size(); ++k) {
+        const double* t = targets + 6 * k;
+        pins_[k].target = Vector3d(t[0], t[1], t[2]);
+        previous_targets_[k] = Vector3d(t[3], t[4], t[5]);
+        springs_.retarget(k, pins_[k].target);
+      }
+      std::copy_n(qpos, m_->nq, d_->qpos);
+      std::copy_n(qvel, m_->nv, d_->qvel);
+      std::copy_n(warm, m_->nv, d_->qacc_warmstart);
+
+      d_->time = time;
+      kinematics_current_ = false;
+    } else {
+      // saved under another pin configuration: only the world state carries over (its layout
+      // after the qpos part is sized by that configuration, so it is read from the end)
+      at = saved.size() - 1 - 13 * bodies_.size();
+      for (BodyState& b : bodies_) {
+        b.x = Vector3d(saved[at], saved[at + 1], saved[at + 2]);
+        b.q.coeffs() = Eigen::Vector4d(saved[at + 3], saved[at + 4], saved[at + 5], saved[at + 6]);
+        b.v = Vector3d(saved[at + 7], saved[at + 8], saved[at + 9]);
+        b.w = Vector3d(saved[at + 10], saved[at + 11], saved[at + 12]);
+        at += 13;
+      }
+      set_state(bodies_);
+    }
+    diverged_ = saved.back() != 0.0;
+  }
+
+  bool diverged() const override { return diverged_; }
+
+  double segment_mass(int segment) const override { return m_->body_mass[body_of_[segment]]; }
+  Vector3d segment_inertia(int segment) const override {
+    return vec3(m_->body_inertia + 3 * body_of_[segment]);
+  }
+  void joint_anchors(int joint, Vector3d* on_parent, Vector3d* on_child) const override {
+    refresh();
+    const Joint& j = model_.joints[joint];
+    const BodyState p = body_state(j.parent);
+    const BodyState c = body_state(j.child);
+    *on_parent = p.x + p.q * j.anchor_in_parent;
+    *on_child = c.x + c.q * j.anchor_in_child;
+  }
+
+ private:
+  void release() {
+    if (d_ != nullptr) mj_deleteData(d_);
+    if (m_ != nullptr) mj_deleteModel(m_);
+    d_ = nullptr;
+    m_ = nullptr;
+  }
+
+  // compiles the model for the current pins
+  void build() {
+    MjcfOptions options;
+    options.environment = environment_;
+    options.environment.gravity.setZero();  // gravity comes with the environment's wrench
+    options.integrator = settings_.integrator == MujocoIntegrator::kRk4 ? MjcfIntegrator::kRk4
+                         : settings_.integrator == MujocoIntegrator::kImplicit
+                             ? MjcfIntegrator::kImplicit
+                             : MjcfIntegrator::kEuler;
+    options.stiff_constraints = true;
+    options.user_data = false;
+    options.model_names = false;
+    springs_.clear();
+    mocap_of_pin_.assign(pins_.size(), -1);
+    previous_targets_.resize(pins_.size());
+    for (size_t k = 0; k < pins_.size(); ++k) previous_targets_[k] = pins_[k].target;
+    for (size_t k = 0; k < pins_.size(); ++k) {
+      const Pin& pin = pins_[k];
+      if (!springs_.add(pin, 0)) continue;  // compliant: a spring force
+      if (static_cast<int>(k) == exact_) {
+        options.pinned_segment = pin.segment;
+        options.pinned_point = pin.local_point;
+        options.pinned_target = pin.target;
+      } else {
+        mocap_of_pin_[k] = static_cast<int>(options.driven_pins.size());
+        options.driven_pins.push_back(pin);
+      }
+    }
+    release();
+    m_ = compile(write_mjcf(model_, options));
+    d_ = mj_makeData(m_);
+    // a connect holds body1's anchor on body2's point that coincided with it in the written
+    // configuration: the mocap body's origin, up to that configuration's rounding
+    for (int e = 0; e < m_->neq; ++e) mju_zero(m_->eq_data + mjNEQDATA * e + 3, 3);
+    body_of_.assign(model_.segment_count(), -1);
+    segment_of_.assign(m_->nbody, -1);
+    for (int s = 0; s < model_.segment_count(); ++s) {
+      body_of_[s] = mj_name2id(m_, mjOBJ_BODY, mjcf_segment_body(s).c_str());
+      segment_of_[body_of_[s]] = s;
+    }
+    ++generation_;
+    kinematics_current_ = false;
+  }
+
+  void rebuild() {
+    build();
+    set_state(bodies_);
+  }
+
+  // positions and velocities of every body (mj_step leaves them at the start of the last step)
+  void refresh() const {
+    if (kinematics_current_) return;
+    mj_kinematics(m_, d_);
+    mj_comPos(m_, d_);
+    mj_comVel(m_, d_);
+    kinematics_current_ = true;
+  }
+
+  BodyState body_state(int s) const {
+    const int b = body_of_[s];
+    BodyState out;
+    out.x = vec3(d_->xpos + 3 * b);
+    out.q = quat4(d_->xquat + 4 * b);
+    mjtNum velocity[6];
+    mj_objectVelocity(m_, d_, mjOBJ_BODY, b, velocity, 0);
+    out.w = vec3(velocity);
+    out.v = vec3(velocity + 3);
+    return out;
+  }
+
+  void apply_wrenches() {
+    for (int s = 0; s < model_.segment_count(); ++s) {
+      const BodyState body = body_state(s);
+      const Wrench w = springs_.wrench(model_.segments[s], environment_, s, body);
+      mjtNum* out = d_->xfrc_applied + 6 * body_of_[s];
+      std::copy_n(w.force.data(), 3, out);
+      std::copy_n(w.torque.data(), 3, out + 3);
+    }
+  }
+
+  const Model& model_;
+  Environment environment_;
+  MujocoSettings settings_;
+  std::vector<Pin> pins_;
+  int exact_ = -1;
+  detail::PinSprings springs_;
+  std::vector<int> mocap_of_pin_;           // the mocap body driving each pin, −1 for none
+  std::vector<Vector3d> previous_targets_;  // each pin's target one step before
+  mjModel* m_ = nullptr;
+  mjData* d_ = nullptr;
+  std::vector<int> body_of_, segment_of_;
+  long generation_ = 0;
+  mutable bool kinematics_current_ = false;
+  mutable std::vector<BodyState> bodies_;
+  bool diverged_ = false;
+};
+
+}  // namespace
+
+bool have_mujoco() { return true; }
+
+std::unique_ptr<Solver> make_mujoco(const Model& model, const Environment& environment,
+                                    const MujocoSettings& settings) {
+  return std::make_unique<MujocoSolver>(model, environment, settings);
+}
+
+}  // namespace puppet::reference

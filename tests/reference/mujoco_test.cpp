@@ -1,0 +1,251 @@
+// The mujoco reference against the model it was built from, the analytic pendulum, the exact
+// joints of reduced coordinates, and the other reduced-coordinate reference (bullet-multibody).
+#include "puppet/reference/mujoco.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include "puppet/compare/metrics.h"
+#include "puppet/compare/run.h"
+#include "puppet/compare/scenario.h"
+#include "puppet/compare/simulator.h"
+#include "puppet/model/rotation.h"
+#include "support/pendulum.h"
+#include "support/rule_runs.h"
+
+namespace puppet::reference {
+namespace {
+
+constexpr double kDt = 1.0 / 240.0;
+constexpr double kPi = std::numbers::pi;
+
+double max_distance(const std::vector<BodyState>& a, const std::vector<BodyState>& b) {
+  double worst = 0;
+  for (size_t i = 0; i < a.size(); ++i) worst = std::max(worst, (a[i].x - b[i].x).norm());
+  return worst;
+}
+
+// Pinocchio with every limit opened out of reach
+Model without_limits(Model model) {
+  model.name += "-free";
+  for (Joint& j : model.joints) {
+    j.swing_x = j.swing_y = j.twist = kPi;
+    j.lower = -kPi;
+    j.upper = kPi;
+    derive_limit_terms(j);
+  }
+  return model;
+}
+
+// the harness's run of a scenario at dt
+compare::RunResult run(const std::string& solver, const Model& model,
+                       const compare::Scenario& scenario, double dt,
+                       const compare::SolverOptions& solver_options = {}) {
+  auto simulator = compare::make_simulator(solver, solver_options);
+  compare::RunOptions options;
+  options.dt = dt;
+  options.timing = false;
+  return compare::run_scenario(*simulator, model, scenario, options);
+}
+
+// the state a solver reaches after `seconds` of a scenario
+std::vector<BodyState> state_after(const std::string& solver, const Model& model,
+                                   const compare::Scenario& scenario, double dt, double seconds,
+                                   const compare::SolverOptions& solver_options = {}) {
+  auto simulator = compare::make_simulator(solver, solver_options);
+  simulator->reset(model, scenario);
+  std::vector<Vector3d> targets;
+  const int steps = static_cast<int>(std::lround(seconds / dt));
+  for (int k = 1; k <= steps; ++k) {
+    scenario.targets_at(k * dt, targets);
+    simulator->set_pin_targets(targets);
+    simulator->step(dt);
+  }
+  std::vector<BodyState> out(model.segment_count());
+  simulator->read_state(out);
+  return out;
+}
+
+// what MuJoCo's compiler made of the document is what the model says
+TEST(Mujoco, HoldsTheModel) {
+  const Model model = load_model(test::kPinocchioPath);
+  const auto solver = make_mujoco(model, Environment{});
+  std::vector<BodyState> read(model.segment_count());
+  solver->read_state(read);
+  const std::vector<BodyState> rest = rest_pose(model);
+  for (int s = 0; s < model.segment_count(); ++s) {
+    const Segment& segment = model.segments[s];
+    EXPECT_NEAR(solver->segment_mass(s), segment.mass, 1e-12 * segment.mass);
+    EXPECT_LE((solver->segment_inertia(s) - segment.inertia).cwiseAbs().maxCoeff(),
+              1e-12 * segment.inertia.maxCoeff())
+        << segment.name;
+    EXPECT_LE((read[s].x - rest[s].x).norm(), 1e-12) << segment.name;
+    EXPECT_LE(angle_between(read[s].q, rest[s].q), 1e-12) << segment.name;
+  }
+  for (int j = 0; j < model.joint_count(); ++j) {
+    Vector3d on_parent, on_child;
+    solver->joint_anchors(j, &on_parent, &on_child);
+    EXPECT_LE((on_parent - model.joints[j].anchor_world).norm(), 1e-12) << j;
+  }
+}
+
+// set_state then read_state gives the state back through the joint coordinates of a free root
+// (states of bullet-multibody after 1 s of spin and drop, every joint moving) and of a tree hung
+// from its exact pin (mujoco's own state after 1 s of drag and of yank, where a state from
+// Bullet would not do: its soft pin leaves the point up to 1.5 mm off its target)
+TEST(Mujoco, StateRoundTripsThroughJointCoordinates) {
+  const Model model = load_model(test::kPinocchioPath);
+  for (const std::string name : {"spin", "drop", "drag", "yank"}) {
+    const compare::Scenario scenario = compare::make_scenario(name, model);
+    const bool pinned = !scenario.pins.empty();
+    const std::vector<BodyState> want =
+        state_after(pinned ? "mujoco" : "bullet-multibody", model, scenario, kDt, 1.0);
+    auto simulator = compare::make_simulator("mujoco", {});
+    simulator->reset(model, scenario);
+    simulator->set_state(want);
+    std::vector<BodyState> read(model.segment_count());
+    simulator->read_state(read);
+    for (int s = 0; s < model.segment_count(); ++s) {
+      EXPECT_LE((read[s].x - want[s].x).norm(), 1e-9) << name << " " << s;
+      EXPECT_LE(angle_between(read[s].q, want[s].q), 1e-9) << name << " " << s;
+      EXPECT_LE((read[s].v - want[s].v).norm(), 1e-9) << name << " " << s;
+      EXPECT_LE((read[s].w - want[s].w).norm(), 1e-9) << name << " " << s;
+    }
+  }
+}
+
+// A rod hanging from its top by the exact pin (a ball joint to the world), released at 10°,
+// against the physical pendulum: RK4 at 1/240 is within 0.01 %, Euler within 0.5 %
+TEST(Mujoco, PendulumPeriod) {
+  const Model model = test::rods(1);
+  const double expected = test::analytic_period(10.0 * kPi / 180.0);
+  for (const bool rk4 : {true, false}) {
+    MujocoSettings settings;
+    settings.integrator = rk4 ? MujocoIntegrator::kRk4 : MujocoIntegrator::kEuler;
+    auto solver = make_mujoco(model, Environment{}, settings);
+    solver->set_state(test::rods_at({10.0 * kPi / 180.0}));
+    const Pin pins[] = {test::top_pin()};
+    solver->set_pins(pins);
+    std::vector<BodyState> bodies(1);
+    test::PeriodMeter meter;
+    for (int k = 0; k < std::lround(12.0 / kDt); ++k) {
+      solver->step(kDt);
+      solver->read_state(bodies);
+      meter.add((k + 1) * kDt, kDt, bodies[0].w.x());
+    }
+    const double period = meter.period();
+    std::printf("[ period   ] mujoco %-5s %.6f s vs analytic %.6f s: %+.5f %%\n",
+                rk4 ? "RK4" : "Euler", period, expected, 100 * (period / expected - 1));
+    EXPECT_NEAR(period / expected, 1.0, rk4 ? 1e-4 : 5e-3);
+    // the exact pin: the top never leaves the origin
+    EXPECT_LE((bodies[0].x + bodies[0].q * test::top_pin().local_point).norm(), 1e-12);
+  }
+}
+
+// reduced coordinates cannot open a joint, and the exact pin cannot move: every scenario. (MuJoCo's
+// semi-implicit Euler diverges in yank at 1/240, its explicit gyroscopic forces spinning light
+// segments up: a finding REPORT.md shows, not asserted here; its joints stay closed regardless.)
+TEST(Mujoco, JointsAndTheExactPinStayClosedInEveryScenario) {
+  const Model model = load_model(test::kPinocchioPath);
+  for (const std::string& name : compare::scenario_names()) {
+    const compare::Scenario scenario = compare::make_scenario(name, model);
+    const auto result = run("mujoco", model, scenario, kDt);
+    std::printf("[ gap      ] mujoco %-8s max joint gap %.1e m, max pin gap %.1e m%s\n",
+                name.c_str(), result.value("joint_gap_m", "max"),
+                scenario.pins.empty() ? 0.0 : result.value("pin_gap_m", "max"),
+                result.diverged ? " (diverged)" : "");
+    if (name != "yank") {
+      EXPECT_FALSE(result.diverged) << name;
+    }
+    EXPECT_LE(result.value("joint_gap_m", "max"), 1e-9) << name;
+    if (name == "hang") {
+      EXPECT_LE(result.value("pin_gap_m", "max"), 1e-9);
+    }
+  }
+}
+
+// Two reduced-coordinate engines on one exact problem (hang, no limit reached, no contact):
+// MuJoCo RK4 at 1/960 and bullet-multibody at 1/3840 agree within 1 mm after 1 s
+TEST(Mujoco, AgreesWithBulletMultibodyWithoutLimits) {
+  const Model model = without_limits(load_model(test::kPinocchioPath));
+  const compare::Scenario hang = compare::make_scenario("hang", model);
+  compare::SolverOptions rk4;
+  rk4.mujoco_integrator = MujocoIntegrator::kRk4;
+  const auto mujoco = state_after("mujoco", model, hang, 1.0 / 960, 1.0, rk4);
+  const auto bullet = state_after("bullet-multibody", model, hang, 1.0 / 3840, 1.0);
+  const double apart = max_distance(mujoco, bullet);
+  std::printf(
+      "[ agree    ] hang without limits at 1 s: mujoco RK4 1/960 vs bullet-multibody "
+      "1/3840: %.3f mm\n",
+      1e3 * apart);
+  EXPECT_LE(apart, 1e-3);
+}
+
+// a snapshot restored repeats the same steps bit for bit, here across a pin change (yank's
+// exact pin becomes a driven one at its first move)
+TEST(Mujoco, SnapshotRestoresExactly) {
+  const Model model = load_model(test::kPinocchioPath);
+  for (const std::string name : {"drag", "yank", "drop"}) {
+    const compare::Scenario scenario = compare::make_scenario(name, model);
+    auto simulator = compare::make_simulator("mujoco", {});
+    simulator->reset(model, scenario);
+    std::vector<Vector3d> targets;
+    auto advance = [&](int from, int count) {
+      for (int k = from; k < from + count; ++k) {
+        scenario.targets_at(k * kDt, targets);
+        simulator->set_pin_targets(targets);
+        simulator->step(kDt);
+      }
+    };
+    advance(1, 120);
+    const auto snapshot = simulator->snapshot();
+    advance(121, 60);
+    std::vector<BodyState> first(model.segment_count()), second(model.segment_count());
+    simulator->read_state(first);
+    simulator->restore(*snapshot);
+    advance(121, 60);
+    simulator->read_state(second);
+    for (int s = 0; s < model.segment_count(); ++s) {
+      EXPECT_EQ(first[s].x, second[s].x) << name << " " << s;
+      if (first[s].x != second[s].x) break;
+      EXPECT_EQ(first[s].w, second[s].w) << name << " " << s;
+    }
+  }
+}
+
+// a non-finite state is reported as diverged, although MuJoCo resets it to a finite one
+TEST(Mujoco, NonFiniteStateIsDiverged) {
+  const Model model = load_model(test::kPinocchioPath);
+  auto solver = make_mujoco(model, Environment{});
+  std::vector<BodyState> bodies = rest_pose(model);
+  bodies[5].w.x() = NAN;
+  solver->set_state(bodies);
+  EXPECT_FALSE(solver->diverged());
+  solver->step(kDt);
+  EXPECT_TRUE(solver->diverged());
+}
+
+// the compliant pin is a spring force, as in the Bullet references: the static deflection
+TEST(Mujoco, CompliantPinSettlesAtTheStaticDeflection) {
+  const Model model = test::rods(2);
+  Environment air;
+  air.air_drag = 2.0;
+  constexpr double kCompliance = 5e-4;
+  auto solver = make_mujoco(model, air);
+  solver->set_state(test::rods_at({0.0, 0.0}));
+  Pin pin = test::top_pin();
+  pin.compliance = kCompliance;
+  const Pin pins[] = {pin};
+  solver->set_pins(pins);
+  for (int k = 0; k < std::lround(20.0 / kDt); ++k) solver->step(kDt);
+  std::vector<BodyState> bodies(2);
+  solver->read_state(bodies);
+  const double sag = -(bodies[0].x + bodies[0].q * pin.local_point).z();
+  EXPECT_NEAR(sag / (model.total_mass * 9.81 * kCompliance), 1.0, 0.01);
+}
+
+}  // namespace
+}  // namespace puppet::reference
