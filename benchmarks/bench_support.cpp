@@ -1,6 +1,7 @@
 #include "bench_support.h"
 
 #include "puppet/compare/metrics.h"
+#include "puppet/reference/mujoco.h"
 
 #include <map>
 #include <memory>
@@ -16,6 +17,7 @@ std::vector<SolverConfig> solver_configs() {
   }
   configs.push_back({"bullet-multibody", "bullet-multibody", {}});
   configs.push_back({"bullet-rigid", "bullet-rigid", {}});
+  if (reference::have_mujoco()) configs.push_back({"mujoco", "mujoco", {}});
   return configs;
 }
 

@@ -27,7 +27,7 @@ if [ "$mode" = quick ]; then
   mkdir -p "$out"
   quick=(--benchmark_min_time=0.05)
   "$bin/bench_step" "${common[@]}" "${quick[@]}" --benchmark_out="$out/bench_step.json" \
-    --benchmark_filter='^step/(hang|drag|drop)/(literal|smoothed|weighted|subtree|relaxed|xpbd|tree|bullet-multibody)/'
+    --benchmark_filter='^step/(hang|drag|drop)/(literal|smoothed|weighted|subtree|relaxed|xpbd|tree|bullet-multibody|mujoco)/'
   "$bin/bench_stages" "${common[@]}" "${quick[@]}" --benchmark_out="$out/bench_stages.json" \
     --benchmark_filter='^floor/hang/'
   # chain:4 as well: Google Benchmark's complexity fit crashes on a family with no run left, and

@@ -19,12 +19,14 @@ def main():
         sys.exit("usage: bench_tables.py MACHINE.csv")
     t = medians(sys.argv[1])
 
-    print("| scenario | " + " | ".join(RULES) + " | bullet-multibody | bullet-rigid | floor |")
-    print("|---" * (len(RULES) + 4) + "|")
+    others = ["bullet-rigid"] + (["mujoco"] if any(k.endswith("/mujoco") for k in t) else [])
+    print("| scenario | " + " | ".join(RULES) + " | bullet-multibody | " + " | ".join(others)
+          + " | floor |")
+    print("|---" * (len(RULES) + 3 + len(others)) + "|")
     for scenario in SCENARIOS:
         multibody = t.get(f"step/{scenario}/bullet-multibody")
         cells = []
-        for solver in RULES + ["bullet-rigid"]:
+        for solver in RULES + others:
             time = t.get(f"step/{scenario}/{solver}")
             if time is None:
                 cells.append("diverged")
@@ -47,7 +49,7 @@ def main():
     sizes = [4, 16, 64, 256, 1024]
     print("| solver | " + " | ".join(f"N={n}" for n in sizes) + " | 1024 ÷ 16 |")
     print("|---" * (len(sizes) + 2) + "|")
-    for solver in RULES + ["bullet-multibody", "bullet-rigid"]:
+    for solver in RULES + ["bullet-multibody"] + others:
         per_segment = {n: t[f"scaling/{solver}/{n}"] / n for n in sizes
                        if f"scaling/{solver}/{n}" in t}
         cells = [f"{per_segment[n] * 1e9:.0f}" if n in per_segment else "diverged" for n in sizes]

@@ -23,7 +23,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 SCENARIOS = ["hang", "drag", "shake", "spin", "drop", "water", "tremble", "yank"]
 RULES = ["literal", "smoothed", "weighted", "subtree", "relaxed", "xpbd", "tree"]
-CONFIGS = [("procedural", r) for r in RULES] + [("bullet-multibody", ""), ("bullet-rigid", "")]
+CONFIGS = [("procedural", r) for r in RULES] + [("bullet-multibody", ""), ("bullet-rigid", ""),
+                                               ("mujoco", "")]
 STYLE = {
     ("procedural", "literal"): ("#9ecae1", "o"),
     ("procedural", "smoothed"): ("#c6dbef", "v"),
@@ -34,6 +35,7 @@ STYLE = {
     ("procedural", "tree"): ("#9467bd", "*"),
     ("bullet-multibody", ""): ("#000000", "o"),
     ("bullet-rigid", ""): ("#d62728", "s"),
+    ("mujoco", ""): ("#ff7f0e", "X"),
 }
 TABLE_DT = 1.0 / 240.0
 STAGES = ["update", "adjust", "contacts", "velocities"]

@@ -9,6 +9,7 @@ packages=(
   nlohmann-json3-dev # model files
   libcli11-dev       # the testbed command line
   libbullet-dev      # the references (its bullet-float64 variant: double precision)
+  libmujoco-dev      # the mujoco reference (MuJoCo 2.2)
   pkg-config         # finds bullet-float64
   libgtest-dev       # tests
   libbenchmark-dev   # benchmarks/ and the performance gate

@@ -24,6 +24,7 @@
 #include "puppet/compare/scenario.h"
 #include "puppet/compare/simulator.h"
 #include "puppet/compare/sweep.h"
+#include "puppet/model/mjcf.h"
 #include "puppet/model/model.h"
 #include "puppet/procedural/solver.h"
 
@@ -113,6 +114,19 @@ int command_list() {
   for (const auto& r : all_rules()) std::cout << ' ' << r;
   std::cout << " (procedural only; default relaxed)\nmodels:    pinocchio (" << builtin_model_path()
             << "), chain:N, or any model file\n";
+  return 0;
+}
+
+// the model as MJCF (mjcf.h), to a file (written whole or not at all) or to stdout
+int command_export_mjcf(const std::string& path, const std::string& out) {
+  const Model model = load_named_model(path);
+  const std::string xml = write_mjcf(model);
+  if (out.empty() || out == "-") {
+    std::cout << xml;
+  } else {
+    write_file_atomically(out, xml);
+    std::fprintf(stderr, "wrote %s (MJCF of model \"%s\")\n", out.c_str(), model.name.c_str());
+  }
   return 0;
 }
 
@@ -479,6 +493,12 @@ int main(int argc, char** argv) {
   auto* validate = app.add_subcommand("validate", "load a model and print it, or its error");
   validate->add_option("MODEL", validate_path, "model file, pinocchio, or chain:N")->required();
 
+  std::string export_path, export_out;
+  auto* export_mjcf = app.add_subcommand(
+      "export-mjcf", "write a model as MJCF, MuJoCo's XML format, to stdout or a file");
+  export_mjcf->add_option("MODEL", export_path, "model file, pinocchio, or chain:N")->required();
+  export_mjcf->add_option("-o,--out", export_out, "output file (default: stdout)");
+
   RunFlags f;
   auto* run = app.add_subcommand(
       "run",
@@ -537,6 +557,7 @@ int main(int argc, char** argv) {
   try {
     if (app.got_subcommand("list")) return command_list();
     if (app.got_subcommand("validate")) return command_validate(validate_path);
+    if (app.got_subcommand("export-mjcf")) return command_export_mjcf(export_path, export_out);
     if (app.got_subcommand("frontier")) return command_frontier(f);
     if (app.got_subcommand("gate")) return command_gate(gate_files, gate_thresholds, gate_csv);
     return command_run(f);

@@ -3,15 +3,18 @@
 #include "puppet/reference/mujoco.h"
 
 #include <gtest/gtest.h>
+#include <mujoco/mujoco.h>
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <numbers>
 
 #include "puppet/compare/metrics.h"
 #include "puppet/compare/run.h"
 #include "puppet/compare/scenario.h"
 #include "puppet/compare/simulator.h"
+#include "puppet/model/mjcf.h"
 #include "puppet/model/rotation.h"
 #include "support/pendulum.h"
 #include "support/rule_runs.h"
@@ -245,6 +248,54 @@ TEST(Mujoco, CompliantPinSettlesAtTheStaticDeflection) {
   solver->read_state(bodies);
   const double sag = -(bodies[0].x + bodies[0].q * pin.local_point).z();
   EXPECT_NEAR(sag / (model.total_mass * 9.81 * kCompliance), 1.0, 0.01);
+}
+
+// testbed export-mjcf's document, loaded by MuJoCo's own compiler: every body has the model's
+// mass and inertia, every limited joint its range, and the user data the exact rest values
+TEST(ExportMjcf, MujocosCompilerLoadsIt) {
+  for (const Model& model :
+       {load_model(test::kPinocchioPath), make_chain(5), test::rods(2),
+        load_model(std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio-open-limits.json")}) {
+    SCOPED_TRACE(model.name);
+    const std::string xml = write_mjcf(model);
+    mjVFS vfs;
+    mj_defaultVFS(&vfs);
+    ASSERT_EQ(mj_makeEmptyFileVFS(&vfs, "export.xml", static_cast<int>(xml.size())), 0);
+    std::memcpy(vfs.filedata[mj_findFileVFS(&vfs, "export.xml")], xml.data(), xml.size());
+    char error[1000] = "";
+    mjModel* m = mj_loadXML("export.xml", &vfs, error, sizeof error);
+    mj_deleteVFS(&vfs);
+    ASSERT_NE(m, nullptr) << error;
+    EXPECT_EQ(m->nbody, model.segment_count() + 1);
+    EXPECT_EQ(m->nuser_body, kBodyUserSize);
+    for (int s = 0; s < model.segment_count(); ++s) {
+      const Segment& segment = model.segments[s];
+      const int b = mj_name2id(m, mjOBJ_BODY, segment.name.c_str());
+      ASSERT_GE(b, 1) << segment.name;
+      EXPECT_EQ(m->body_mass[b], segment.mass);
+      for (int i = 0; i < 3; ++i) EXPECT_EQ(m->body_inertia[3 * b + i], segment.inertia[i]);
+      EXPECT_EQ(m->body_user[kBodyUserSize * b + 2], segment.rest_position.z());
+    }
+    for (const Joint& joint : model.joints) {
+      const int j = mj_name2id(m, mjOBJ_JOINT, joint.name.c_str());
+      if (joint.type == JointType::kFixed) {
+        EXPECT_LT(j, 0) << joint.name;  // welded: no joint
+        continue;
+      }
+      ASSERT_GE(j, 0) << joint.name;
+      if (joint.type == JointType::kBall) {
+        const double range = mjcf_ball_range(joint);
+        EXPECT_EQ(m->jnt_limited[j], range >= 0.0 ? 1 : 0) << joint.name;
+        if (range >= 0.0) {
+          EXPECT_EQ(m->jnt_range[2 * j + 1], range) << joint.name;
+        }
+      } else {
+        EXPECT_EQ(m->jnt_range[2 * j], joint.lower) << joint.name;
+        EXPECT_EQ(m->jnt_range[2 * j + 1], joint.upper) << joint.name;
+      }
+    }
+    mj_deleteModel(m);
+  }
 }
 
 }  // namespace
