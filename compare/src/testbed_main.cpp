@@ -119,6 +119,12 @@ int command_list() {
 
 // the model as MJCF (mjcf.h), to a file (written whole or not at all) or to stdout
 int command_export_mjcf(const std::string& path, const std::string& out) {
+  if (!out.empty() && out != "-") {
+    const std::filesystem::path folder = std::filesystem::path(out).parent_path();
+    if (!folder.empty() && !std::filesystem::is_directory(folder)) {
+      throw UsageError("-o: " + out + ": no such folder");
+    }
+  }
   const Model model = load_named_model(path);
   const std::string xml = write_mjcf(model);
   if (out.empty() || out == "-") {

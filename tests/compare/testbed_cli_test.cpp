@@ -67,6 +67,27 @@ TEST(TestbedCli, Validate) {
              "/no/such/gate.json: cannot open");
 }
 
+// export-mjcf: the document to stdout, or whole to a file; a bad model or an unwritable path
+// exits 2 with one line and leaves no file
+TEST(TestbedCli, ExportMjcf) {
+  const Outcome out = testbed("export-mjcf pinocchio");
+  EXPECT_EQ(out.status, 0);
+  EXPECT_EQ(out.output.rfind("<!-- pinocchio", 0), 0u);
+  EXPECT_NE(out.output.find("<mujoco model=\"pinocchio\">"), std::string::npos);
+  EXPECT_NE(out.output.find("</mujoco>\n"), std::string::npos);
+  const fs::path folder = fresh_folder("export");
+  fs::create_directories(folder);
+  const fs::path file = folder / "pinocchio.xml";
+  EXPECT_EQ(testbed("export-mjcf pinocchio -o " + file.string()).status, 0);
+  EXPECT_TRUE(fs::exists(file));
+  EXPECT_EQ(fs::file_size(file), out.output.size());
+  expect_bad("export-mjcf /no/such/model.json -o " + (folder / "x.xml").string(),
+             "/no/such/model.json: cannot open");
+  EXPECT_FALSE(fs::exists(folder / "x.xml"));
+  expect_bad("export-mjcf pinocchio -o /no/such/folder/x.xml", "/no/such/folder/x.xml");
+  expect_bad("run --solver mujoco --mujoco-integrator rk5", "--mujoco-integrator");
+}
+
 TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
   const fs::path out = fresh_folder("bad");
   const std::string o = " --out " + out.string();

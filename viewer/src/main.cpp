@@ -261,7 +261,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--scenario", config.scenario, "hang, drag, shake, spin, drop, water, ...")
       ->capture_default_str();
-  app.add_option("--solver", config.solver, "procedural, bullet-multibody or bullet-rigid")
+  app.add_option("--solver", config.solver, "procedural, bullet-multibody, bullet-rigid or mujoco")
       ->capture_default_str();
   app.add_option("--rule", config.options.rule, "the procedural solver's adjust rule")
       ->capture_default_str();
