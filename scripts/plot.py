@@ -35,7 +35,7 @@ STYLE = {
     ("procedural", "tree"): ("#9467bd", "*"),
     ("bullet-multibody", ""): ("#000000", "o"),
     ("bullet-rigid", ""): ("#d62728", "s"),
-    ("mujoco", ""): ("#ff7f0e", "X"),
+    ("mujoco", ""): ("#8c564b", "X"),  # brown: orange rings mark diverged seeds
 }
 TABLE_DT = 1.0 / 240.0
 STAGES = ["update", "adjust", "contacts", "velocities"]
@@ -352,7 +352,7 @@ def report(s, frontier, plots, folder):
     dt = s.table_dt()
     check_dt = s.truth_check_dt()
     now = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    out = ["# Report: the procedural solver against Bullet", ""]
+    out = ["# Report: the procedural solver against Bullet and MuJoCo", ""]
     out += [f"Generated {now} by `scripts/plot.py` from `summary.csv`"
             f"{' and `frontier.csv`' if frontier else ''} (commit `{s.git_sha}`, "
             f"model `{s.model}`, machine: {s.machine}). Every number below is read from those "
