@@ -8,9 +8,9 @@
 #include <span>
 #include <vector>
 
+#include "pin_springs.h"
 #include "puppet/model/environment.h"
 #include "puppet/model/model.h"
-#include "pin_springs.h"
 #include "puppet/reference/bullet.h"
 
 namespace puppet::reference::detail {
