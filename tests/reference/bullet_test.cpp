@@ -13,6 +13,7 @@
 #include "puppet/compare/simulator.h"
 #include "puppet/model/rotation.h"
 #include "support/pendulum.h"
+#include "support/reference_runs.h"
 
 namespace puppet::reference {
 namespace {
@@ -116,17 +117,7 @@ TEST(Multibody, PendulumPeriod) {
   const double expected = test::analytic_period(10.0 * M_PI / 180.0);
   for (Kind kind : kKinds) {
     auto solver = make_solver(kind, model, Environment{});
-    solver->set_state(test::rods_at({10.0 * M_PI / 180.0}));
-    const Pin pins[] = {test::top_pin()};
-    solver->set_pins(pins);
-    std::vector<BodyState> bodies(1);
-    test::PeriodMeter meter;
-    for (int k = 0; k < std::lround(12.0 / kDt); ++k) {
-      solver->step(kDt);
-      solver->read_state(bodies);
-      meter.add((k + 1) * kDt, kDt, bodies[0].w.x());
-    }
-    const double period = meter.period();
+    const double period = test::released_rod_period(*solver, kDt);
     std::printf("[ period   ] bullet-%-9s %.6f s vs analytic %.6f s: %+.4f %%\n", kind_name(kind),
                 period, expected, 100 * (period / expected - 1));
     EXPECT_NEAR(period / expected, 1.0, 0.005) << kind_name(kind);
@@ -141,21 +132,12 @@ TEST(Compliant, GrabSettlesAtTheStaticDeflectionInEverySolver) {
   Environment air;
   air.air_drag = 2.0;
   constexpr double kCompliance = 5e-4;  // m/N: 2 kg stretch it by 9.8 mm
-  const double expected = model.total_mass * 9.81 * kCompliance;
   for (Kind kind : kKinds) {
     auto solver = make_solver(kind, model, air);
-    solver->set_state(test::rods_at({0.0, 0.0}));
-    Pin pin = test::top_pin();
-    pin.compliance = kCompliance;
-    const Pin pins[] = {pin};
-    solver->set_pins(pins);
-    for (int k = 0; k < std::lround(20.0 / kDt); ++k) solver->step(kDt);
-    std::vector<BodyState> bodies(2);
-    solver->read_state(bodies);
-    const double sag = -(bodies[0].x + bodies[0].q * pin.local_point).z();
+    const double ratio = test::compliant_sag_ratio(*solver, kCompliance, kDt);
     std::printf("[ grab     ] bullet-%-9s static deflection / (weight x C): %+.2f %%\n",
-                kind_name(kind), 100 * (sag / expected - 1));
-    EXPECT_NEAR(sag / expected, 1.0, 0.01) << kind_name(kind);
+                kind_name(kind), 100 * (ratio - 1));
+    EXPECT_NEAR(ratio, 1.0, 0.01) << kind_name(kind);
   }
 }
 

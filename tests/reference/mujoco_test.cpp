@@ -17,6 +17,7 @@
 #include "puppet/model/mjcf.h"
 #include "puppet/model/rotation.h"
 #include "support/pendulum.h"
+#include "support/reference_runs.h"
 #include "support/rule_runs.h"
 
 namespace puppet::reference {
@@ -129,17 +130,9 @@ TEST(Mujoco, PendulumPeriod) {
     MujocoSettings settings;
     settings.integrator = rk4 ? MujocoIntegrator::kRk4 : MujocoIntegrator::kEuler;
     auto solver = make_mujoco(model, Environment{}, settings);
-    solver->set_state(test::rods_at({10.0 * kPi / 180.0}));
-    const Pin pins[] = {test::top_pin()};
-    solver->set_pins(pins);
+    const double period = test::released_rod_period(*solver, kDt);
     std::vector<BodyState> bodies(1);
-    test::PeriodMeter meter;
-    for (int k = 0; k < std::lround(12.0 / kDt); ++k) {
-      solver->step(kDt);
-      solver->read_state(bodies);
-      meter.add((k + 1) * kDt, kDt, bodies[0].w.x());
-    }
-    const double period = meter.period();
+    solver->read_state(bodies);
     std::printf("[ period   ] mujoco %-5s %.6f s vs analytic %.6f s: %+.5f %%\n",
                 rk4 ? "RK4" : "Euler", period, expected, 100 * (period / expected - 1));
     EXPECT_NEAR(period / expected, 1.0, rk4 ? 1e-4 : 5e-3);
@@ -238,16 +231,7 @@ TEST(Mujoco, CompliantPinSettlesAtTheStaticDeflection) {
   air.air_drag = 2.0;
   constexpr double kCompliance = 5e-4;
   auto solver = make_mujoco(model, air);
-  solver->set_state(test::rods_at({0.0, 0.0}));
-  Pin pin = test::top_pin();
-  pin.compliance = kCompliance;
-  const Pin pins[] = {pin};
-  solver->set_pins(pins);
-  for (int k = 0; k < std::lround(20.0 / kDt); ++k) solver->step(kDt);
-  std::vector<BodyState> bodies(2);
-  solver->read_state(bodies);
-  const double sag = -(bodies[0].x + bodies[0].q * pin.local_point).z();
-  EXPECT_NEAR(sag / (model.total_mass * 9.81 * kCompliance), 1.0, 0.01);
+  EXPECT_NEAR(test::compliant_sag_ratio(*solver, kCompliance, kDt), 1.0, 0.01);
 }
 
 // testbed export-mjcf's document, loaded by MuJoCo's own compiler: every body has the model's
