@@ -70,6 +70,7 @@ std::unique_ptr<Simulator> make_reference_simulator(const std::string& solver,
   if (!problem.empty()) throw ScenarioError("--bullet-iterations: " + problem);
   reference::MujocoSettings mujoco;
   mujoco.integrator = options.mujoco_integrator;
+  mujoco.constraint_time_constant = options.mujoco_time_constant;
   const auto kind = solver == "bullet-multibody" ? reference::Kind::kMultibody
                     : solver == "mujoco"         ? reference::Kind::kMujoco
                                                  : reference::Kind::kRigid;

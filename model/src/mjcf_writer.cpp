@@ -158,18 +158,24 @@ class Writer {
   // 2·timestep to 2·timestep, so 1e-6 asks for the stiffest spring it allows at any timestep;
   // 0.9999 is the largest impedance it accepts (the least constraint force given up as softness)
   void write_defaults() {
+    const std::string solref =
+        (options_.constraint_time_constant > 0.0 ? num(options_.constraint_time_constant)
+                                                 : std::string("1e-6")) +
+        " 1";
     out_ << "  <default>\n";
     out_ << "    <geom contype=\"1\" conaffinity=\"0\" condim=\"3\" friction=\""
          << num(options_.environment.friction) << " 0.005 0.0001\"";
-    if (options_.stiff_constraints) out_ << " solref=\"1e-6 1\" solimp=\"0.9999 0.9999 0.001\"";
+    if (options_.stiff_constraints) {
+      out_ << " solref=\"" << solref << "\" solimp=\"0.9999 0.9999 0.001\"";
+    }
     out_ << "/>\n";
     out_ << "    <joint armature=\"0\" damping=\"0\" frictionloss=\"0\"";
     if (options_.stiff_constraints) {
-      out_ << " solreflimit=\"1e-6 1\" solimplimit=\"0.9999 0.9999 0.001\"";
+      out_ << " solreflimit=\"" << solref << "\" solimplimit=\"0.9999 0.9999 0.001\"";
     }
     out_ << "/>\n";
     if (options_.stiff_constraints) {
-      out_ << "    <equality solref=\"1e-6 1\" solimp=\"0.9999 0.9999 0.001\"/>\n";
+      out_ << "    <equality solref=\"" << solref << "\" solimp=\"0.9999 0.9999 0.001\"/>\n";
     }
     out_ << "  </default>\n";
   }

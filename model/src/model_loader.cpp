@@ -170,7 +170,6 @@ struct RawJoint {
   Joint joint;
   std::string parent_name, child_name;
   Vector3d hinge_axis_world{0, 0, 0};
-  bool has_frame = false;
 };
 
 RawJoint read_joint(const Element& e) {
@@ -218,21 +217,8 @@ RawJoint read_joint(const Element& e) {
   raw.parent_name = e.string("parent");
   raw.child_name = e.string("child");
   j.anchor_world = e.vector<3>("anchor");
-  if (e.has("frame")) {
-    j.frame_world = e.quaternion("frame");
-    raw.has_frame = true;
-  }
+  if (e.has("frame")) j.frame_world = e.quaternion("frame");
   return raw;
-}
-
-// the joint frame must be a principal frame of the child: its inertia, seen in the joint
-// frame, is diagonal (the Bullet link frame is the joint frame)
-bool is_principal_frame(const Segment& child, const Quaterniond& frame_in_child) {
-  const Matrix3d r = frame_in_child.toRotationMatrix();
-  const Matrix3d inertia = r.transpose() * child.inertia.asDiagonal() * r;
-  const double scale = child.inertia.maxCoeff();
-  const Matrix3d off = inertia - Matrix3d(inertia.diagonal().asDiagonal());
-  return off.cwiseAbs().maxCoeff() <= 1e-9 * scale;
 }
 
 Model build(const json& root_json, const std::string& source) {
@@ -354,11 +340,6 @@ Model build(const json& root_json, const std::string& source) {
     // joint frames
     j.frame_in_parent = parent.rest_orientation.conjugate() * j.frame_world;
     j.frame_in_child = child.rest_orientation.conjugate() * j.frame_world;
-    if (!is_principal_frame(child, j.frame_in_child)) {
-      e.fail(std::string(raw.has_frame ? "frame" : "the default (world) joint frame") +
-             " is not a principal frame of child segment \"" + child.name +
-             "\" (its inertia is not diagonal in it)");
-    }
     if (j.type == JointType::kHinge)
       j.hinge_axis = j.frame_world.conjugate() * raw.hinge_axis_world;
     model.segments[i].parent_joint = i - 1;

@@ -23,6 +23,13 @@ void derive_mass_terms(Segment& segment) {
   segment.inv_inertia = segment.inertia.cwiseInverse();
 }
 
+bool is_principal_frame(const Segment& segment, const Quaterniond& frame) {
+  const Matrix3d r = frame.toRotationMatrix();
+  const Matrix3d inertia = r.transpose() * segment.inertia.asDiagonal() * r;
+  const Matrix3d off = inertia - Matrix3d(inertia.diagonal().asDiagonal());
+  return off.cwiseAbs().maxCoeff() <= 1e-9 * segment.inertia.maxCoeff();
+}
+
 Vector3d solid_inertia(const Shape& shape, double mass) {
   switch (shape.type) {
     case ShapeType::kSphere: {

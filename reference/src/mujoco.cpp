@@ -113,8 +113,8 @@ class MujocoSolver final : public Solver {
 
   void step(double dt) override {
     m_->opt.timestep = dt;
-    // the mocap bodies 2τ·v_target ahead of the targets, τ = 2·dt (see mujoco.h)
-    const double lead = 4.0 * dt;
+    // the mocap bodies 2τ·v_target ahead of the targets, τ = 2·dt unless set (see mujoco.h)
+    const double lead = 2.0 * std::max(settings_.constraint_time_constant, 2.0 * dt);
     for (size_t k = 0; k < mocap_of_pin_.size(); ++k) {
       if (mocap_of_pin_[k] < 0) continue;
       const Vector3d velocity = (pins_[k].target - previous_targets_[k]) / dt;
@@ -302,6 +302,7 @@ class MujocoSolver final : public Solver {
                              ? MjcfIntegrator::kImplicit
                              : MjcfIntegrator::kEuler;
     options.stiff_constraints = true;
+    options.constraint_time_constant = settings_.constraint_time_constant;
     options.user_data = false;
     options.model_names = false;
     springs_.clear();

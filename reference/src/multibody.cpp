@@ -1,14 +1,16 @@
 // The model as one btMultiBody (Featherstone's articulated-body algorithm, reduced coordinates).
 //
-// Frames. The base is the root segment in its segment frame. Every other link's frame is its
-// joint's frame, placed at the child's COM (Bullet's link frame has its origin at the COM and
-// the model guarantees the joint frame is a principal frame of the child, so the inertia stays
-// diagonal). With q_L the world orientation of a link frame and q_L0 its rest value,
+// Frames. The base is the root segment in its segment frame. Every other link's frame sits at the
+// child's COM (Bullet's link origin) and must be a principal frame of the child, since Bullet
+// takes a diagonal inertia: it is the joint's frame when that is principal, else the child's
+// segment frame, with the joint expressed in it (as Bullet's URDF importer does). With q_L the
+// world orientation of a link frame, q_L0 its rest value and A = the joint frame in the child's
+// link frame (the identity when they coincide),
 //   zero rotation  z = q_L0(this)⁻¹ · q_L0(parent)            (Bullet's rotParentToThis)
-//   spherical      q_L(this) = q_L(parent) · z⁻¹ · q_joint      (q_joint = the model's q_rel)
-//   revolute       q_joint = rotation by θ about the hinge axis (θ right-handed, as the model's)
+//   spherical      q_L(this) = q_L(parent) · z⁻¹ · q_joint      (the model's q_rel = A⁻¹·q_joint·A)
+//   revolute       q_joint = rotation by θ about A·(the hinge axis), θ right-handed as the model's
 // and a spherical joint's three velocities are ω_child − ω_parent in the child's link frame.
-// Segment frames are recovered as q_segment = q_L · (frame_in_child)⁻¹.
+// Segment frames are recovered as q_segment = q_L · (segment_to_link)⁻¹.
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
@@ -63,6 +65,7 @@ class MultibodySolver final : public Solver {
   // link frame seen from the segment frame (identity for the root), and its rest orientation
   std::vector<Quaterniond> segment_to_link_;
   std::vector<Quaterniond> link_rest_;
+  std::vector<Quaterniond> joint_in_link_;  // A above, per segment
 
   // Bullet objects: the world is declared last so that it is destroyed first
   CollisionMachinery machinery_;
@@ -92,9 +95,14 @@ MultibodySolver::MultibodySolver(const Model& model, const Environment& environm
   link_rest_.resize(n);
   segment_to_link_[0] = Quaterniond::Identity();
   link_rest_[0] = model.segments[0].rest_orientation;
+  joint_in_link_.resize(n);
+  joint_in_link_[0] = Quaterniond::Identity();
   for (int i = 1; i < n; ++i) {
-    segment_to_link_[i] = model.joints[i - 1].frame_in_child;
-    link_rest_[i] = model.joints[i - 1].frame_world;
+    const Joint& joint = model.joints[i - 1];
+    const bool principal = is_principal_frame(model.segments[i], joint.frame_in_child);
+    segment_to_link_[i] = principal ? joint.frame_in_child : Quaterniond::Identity();
+    joint_in_link_[i] = principal ? Quaterniond::Identity() : joint.frame_in_child;
+    link_rest_[i] = model.segments[i].rest_orientation * segment_to_link_[i];
   }
 
   // a floating base: the root is free (fixedBase = false). canSleep = false: a sleeping body
@@ -179,7 +187,7 @@ void MultibodySolver::build_links() {
         break;
       case JointType::kHinge:
         body_->setupRevolute(link, child.mass, to_bt(inertia), parent_link, zero,
-                             to_bt(joint.hinge_axis), to_bt(e), to_bt(d), true);
+                             to_bt(joint_in_link_[s] * joint.hinge_axis), to_bt(e), to_bt(d), true);
         break;
       case JointType::kFixed:
         body_->setupFixed(link, child.mass, to_bt(inertia), parent_link, zero, to_bt(e), to_bt(d),
@@ -199,10 +207,10 @@ void MultibodySolver::build_limits() {
     if (joint.type == JointType::kBall) {
       if (joint.swing_x >= kPi && joint.swing_y >= kPi && joint.twist >= kPi) continue;
       if (!euler_ball_limits_) {
-        limit = make_swing_twist_limit(body_.get(), j, joint);
+        limit = make_swing_twist_limit(body_.get(), j, joint, joint_in_link_[j + 1]);
       } else {
-        // a box of Euler angles about the link frame's axes, agreeing with the model's ellipse
-        // only along the axes
+        // a box of Euler angles about the link frame's axes (the joint frame's when it is
+        // principal), agreeing with the model's ellipse only along the axes
         auto spherical = std::make_unique<btMultiBodySphericalJointLimit>(
             body_.get(), j, joint.swing_x, joint.swing_y, joint.twist, kMaxImpulse);
         // its position gain kp multiplies m_erp; Bullet's default 0.2 would make the ball
@@ -342,7 +350,7 @@ void MultibodySolver::set_state(std::span<const BodyState> bodies) {
         break;
       }
       case JointType::kHinge: {
-        const Vector3d& axis = joint.hinge_axis;
+        const Vector3d axis = joint_in_link_[s] * joint.hinge_axis;
         double theta = 2.0 * std::atan2(q_joint.vec().dot(axis), q_joint.w());
         if (theta > kPi) theta -= 2.0 * kPi;
         if (theta < -kPi) theta += 2.0 * kPi;

@@ -27,10 +27,12 @@ constexpr double kPi = std::numbers::pi;
 // joint to reach the limit in this step and no further; outside, Baumgarte (m_erp) pushes back.
 class SwingTwistLimit final : public btMultiBodyConstraint {
  public:
-  SwingTwistLimit(btMultiBody* body, int link, const Joint& joint)
+  SwingTwistLimit(btMultiBody* body, int link, const Joint& joint, const Quaterniond& joint_in_link)
       : btMultiBodyConstraint(body, body, link, body->getLink(link).m_parent, 2, true,
                               MULTIBODY_CONSTRAINT_SPHERICAL_LIMIT),
-        joint_(joint) {
+        joint_(joint),
+        joint_in_link_(joint_in_link),
+        identity_(joint_in_link.isApprox(Quaterniond::Identity(), 1e-15)) {
     m_maxAppliedImpulse = kMaxImpulse;
   }
 
@@ -45,13 +47,18 @@ class SwingTwistLimit final : public btMultiBodyConstraint {
   void createConstraintRows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
                             const btContactSolverInfo& info) override {
     if (m_numDofsFinalized != m_jacSizeBoth) finalizeMultiDof();
-    // the joint coordinate is the model's q_rel (x, y, z, w), see the top of this file
+    // the joint coordinate (x, y, z, w) is the model's q_rel seen in the link frame (A·q_rel·A⁻¹,
+    // multibody.cpp), and the child's joint frame is the link frame turned by A
     const double* p = m_bodyA->getJointPosMultiDof(m_linkA);
-    const Quaterniond q_rel = Quaterniond(p[3], p[0], p[1], p[2]).normalized();
+    Quaterniond q_rel = Quaterniond(p[3], p[0], p[1], p[2]).normalized();
     const btMatrix3x3 link_basis = m_bodyA->localFrameToWorld(m_linkA, btMatrix3x3::getIdentity());
     Matrix3d child_frame;
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) child_frame(r, c) = link_basis[r][c];
+    if (!identity_) {
+      q_rel = joint_in_link_.conjugate() * q_rel * joint_in_link_;
+      child_frame = child_frame * joint_in_link_.toRotationMatrix();
+    }
     const SwingTwist st = decompose_swing_twist(q_rel, Vector3d::UnitZ());
 
     // swing, applied in the parent's joint frame (q_rel = swing · twist)
@@ -100,13 +107,16 @@ class SwingTwistLimit final : public btMultiBodyConstraint {
   }
 
   const Joint& joint_;
+  Quaterniond joint_in_link_;
+  bool identity_;  // the link frame is the joint frame: nothing to turn
 };
 
 }  // namespace
 
 std::unique_ptr<btMultiBodyConstraint> make_swing_twist_limit(btMultiBody* body, int link,
-                                                              const Joint& joint) {
-  return std::make_unique<SwingTwistLimit>(body, link, joint);
+                                                              const Joint& joint,
+                                                              const Quaterniond& joint_in_link) {
+  return std::make_unique<SwingTwistLimit>(body, link, joint, joint_in_link);
 }
 
 }  // namespace puppet::reference::detail

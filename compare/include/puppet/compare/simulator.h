@@ -63,6 +63,7 @@ struct SolverOptions {
   int bullet_iterations = 10;        // Bullet: sequential-impulse sweeps (Bullet's default)
   bool bullet_euler_limits = false;  // bullet-multibody: Bullet's Euler-box ball limits
   reference::MujocoIntegrator mujoco_integrator = reference::MujocoIntegrator::kEuler;
+  double mujoco_time_constant = 0.0;        // mujoco: the constraints' τ (s), 0 for 2·dt
   int substeps = procedural::kRuleDefault;  // procedural: substeps per step
   bool derive_velocities = true;
   bool tremble = true;  // honoured only where the scenario asks for it

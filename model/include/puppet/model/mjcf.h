@@ -48,6 +48,10 @@ struct MjcfOptions {
   // damped; solimp 0.9999 whatever the violation) and the exact (elliptic) friction cone; off,
   // MuJoCo's defaults
   bool stiff_constraints = false;
+  // with stiff_constraints, the constraints' time constant τ (s) instead of the stiffest: a
+  // constraint model that stays the same when the timestep changes (it must be at least
+  // 2·timestep, or MuJoCo raises it); 0 for the stiffest
+  double constraint_time_constant = 0.0;
   // record the exact rest values as user data (see above)
   bool user_data = true;
   // bodies, joints and geoms named by the segments and joints; off, s<i>, j<i> and g<i> by

@@ -77,6 +77,10 @@ struct Joint {
 
 // fills the segment's inverse mass and inertia; call after setting mass and inertia
 void derive_mass_terms(Segment& segment);
+// whether `frame` (a rotation in the segment's frame) is a principal frame of the segment: its
+// inertia, seen in that frame, is diagonal to 1e-9 of its largest moment. Segment frames always
+// are; joint frames need not be (a solver whose link frames must be principal checks this)
+bool is_principal_frame(const Segment& segment, const Quaterniond& frame);
 // fills the joint's half-limit terms from twist, lower and upper; call after setting them
 void derive_limit_terms(Joint& joint);
 

@@ -30,6 +30,10 @@ enum class MujocoIntegrator { kEuler, kImplicit, kRk4 };
 struct MujocoSettings {
   // MuJoCo's semi-implicit Euler (its default), implicit in velocity, or RK4
   MujocoIntegrator integrator = MujocoIntegrator::kEuler;
+  // the constraints' time constant τ (s); 0: 2·dt, the stiffest MuJoCo allows at each dt. A
+  // fixed τ keeps the constraint model the same at every dt (the second truth and its check);
+  // below 2·dt MuJoCo raises it to 2·dt
+  double constraint_time_constant = 0.0;
 };
 
 // whether this build has MuJoCo
