@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # The main job: set up, build (release), then on the built-in Pinocchio run every scenario in
 # every solver, rule and dt with accuracy against the truth (testbed run), the stability frontier
-# (testbed frontier), the ablation of the position-based rules (scripts/ablation.sh), and the
-# plots and REPORT.md (scripts/plot.py), all into results/. Extra arguments go to testbed run.
+# (testbed frontier), every solver against both truths with the limits opened (where the two
+# truths model the same joints), the ablation of the position-based rules (scripts/ablation.sh),
+# and the plots and REPORT.md (scripts/plot.py), all into results/. Extra arguments go to
+# testbed run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
@@ -10,5 +12,7 @@ cmake --preset release >/dev/null
 cmake --build --preset release
 ./build/release/testbed run --model pinocchio --out results "$@"
 ./build/release/testbed frontier --model pinocchio --out results
+./build/release/testbed run --model models/pinocchio-open-limits.json --dt 1/240 --no-timing \
+  --sample-hz 1 --out results/truths-open-limits
 scripts/ablation.sh results/ablation
 /usr/bin/python3 scripts/plot.py results

@@ -64,6 +64,12 @@ def fmt(value, digits=2):
     return f"{value:.{digits}g}" if abs(value) < 1 else f"{value:.{max(digits, 3)}g}"
 
 
+# the truths (compare/include/puppet/compare/sweep.h): their references, solvers and dts
+SECOND_TRUTH = "mujoco-truth"
+TRUTH_SOLVERS = {"truth": "bullet-multibody", SECOND_TRUTH: "mujoco"}
+TRUTH_DTS = {"truth": (1 / 3840, 1 / 7680), SECOND_TRUTH: (1 / 7680, 1 / 15360)}
+
+
 class Summary:
     """summary.csv, indexed by (scenario, solver, rule, dt, metric, stat, reference)."""
 
@@ -85,6 +91,9 @@ class Summary:
                     raise ReportError(f"{path}:{n}: {len(row)} fields, expected {len(self.HEADER)}")
                 r = dict(zip(self.HEADER, row))
                 dt = float(r["dt"])
+                for exact in (1 / 3840, 1 / 7680, 1 / 15360):  # the CSV keeps 9 digits
+                    if abs(dt - exact) <= 1e-6 * exact:
+                        dt = exact
                 config = (r["solver"], r["rule"])
                 value = float(r["value"]) if r["value"] else math.nan
                 self.values[(r["scenario"], config, dt, r["metric"], r["stat"], r["reference"])] = value
@@ -111,16 +120,28 @@ class Summary:
     def table_dt(self):
         return min(self.dts, key=lambda dt: abs(math.log(dt / TABLE_DT)))
 
-    def truth_limit(self, scenario, stat="reseeded_mean", metric="pose_err_m"):
-        """the smallest error the truth can judge: ten times its own difference to dt/2."""
-        check = [k for k in self.values if k[0] == scenario and k[1] == ("bullet-multibody", "")
-                 and k[3] == metric and k[4] == stat and k[5] == "truth"
-                 and k[2] not in self.dts]
-        return 10 * self.values[check[0]] if check else math.nan
+    def truth_check(self, scenario, reference="truth", stat="reseeded_mean", metric="pose_err_m"):
+        """a truth's own error: its run at half its dt against it"""
+        solver = TRUTH_SOLVERS[reference]
+        return self.get(scenario, (solver, ""), TRUTH_DTS[reference][1], metric, stat, reference)
 
-    def truth_check_dt(self):
-        dts = {k[2] for k in self.values if k[5] == "truth" and k[2] not in self.dts}
-        return min(dts) if dts else math.nan
+    def truth_limit(self, scenario, reference="truth", stat="reseeded_mean", metric="pose_err_m"):
+        """the smallest error a truth can judge: ten times its own difference to dt/2."""
+        return 10 * self.truth_check(scenario, reference, stat, metric)
+
+    def truth_check_dt(self, reference="truth"):
+        dt = TRUTH_DTS[reference][1]
+        return dt if any(k[2] == dt and k[5] == reference for k in self.values) else math.nan
+
+    def has_second_truth(self):
+        return any(k[5] == SECOND_TRUTH for k in self.values)
+
+    def truths_agreement(self, scenario, stat, judged="mujoco", metric="pose_err_m"):
+        """one truth's run against the other: mujoco (RK4, 1/7680 s) against the first truth,
+        or bullet-multibody (1/3840 s) against the second"""
+        reference = "truth" if judged == "mujoco" else SECOND_TRUTH
+        dt = TRUTH_DTS[SECOND_TRUTH if judged == "mujoco" else "truth"][0]
+        return self.get(scenario, (judged, ""), dt, metric, stat, reference)
 
 
 def read_frontier(path):
@@ -348,6 +369,44 @@ def geometric_mean(values):
     return math.exp(sum(math.log(v) for v in values) / len(values)) if values else math.nan
 
 
+def open_limits_agreement(folder, scenario):
+    """the truths' re-seeded agreement for Pinocchio with its limits opened (main.sh)"""
+    path = os.path.join(folder, "truths-open-limits", "summary.csv")
+    if not os.path.exists(path):
+        return "–"
+    return fmt(Summary(path).truths_agreement(scenario, "reseeded_mean"))
+
+
+def open_limits_section(folder):
+    """every solver against both truths for Pinocchio with its limits opened (main.sh)"""
+    path = os.path.join(folder, "truths-open-limits", "summary.csv")
+    if not os.path.exists(path):
+        return []
+    o = Summary(path)
+    if not o.has_second_truth():
+        return []
+    dt = o.table_dt()
+
+    def cell(sc, c):
+        a = o.get(sc, c, dt, "pose_err_m", "reseeded_mean", "truth")
+        b = o.get(sc, c, dt, "pose_err_m", "reseeded_mean", SECOND_TRUTH)
+        if math.isnan(a) and math.isnan(b):
+            return "div" if o.diverged(sc, c, dt) else "–"
+        return f"{fmt(a)} / {fmt(b)}" + (" †" if o.diverged(sc, c, dt) else "")
+
+    rows = [[sc] + [fmt(o.truth_check(sc)), fmt(o.truth_check(sc, SECOND_TRUTH)),
+                    fmt(o.truths_agreement(sc, "reseeded_mean"))] for sc in o.scenarios]
+    return ["## Both truths, limits opened", "",
+            f"`truths-open-limits/`: `{o.model}` (every limit opened to ±175°), where the two "
+            "engines model the same bodies and joints. Each truth's own error (re-seeded at half "
+            "its dt) and their agreement (re-seeded pose error, m):", "",
+            md_table(["scenario", "truth's own", "mujoco-truth's own", "truths' agreement"], rows),
+            "", f"Every solver against both truths: re-seeded pose error (m), truth / "
+            f"mujoco-truth, dt = {dt_text(dt)} s (†: the full run diverged):", "",
+            md_table(["scenario"] + [label(c) for c in o.configs],
+                     [[sc] + [cell(sc, c) for c in o.configs] for sc in o.scenarios]), ""]
+
+
 def report(s, frontier, plots, folder):
     dt = s.table_dt()
     check_dt = s.truth_check_dt()
@@ -362,7 +421,9 @@ def report(s, frontier, plots, folder):
             f"- Solvers: {', '.join(label(c) for c in s.configs)}.",
             f"- dt: {', '.join(dt_text(d) for d in s.dts)} s. Tables use dt = {dt_text(dt)} s "
             "unless they say otherwise.",
-            "- Truth: bullet-multibody at dt = 1/3840 s, sampled every 1/30 s. Errors: "
+            "- Truth: bullet-multibody at dt = 1/3840 s"
+            + ("; the second truth MuJoCo with RK4 at 1/7680 s" if s.has_second_truth()
+               else "") + ", sampled every 1/30 s. Errors: "
             "`pose_err_m` (RMS over segments of the COM distance) and `joint_angle_err_deg` (RMS "
             "over joints of the angle between relative rotations). Re-seeded: from 8 truth "
             "states, each solver runs 0.5 s and is compared with the truth; the mean is the "
@@ -370,29 +431,77 @@ def report(s, frontier, plots, folder):
             "multiple of 1/30 s after it.",
             "- Timing: medians of a separate pass that runs one job at a time.", ""]
 
-    # the truth's own error
+    # the truths' own errors and their agreement
+    second = s.has_second_truth()
     if not math.isnan(check_dt):
         rows = []
         for sc in s.scenarios:
-            get = lambda stat, m="pose_err_m": s.get(sc, ("bullet-multibody", ""), check_dt, m,
-                                                      stat, "truth")
-            rows.append([sc, fmt(get("at_0.267s")), fmt(get("at_1s")), fmt(get("reseeded_mean")),
-                         fmt(get("reseeded_mean", "joint_angle_err_deg")),
-                         fmt(s.truth_limit(sc))])
-        out += ["## How far the truth can be trusted", "",
-                f"bullet-multibody at dt = {dt_text(check_dt)} s against the truth (1/3840 s). "
-                "Only errors above ten times this difference are judged: smaller ones are shown "
-                "as `≤ limit` below.", "",
-                md_table(["scenario", "pose m at 0.267 s", "pose m at 1 s", "re-seeded pose m",
-                          "re-seeded angle deg", "limit (10x) m"], rows), ""]
+            row = [sc, fmt(s.truth_check(sc, stat="at_1s")), fmt(s.truth_check(sc)),
+                   fmt(s.truth_check(sc, metric="joint_angle_err_deg"))]
+            if second:
+                row += [fmt(s.truth_check(sc, SECOND_TRUTH, stat="at_1s")),
+                        fmt(s.truth_check(sc, SECOND_TRUTH)),
+                        fmt(s.truth_check(sc, SECOND_TRUTH, metric="joint_angle_err_deg"))]
+            rows.append(row)
+        header = ["scenario", "truth: pose m at 1 s", "re-seeded pose m", "re-seeded angle deg"]
+        if second:
+            header += ["mujoco-truth: pose m at 1 s", "re-seeded pose m", "re-seeded angle deg"]
+        out += ["## How far the truths can be trusted", "",
+                "Each truth run again at half its dt and compared with itself: the first truth is "
+                "bullet-multibody at 1/3840 s (checked at 1/7680 s)"
+                + (", the second (`mujoco-truth`) MuJoCo with RK4 at 1/7680 s (checked at "
+                   "1/15360 s), its constraints' time constant fixed at 2/3840 s so that both dts "
+                   "have the same constraint model"
+                   if second else "; the build had no MuJoCo, so there is no second truth")
+                + ". A truth judges only errors above ten times this difference: smaller ones "
+                "are shown as `≤ limit` below.", "",
+                md_table(header, rows), ""]
+    if second and not math.isnan(check_dt):
+        rows = []
+        for sc in s.scenarios:
+            rows.append([sc] + [fmt(s.truths_agreement(sc, stat)) for stat in
+                                ("at_0.267s", "at_1s", "mean_1s", "reseeded_mean")] +
+                        [fmt(s.truths_agreement(sc, "reseeded_mean", "bullet-multibody")),
+                         fmt(s.truths_agreement(sc, "reseeded_mean",
+                                                metric="joint_angle_err_deg")),
+                         fmt(s.truths_agreement(sc, "max", "bullet-multibody",
+                                                "limit_violation_deg"), 2),
+                         fmt(s.truths_agreement(sc, "max", metric="limit_violation_deg"), 2)] +
+                        [open_limits_agreement(folder, sc)])
+        out += ["## Where the truths agree", "",
+                "MuJoCo (RK4, 1/7680 s) against bullet-multibody (1/3840 s), pose error (m): "
+                "along the whole run, and re-seeded both ways (MuJoCo from the first truth's "
+                "states against it, bullet-multibody from the second's against it). The last "
+                "column is the same re-seeded figure for Pinocchio with every limit opened "
+                "(`truths-open-limits/`), where the two engines model the same physics except "
+                "for their contacts and pins.", "",
+                md_table(["scenario", "at 0.267 s", "at 1 s", "mean 1 s", "re-seeded",
+                          "re-seeded (other way)", "re-seeded angle deg",
+                          "truth out of limits, deg", "mujoco-truth out of limits, deg",
+                          "re-seeded, limits opened"], rows), "",
+                "Out of limits: the largest violation of the model's limits (its swing ellipse "
+                "and twist, as the metrics measure them) along each truth. A solver that holds "
+                "the model's limits and is re-seeded from a state that far outside them is first "
+                "thrown back inside: against the second truth, re-seeded errors measure the limit "
+                "models as much as the solver, which is why the table of every solver against "
+                "both truths with the limits opened follows.", "",
+                "What differs between the engines, each difference documented in docs/mujoco.md: "
+                "MuJoCo 2.2.2 bounds a ball joint's whole rotation angle by one cone (here the "
+                "model's largest half-angle), where bullet-multibody holds the model's swing "
+                "ellipse and twist; MuJoCo's limits, contacts and moving pins are soft "
+                "(time constant 2/3840 s in the second truth), Bullet's are speculative "
+                "impulses; a contact's friction cone is elliptic in MuJoCo and Bullet's "
+                "impulses are clamped per direction. Where the agreement with limits opened is "
+                "close to the truths' own errors, the limit models make the rest of the "
+                "difference.", ""]
 
     def accuracy_cell(sc, config, d, metric="pose_err_m", reference="truth"):
         v = s.get(sc, config, d, metric, "reseeded_mean", reference)
         if math.isnan(v):
             return "div" if s.diverged(sc, config, d) else "–"
         cell = fmt(v)
-        if reference == "truth" and metric == "pose_err_m":
-            limit = s.truth_limit(sc)
+        if reference in TRUTH_SOLVERS and metric == "pose_err_m":
+            limit = s.truth_limit(sc, reference)
             if v < limit:
                 cell = f"≤ {fmt(limit)}"
         seeds = s.get(sc, config, d, "reseeded_diverged", "count", reference)
@@ -412,6 +521,13 @@ def report(s, frontier, plots, folder):
             md_table(["scenario"] + [label(c) for c in s.configs],
                      [[sc] + [accuracy_cell(sc, c, dt, "joint_angle_err_deg") for c in s.configs]
                       for sc in s.scenarios]), ""]
+    if second:
+        out += ["Against the second truth (MuJoCo, RK4 at 1/7680 s): re-seeded pose error (m), "
+                f"dt = {dt_text(dt)} s:", "",
+                md_table(["scenario"] + [label(c) for c in s.configs],
+                         [[sc] + [accuracy_cell(sc, c, dt, reference=SECOND_TRUTH)
+                                  for c in s.configs] for sc in s.scenarios]), ""]
+    out += open_limits_section(folder)
     pair_configs = [c for c in s.configs if c != ("bullet-multibody", "")]
     if any(not math.isnan(s.get(sc, c, dt, "pose_err_m", "reseeded_mean", "pairwise"))
            for sc in s.scenarios for c in pair_configs):

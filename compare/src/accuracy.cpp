@@ -114,6 +114,16 @@ ReseededError reseeded_error(Simulator& simulator, const Model& model, const Sce
   return out;
 }
 
+double max_limit_violation_deg(const Model& model, const Trajectory& trajectory) {
+  std::vector<double> violations(model.joint_count());
+  double worst = 0.0;
+  for (const auto& sample : trajectory.samples) {
+    limit_violations_deg(model, sample, violations);
+    for (double v : violations) worst = std::max(worst, v);
+  }
+  return worst;
+}
+
 std::vector<SummaryRow> accuracy_rows(Simulator& simulator, const Model& model,
                                       const Scenario& scenario, double dt, const Trajectory& run,
                                       const Trajectory& reference, const std::string& label) {

@@ -1,6 +1,7 @@
 #include "puppet/compare/sweep.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <exception>
 #include <mutex>
@@ -20,6 +21,15 @@ double duration_of(const Scenario& scenario, const RunOptions& options) {
 }
 
 }  // namespace
+
+SolverOptions second_truth_options() {
+  SolverOptions options;
+  options.mujoco_integrator = reference::MujocoIntegrator::kRk4;
+  options.mujoco_time_constant = kSecondTruthTimeConstant;
+  return options;
+}
+
+bool have_second_truth() { return reference::have_mujoco(); }
 
 const std::vector<double>& sweep_dts() {
   static const std::vector<double> dts{1.0 / 30, 1.0 / 60, 1.0 / 120, 1.0 / 240, 1.0 / 480};
@@ -65,11 +75,16 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
   const bool pairwise = truth_config != spec.configs.end();
   const SolverConfig truth_solver{kTruthSolver, pairwise ? truth_config->options : SolverOptions{}};
 
-  // phases: [truth and its check] → [the check's rows, bullet-multibody runs] → [other runs];
+  const bool second = any_judged && have_second_truth();
+  const SolverConfig second_solver{kSecondTruthSolver, second_truth_options()};
+
+  // phases: [truths and their checks] → [the checks' rows, bullet-multibody runs] → [other runs];
   // each needs the trajectories of the one before
   const size_t run_count = scenario_count * config_count * dt_count;
-  const size_t truth_jobs = any_judged ? 2 * scenario_count : 0;
-  const size_t check_jobs = any_judged ? scenario_count : 0;
+  const size_t truths = any_judged ? (second ? 2 : 1) : 0;  // per scenario
+  const size_t truth_jobs = 2 * truths * scenario_count;
+  const size_t check_rows_per_scenario = second ? 4 : 1;
+  const size_t check_jobs = any_judged ? check_rows_per_scenario * scenario_count : 0;
   const size_t timing_jobs = spec.run.timing ? run_count : 0;
   const size_t total = truth_jobs + check_jobs + run_count + timing_jobs;
   size_t done = 0;
@@ -78,17 +93,20 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
     if (spec.on_progress) spec.on_progress(done, total);
   };
 
-  std::vector<Trajectory> truth(scenario_count), check(scenario_count);
+  // per scenario: [0] the truth, [1] its check, [2] the second truth, [3] its check
+  std::vector<std::array<Trajectory, 4>> truth(scenario_count);
   if (any_judged) {
     parallel_for(
-        2 * scenario_count, spec.jobs,
+        truth_jobs, spec.jobs,
         [&](size_t i) {
-          const size_t s = i / 2;
-          auto simulator = make(truth_solver);
-          const double dt = i % 2 == 0 ? kTruthCheckDt : kTruthDt;  // the longer one first
+          const size_t s = i / (2 * truths), k = i % (2 * truths);
+          // the longer check first
+          const size_t slot = k == 0 ? 1 : k == 1 ? 0 : k;
+          auto simulator = make(slot < 2 ? truth_solver : second_solver);
+          constexpr double kDts[4] = {kTruthDt, kTruthCheckDt, kSecondTruthDt, kSecondTruthCheckDt};
+          const double dt = kDts[slot];
           const double duration = duration_of(spec.scenarios[s], spec.run);
-          (i % 2 == 0 ? check : truth)[s] =
-              record_trajectory(*simulator, model, spec.scenarios[s], dt, duration);
+          truth[s][slot] = record_trajectory(*simulator, model, spec.scenarios[s], dt, duration);
         },
         progress);
   }
@@ -108,14 +126,14 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
     auto simulator = make(config);
     RunResult result = run_scenario(*simulator, model, scenario, options);
     if (options.record_trajectory) {
-      auto rows = accuracy_rows(*simulator, model, scenario, options.dt, result.trajectory,
-                                truth[s], "truth");
-      result.summary.insert(result.summary.end(), rows.begin(), rows.end());
-      if (pairwise && !is_truth_solver(config)) {
-        rows = accuracy_rows(*simulator, model, scenario, options.dt, result.trajectory,
-                             paired[s * dt_count + d], "pairwise");
+      auto add = [&](const Trajectory& reference, const char* label) {
+        auto rows = accuracy_rows(*simulator, model, scenario, options.dt, result.trajectory,
+                                  reference, label);
         result.summary.insert(result.summary.end(), rows.begin(), rows.end());
-      }
+      };
+      add(truth[s][0], "truth");
+      if (second) add(truth[s][2], kSecondTruthReference);
+      if (pairwise && !is_truth_solver(config)) add(paired[s * dt_count + d], "pairwise");
     }
     if (spec.on_run) spec.on_run(result);
     if (pairwise && is_truth_solver(config))
@@ -126,7 +144,7 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
     results[index(s, c, d)] = std::move(result);
   };
 
-  // the truth's own error, and bullet-multibody at every dt
+  // the truths' own errors and their agreement, and bullet-multibody at every dt
   std::vector<size_t> truth_runs;
   for (size_t s = 0; s < scenario_count; ++s) {
     for (size_t d = 0; d < dt_count && pairwise; ++d) {
@@ -137,14 +155,25 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
       check_jobs + truth_runs.size(), spec.jobs,
       [&](size_t i) {
         if (i < check_jobs) {
+          const size_t s = i / check_rows_per_scenario, k = i % check_rows_per_scenario;
+          // k: 0 the truth's check, 1 the second truth's check, 2 the second truth against the
+          // first, 3 the first against the second
+          const size_t run = k == 0 ? 1 : k == 1 ? 3 : k == 2 ? 2 : 0;
+          const size_t against = k == 0 || k == 2 ? 0 : 2;
+          const bool second_solver_run = run >= 2;
           RunResult& r = results[run_count + i];
-          r.scenario = spec.scenarios[i].name;
-          r.solver = kTruthSolver;
-          r.dt = kTruthCheckDt;
-          r.diverged = check[i].diverged;
-          auto simulator = make(truth_solver);
-          r.summary = accuracy_rows(*simulator, model, spec.scenarios[i], kTruthCheckDt, check[i],
-                                    truth[i], "truth");
+          r.scenario = spec.scenarios[s].name;
+          r.solver = second_solver_run ? kSecondTruthSolver : kTruthSolver;
+          constexpr double kDts[4] = {kTruthDt, kTruthCheckDt, kSecondTruthDt, kSecondTruthCheckDt};
+          r.dt = kDts[run];
+          r.diverged = truth[s][run].diverged;
+          auto simulator = make(second_solver_run ? second_solver : truth_solver);
+          const char* label = against == 0 ? "truth" : kSecondTruthReference;
+          r.summary = accuracy_rows(*simulator, model, spec.scenarios[s], r.dt, truth[s][run],
+                                    truth[s][against], label);
+          // how far the truth itself leaves the model's limits (MuJoCo's differ)
+          r.summary.push_back({"limit_violation_deg", "max",
+                               max_limit_violation_deg(model, truth[s][run]), "deg", label});
           return;
         }
         const size_t k = truth_runs[i - check_jobs];

@@ -23,10 +23,15 @@ for png in joint_gap error_vs_dt angle_error_vs_dt speed_accuracy stage_time fro
   [ "$(head -c 4 "$file" | tail -c 3)" = "PNG" ] || fail "$file is not a PNG"
   grep -q "(plots/$png.png)" "$out/REPORT.md" || fail "REPORT.md does not show $png.png"
 done
-for section in "## What was run" "## How far the truth can be trusted" "## Accuracy" \
+for section in "## What was run" "## How far the truths can be trusted" "## Accuracy" \
   "## Joint gaps and divergence" "## Time per step" "## Stability frontier" "## Findings"; do
   grep -qF "$section" "$out/REPORT.md" || fail "REPORT.md has no \"$section\""
 done
+# with MuJoCo in the build, the second truth: its section, and every solver judged against it
+if grep -q ',mujoco-truth,' "$out/summary.csv"; then
+  grep -qF "## Where the truths agree" "$out/REPORT.md" || fail "REPORT.md has no truths' agreement"
+  grep -qF "Against the second truth" "$out/REPORT.md" || fail "REPORT.md judges nothing against the second truth"
+fi
 grep -q "| drop | " "$out/REPORT.md" || fail "REPORT.md has no row for drop"
 grep -q "tracks the truth best" "$out/REPORT.md" || fail "REPORT.md names no best rule"
 

@@ -33,7 +33,10 @@ SweepSpec small_sweep(const Model& model, int jobs, bool timing) {
 TEST(Sweep, SummaryHasEveryRunItsAccuracyAndStableUnits) {
   const Model model = make_chain(4);
   const std::vector<RunResult> results = run_sweep(small_sweep(model, 2, true));
-  ASSERT_EQ(results.size(), 3u * 2u + 1u);  // the runs, then the truth's check
+  // the runs, then the truth's check and, with MuJoCo, the second truth's check and the truths
+  // against each other
+  const bool second = have_second_truth();
+  ASSERT_EQ(results.size(), 3u * 2u + (second ? 4u : 1u));
   const std::string csv = summary_csv(results, {"chain:4", "abc", "machine"});
   std::stringstream in(csv);
   std::string line;
@@ -54,7 +57,9 @@ TEST(Sweep, SummaryHasEveryRunItsAccuracyAndStableUnits) {
     ASSERT_TRUE(units.count(cells[5])) << cells[5];
     EXPECT_EQ(cells[8], units.at(cells[5])) << line;
     EXPECT_TRUE(std::isfinite(std::stod(cells[7]))) << line;
-    EXPECT_TRUE(cells[10].empty() || cells[10] == "truth" || cells[10] == "pairwise") << line;
+    EXPECT_TRUE(cells[10].empty() || cells[10] == "truth" || cells[10] == "pairwise" ||
+                (second && cells[10] == kSecondTruthReference))
+        << line;
     EXPECT_EQ(cells[11], "ok") << line;
     if (cells[5] == "pose_err_m") accuracy[{cells[1], cells[3], cells[10]}].insert(cells[6]);
     if (cells[5] == "step_us") timed.insert({cells[1], cells[3]});
@@ -64,6 +69,9 @@ TEST(Sweep, SummaryHasEveryRunItsAccuracyAndStableUnits) {
   for (const std::string dt : {"0.0166666667", "0.00833333333"}) {
     for (const std::string solver : {"procedural", "bullet-multibody", "bullet-rigid"}) {
       EXPECT_EQ((accuracy[{solver, dt, "truth"}]), all) << solver << " " << dt;
+      if (second) {
+        EXPECT_EQ((accuracy[{solver, dt, kSecondTruthReference}]), all) << solver;
+      }
       EXPECT_TRUE(timed.count({solver, dt})) << solver << " " << dt;
       // pairwise against bullet-multibody at the same dt, for the others only
       const bool paired = solver != "bullet-multibody";
@@ -73,6 +81,12 @@ TEST(Sweep, SummaryHasEveryRunItsAccuracyAndStableUnits) {
   // the truth's own check: bullet-multibody at 1/7680 s against the truth, never timed
   EXPECT_EQ((accuracy[{"bullet-multibody", "0.000130208333", "truth"}]), all);
   EXPECT_FALSE(timed.count({"bullet-multibody", "0.000130208333"}));
+  if (second) {
+    // the second truth's check (mujoco at 1/15360 s), and each truth against the other
+    EXPECT_EQ((accuracy[{"mujoco", "6.51041667e-05", kSecondTruthReference}]), all);
+    EXPECT_EQ((accuracy[{"mujoco", "0.000130208333", "truth"}]), all);
+    EXPECT_EQ((accuracy[{"bullet-multibody", "0.000260416667", kSecondTruthReference}]), all);
+  }
 
   // bullet-multibody is first order: halving dt roughly halves its error against the truth, and
   // the truth's check is far below both
@@ -94,6 +108,22 @@ TEST(Sweep, SummaryHasEveryRunItsAccuracyAndStableUnits) {
   EXPECT_GT(coarse / fine, 1.4);
   EXPECT_LT(coarse / fine, 2.8);
   EXPECT_LT(10 * check, fine);
+
+  // a chain of free ball joints is the same physics in both engines: the truths agree within a
+  // few times the first truth's own (first-order) error, and neither leaves the absent limits
+  if (second) {
+    const RunResult& agreement = results[8];
+    ASSERT_EQ(agreement.solver, "mujoco");
+    double reseeded_agreement = NAN, violation = NAN;
+    for (const SummaryRow& row : agreement.summary) {
+      if (row.metric == "pose_err_m" && row.stat == "reseeded_mean") reseeded_agreement = row.value;
+      if (row.metric == "limit_violation_deg") violation = row.value;
+    }
+    std::printf("[ sweep ] chain:4 hang: the truths agree to %.2e m re-seeded\n",
+                reseeded_agreement);
+    EXPECT_LT(reseeded_agreement, 5 * check);
+    EXPECT_EQ(violation, 0.0);
+  }
 }
 
 TEST(Sweep, ParallelJobsGiveTheSameSummary) {

@@ -49,6 +49,10 @@ ReseededError reseeded_error(Simulator& simulator, const Model& model, const Sce
                              const Trajectory& truth, double dt, int seeds = 8,
                              double horizon = 0.5);
 
+// the largest violation of the model's limits over a trajectory's samples (deg; DESIGN.md's
+// swing ellipse and twist, the metrics' measure)
+double max_limit_violation_deg(const Model& model, const Trajectory& trajectory);
+
 // The accuracy rows of summary.csv for one run (metrics pose_err_m, joint_angle_err_deg):
 //   at_0.267s, at_0.5s, at_1s   the error at that sample (0.25 s is not a multiple of 1/30 s, so
 //                               the sample nearest to it after it stands in)

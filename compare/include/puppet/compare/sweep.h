@@ -12,10 +12,21 @@
 namespace puppet::compare {
 
 // the truth: bullet-multibody at 1/3840 s (it divides every dt of the sweep), checked against
-// 1/7680 s
+// 1/7680 s; rows against it have reference "truth"
 inline constexpr const char* kTruthSolver = "bullet-multibody";
 constexpr double kTruthDt = 1.0 / 3840.0;
 constexpr double kTruthCheckDt = 1.0 / 7680.0;
+// the second truth, when the build has MuJoCo: mujoco with RK4 at 1/7680 s, checked against
+// 1/15360 s, its constraints' time constant fixed at 2/3840 s so that both have the same
+// constraint model; rows against it have reference "mujoco-truth"
+inline constexpr const char* kSecondTruthSolver = "mujoco";
+inline constexpr const char* kSecondTruthReference = "mujoco-truth";
+constexpr double kSecondTruthDt = 1.0 / 7680.0;
+constexpr double kSecondTruthCheckDt = 1.0 / 15360.0;
+constexpr double kSecondTruthTimeConstant = 2.0 / 3840.0;
+SolverOptions second_truth_options();
+// whether this build has the second truth
+bool have_second_truth();
 
 // the dts of the default sweep
 const std::vector<double>& sweep_dts();
@@ -44,7 +55,11 @@ struct SweepSpec {
 
 // Results in scenario × config × dt order. With accuracy, one more result per scenario follows:
 // bullet-multibody at kTruthCheckDt against the truth, whose rows say how far the truth itself
-// can be trusted (it judges only errors more than ten times larger).
+// can be trusted (it judges only errors more than ten times larger). With the second truth,
+// three more per scenario: mujoco (RK4) at kSecondTruthCheckDt against the second truth, the
+// second truth against the first (mujoco at kSecondTruthDt, reference "truth") and the first
+// against the second (bullet-multibody at kTruthDt, reference "mujoco-truth"). Every run is
+// judged against both truths.
 std::vector<RunResult> run_sweep(const SweepSpec& spec);
 
 // runs job(0) … job(count − 1) on `threads` threads (at most `count`), calling after_each (one
