@@ -7,6 +7,7 @@ packages=(
   cmake g++ make git
   libeigen3-dev      # fixed-size linear algebra in the solver
   nlohmann-json3-dev # model files
+  libtinyxml2-dev    # MJCF model files
   libcli11-dev       # the testbed command line
   libbullet-dev      # the references (its bullet-float64 variant: double precision)
   libmujoco-dev      # the mujoco reference (MuJoCo 2.2)

@@ -126,6 +126,7 @@ Scenario make_scenario(const std::string& name, const Model& model,
   Scenario s;
   s.name = name;
   s.initial = rest_pose(model);
+  s.environment.gravity = model.gravity;
   const bool hanging =
       name == "hang" || name == "drag" || name == "shake" || name == "water" || name == "tremble";
   const bool circling = name == "drag" || name == "water" || name == "tremble" || name == "yank";

@@ -126,7 +126,9 @@ int command_export_mjcf(const std::string& path, const std::string& out) {
     }
   }
   const Model model = load_named_model(path);
-  const std::string xml = write_mjcf(model);
+  MjcfOptions options;
+  options.environment.gravity = model.gravity;
+  const std::string xml = write_mjcf(model, options);
   if (out.empty() || out == "-") {
     std::cout << xml;
   } else {

@@ -9,6 +9,8 @@
 #include <set>
 #include <sstream>
 
+#include "model_builder.h"
+#include "puppet/model/mjcf.h"
 #include "puppet/model/model.h"
 #include "puppet/model/rotation.h"
 
@@ -166,15 +168,9 @@ Segment read_segment(const Element& e) {
   return s;
 }
 
-struct RawJoint {
-  Joint joint;
-  std::string parent_name, child_name;
-  Vector3d hinge_axis_world{0, 0, 0};
-};
-
-RawJoint read_joint(const Element& e) {
+detail::RawJoint read_joint(const Element& e) {
   e.require_object();
-  RawJoint raw;
+  detail::RawJoint raw;
   Joint& j = raw.joint;
   const std::string type = e.string("type");
   if (type == "ball") {
@@ -224,57 +220,100 @@ RawJoint read_joint(const Element& e) {
 Model build(const json& root_json, const std::string& source) {
   Element root(root_json, source, "model");
   root.require_object();
-  root.reject_unknown({"name", "segments", "joints"});
-  Model model;
-  model.name = root.string("name");
+  root.reject_unknown({"name", "segments", "joints", "gravity"});
+  const std::string name = root.string("name");
 
-  // segments, in file order for now
   const json& segments_json = root.field("segments");
   if (!segments_json.is_array()) root.fail("field \"segments\" must be an array");
   if (segments_json.empty()) root.fail("field \"segments\" must not be empty");
   std::vector<Segment> segments;
-  std::map<std::string, int> index_of;
   for (size_t i = 0; i < segments_json.size(); ++i) {
     Element e(segments_json[i], source, "segment #" + std::to_string(i));
     e.require_object();
-    const std::string name = e.string("name");
-    Element named(segments_json[i], source, "segment \"" + name + "\"");
-    if (index_of.count(name)) named.fail("duplicate segment name");
-    Segment s = read_segment(named);
-    s.name = name;
-    index_of[name] = static_cast<int>(segments.size());
+    const std::string segment_name = e.string("name");
+    Segment s = read_segment(Element(segments_json[i], source, "segment \"" + segment_name + "\""));
+    s.name = segment_name;
     segments.push_back(std::move(s));
   }
 
-  // joints
-  std::vector<RawJoint> raw_joints;
-  std::set<std::string> joint_names;
-  std::vector<int> parent_joint_of(segments.size(), -1);
+  std::vector<detail::RawJoint> joints;
   if (root.has("joints")) {
     const json& joints_json = root.field("joints");
     if (!joints_json.is_array()) root.fail("field \"joints\" must be an array");
     for (size_t i = 0; i < joints_json.size(); ++i) {
       Element e(joints_json[i], source, "joint #" + std::to_string(i));
       e.require_object();
-      const std::string name = e.string("name");
-      Element named(joints_json[i], source, "joint \"" + name + "\"");
-      if (!joint_names.insert(name).second) named.fail("duplicate joint name");
-      RawJoint raw = read_joint(named);
-      raw.joint.name = name;
-      auto p = index_of.find(raw.parent_name);
-      if (p == index_of.end()) named.fail("unknown parent segment \"" + raw.parent_name + "\"");
-      auto c = index_of.find(raw.child_name);
-      if (c == index_of.end()) named.fail("unknown child segment \"" + raw.child_name + "\"");
-      if (p->second == c->second) named.fail("parent and child are the same segment (a cycle)");
-      raw.joint.parent = p->second;
-      raw.joint.child = c->second;
-      if (parent_joint_of[c->second] >= 0) {
-        named.fail("segment \"" + raw.child_name + "\" already has a parent (joint \"" +
-                   raw_joints[parent_joint_of[c->second]].joint.name + "\"): two parents");
-      }
-      parent_joint_of[c->second] = static_cast<int>(raw_joints.size());
-      raw_joints.push_back(std::move(raw));
+      const std::string joint_name = e.string("name");
+      detail::RawJoint raw =
+          read_joint(Element(joints_json[i], source, "joint \"" + joint_name + "\""));
+      raw.joint.name = joint_name;
+      joints.push_back(std::move(raw));
     }
+  }
+  // by name: assemble consumes the segments and joints
+  std::vector<std::string> segment_names, joint_names;
+  for (const Segment& seg : segments) segment_names.push_back(seg.name);
+  for (const detail::RawJoint& raw : joints) joint_names.push_back(raw.joint.name);
+  auto locate = [&](detail::Part part, int index) {
+    switch (part) {
+      case detail::Part::kSegment:
+        return source + ": segment \"" + segment_names[index] + "\"";
+      case detail::Part::kJoint:
+        return source + ": joint \"" + joint_names[index] + "\"";
+      case detail::Part::kModel:
+        break;
+    }
+    return source + ": model";
+  };
+  Model model = detail::assemble(name, std::move(segments), std::move(joints), locate);
+  if (root.has("gravity")) model.gravity = root.vector<3>("gravity");
+  return model;
+}
+
+}  // namespace
+
+namespace detail {
+
+Model assemble(const std::string& name, std::vector<Segment> segments,
+               std::vector<RawJoint> raw_joints, const Locate& locate) {
+  auto fail = [&](Part part, int index, const std::string& problem) {
+    throw ModelError(locate(part, index) + ": " + problem);
+  };
+  Model model;
+  model.name = name;
+  std::map<std::string, int> index_of;
+  for (size_t i = 0; i < segments.size(); ++i) {
+    if (!index_of.emplace(segments[i].name, static_cast<int>(i)).second) {
+      fail(Part::kSegment, static_cast<int>(i), "duplicate segment name");
+    }
+  }
+
+  // joints: names, parents and children
+  std::set<std::string> joint_names;
+  std::vector<int> parent_joint_of(segments.size(), -1);
+  for (size_t i = 0; i < raw_joints.size(); ++i) {
+    const int ji = static_cast<int>(i);
+    RawJoint& raw = raw_joints[i];
+    if (!joint_names.insert(raw.joint.name).second) fail(Part::kJoint, ji, "duplicate joint name");
+    auto p = index_of.find(raw.parent_name);
+    if (p == index_of.end()) {
+      fail(Part::kJoint, ji, "unknown parent segment \"" + raw.parent_name + "\"");
+    }
+    auto c = index_of.find(raw.child_name);
+    if (c == index_of.end()) {
+      fail(Part::kJoint, ji, "unknown child segment \"" + raw.child_name + "\"");
+    }
+    if (p->second == c->second) {
+      fail(Part::kJoint, ji, "parent and child are the same segment (a cycle)");
+    }
+    raw.joint.parent = p->second;
+    raw.joint.child = c->second;
+    if (parent_joint_of[c->second] >= 0) {
+      fail(Part::kJoint, ji,
+           "segment \"" + raw.child_name + "\" already has a parent (joint \"" +
+               raw_joints[parent_joint_of[c->second]].joint.name + "\"): two parents");
+    }
+    parent_joint_of[c->second] = ji;
   }
 
   // exactly one root
@@ -282,10 +321,11 @@ Model build(const json& root_json, const std::string& source) {
   for (size_t i = 0; i < segments.size(); ++i) {
     if (parent_joint_of[i] < 0) roots.push_back(static_cast<int>(i));
   }
-  if (roots.empty()) root.fail("no root segment: the joints form a cycle");
+  if (roots.empty()) fail(Part::kModel, 0, "no root segment: the joints form a cycle");
   if (roots.size() > 1) {
-    root.fail("two roots: segments \"" + segments[roots[0]].name + "\" and \"" +
-              segments[roots[1]].name + "\" have no parent joint");
+    fail(Part::kModel, 0,
+         "two roots: segments \"" + segments[roots[0]].name + "\" and \"" +
+             segments[roots[1]].name + "\" have no parent joint");
   }
 
   // order parent before child (depth first from the root); unreached segments sit on a cycle
@@ -307,20 +347,20 @@ Model build(const json& root_json, const std::string& source) {
   }
   for (size_t i = 0; i < segments.size(); ++i) {
     if (new_index[i] < 0) {
-      Element(segments_json[i], source, "segment \"" + segments[i].name + "\"")
-          .fail("lies on a cycle of joints (not reachable from the root \"" +
-                segments[roots[0]].name + "\")");
+      fail(Part::kSegment, static_cast<int>(i),
+           "lies on a cycle of joints (not reachable from the root \"" + segments[roots[0]].name +
+               "\")");
     }
   }
 
   for (int old : order) model.segments.push_back(segments[old]);
   for (int i = 1; i < model.segment_count(); ++i) {
     const int old = order[i];
-    RawJoint& raw = raw_joints[parent_joint_of[old]];
+    const int ji = parent_joint_of[old];
+    const RawJoint& raw = raw_joints[ji];
     Joint j = raw.joint;
     j.parent = new_index[j.parent];
     j.child = i;
-    const Element e(root_json["joints"][parent_joint_of[old]], source, "joint \"" + j.name + "\"");
     const Segment& parent = model.segments[j.parent];
     const Segment& child = model.segments[j.child];
 
@@ -332,16 +372,18 @@ Model build(const json& root_json, const std::string& source) {
       const Vector3d local = seg == &parent ? j.anchor_in_parent : j.anchor_in_child;
       const double distance = signed_distance(seg->shape, local);
       if (distance > kAnchorTolerance) {
-        e.fail("anchor is " + Element::fmt(std::round(distance * 1000.0) / 10.0) +
-               " cm from the surface of segment \"" + seg->name + "\" (at most 5 cm allowed)");
+        fail(Part::kJoint, ji,
+             "anchor is " + Element::fmt(std::round(distance * 1000.0) / 10.0) +
+                 " cm from the surface of segment \"" + seg->name + "\" (at most 5 cm allowed)");
       }
     }
 
     // joint frames
     j.frame_in_parent = parent.rest_orientation.conjugate() * j.frame_world;
     j.frame_in_child = child.rest_orientation.conjugate() * j.frame_world;
-    if (j.type == JointType::kHinge)
+    if (j.type == JointType::kHinge && !raw.hinge_axis_in_frame) {
       j.hinge_axis = j.frame_world.conjugate() * raw.hinge_axis_world;
+    }
     model.segments[i].parent_joint = i - 1;
     model.segments[i].parent = j.parent;
     model.joints.push_back(std::move(j));
@@ -360,7 +402,9 @@ Model build(const json& root_json, const std::string& source) {
   return model;
 }
 
-}  // namespace
+}  // namespace detail
+
+namespace {}  // namespace
 
 int Model::find_segment(const std::string& segment_name) const {
   for (int i = 0; i < segment_count(); ++i) {
@@ -403,7 +447,9 @@ Model load_model(const std::string& path_or_builtin) {
   if (!file) throw ModelError(path_or_builtin + ": cannot open the model file");
   std::stringstream text;
   text << file.rdbuf();
-  return parse_model(text.str(), path_or_builtin);
+  const std::string& path = path_or_builtin;
+  const bool xml = path.size() > 4 && path.compare(path.size() - 4, 4, ".xml") == 0;
+  return xml ? parse_mjcf(text.str(), path) : parse_model(text.str(), path);
 }
 
 }  // namespace puppet

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -236,6 +237,54 @@ TEST(Mujoco, CompliantPinSettlesAtTheStaticDeflection) {
 
 // testbed export-mjcf's document, loaded by MuJoCo's own compiler: every body has the model's
 // mass and inertia, every limited joint its range, and the user data the exact rest values
+// models/humanoid.xml read by MuJoCo's own compiler and by parse_mjcf: the same masses,
+// principal moments, centres of mass at rest and joint ranges (an independent reading of its
+// fromto capsules, densities and degrees)
+TEST(ReadMjcf, MujocosCompilerReadsTheHumanoidAsWeDo) {
+  const std::string path = std::string(PUPPET_SOURCE_DIR) + "/models/humanoid.xml";
+  const Model model = load_model(path);
+  char error[1000] = "";
+  mjModel* m = mj_loadXML(path.c_str(), nullptr, error, sizeof error);
+  ASSERT_NE(m, nullptr) << error;
+  mjData* d = mj_makeData(m);
+  mj_kinematics(m, d);
+  EXPECT_EQ(m->nbody, model.segment_count() + 1);
+  for (const Segment& segment : model.segments) {
+    SCOPED_TRACE(segment.name);
+    const int b = mj_name2id(m, mjOBJ_BODY, segment.name.c_str());
+    ASSERT_GE(b, 1);
+    EXPECT_NEAR(m->body_mass[b], segment.mass, 1e-12 * segment.mass);
+    std::vector<double> ours(segment.inertia.data(), segment.inertia.data() + 3);
+    std::vector<double> theirs(m->body_inertia + 3 * b, m->body_inertia + 3 * b + 3);
+    std::sort(ours.begin(), ours.end());
+    std::sort(theirs.begin(), theirs.end());
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(theirs[i], ours[i], 1e-9 * ours[2]);
+    const Vector3d com(d->xipos[3 * b], d->xipos[3 * b + 1], d->xipos[3 * b + 2]);
+    EXPECT_LT((com - segment.rest_position).norm(), 1e-12);
+  }
+  for (const Joint& joint : model.joints) {
+    SCOPED_TRACE(joint.name);
+    const int j = mj_name2id(m, mjOBJ_JOINT, joint.name.c_str());
+    if (joint.type == JointType::kFixed) {
+      EXPECT_LT(j, 0);
+      continue;
+    }
+    ASSERT_GE(j, 0);
+    const Vector3d anchor(d->xanchor[3 * j], d->xanchor[3 * j + 1], d->xanchor[3 * j + 2]);
+    EXPECT_LT((anchor - joint.anchor_world).norm(), 1e-12);
+    if (joint.type == JointType::kHinge) {
+      EXPECT_NEAR(m->jnt_range[2 * j], joint.lower, 1e-15);
+      EXPECT_NEAR(m->jnt_range[2 * j + 1], joint.upper, 1e-15);
+      const Vector3d axis(d->xaxis[3 * j], d->xaxis[3 * j + 1], d->xaxis[3 * j + 2]);
+      EXPECT_LT((axis - joint.frame_world * joint.hinge_axis).norm(), 1e-12);
+    } else {
+      EXPECT_NEAR(m->jnt_range[2 * j + 1], joint.twist, 1e-15);
+    }
+  }
+  mj_deleteData(d);
+  mj_deleteModel(m);
+}
+
 TEST(ExportMjcf, MujocosCompilerLoadsIt) {
   for (const Model& model :
        {load_model(test::kPinocchioPath), make_chain(5), test::rods(2),

@@ -63,6 +63,13 @@ struct MjcfOptions {
 // of the model's largest half-angle (swing or twist) so that it forbids nothing the model allows
 std::string write_mjcf(const Model& model, const MjcfOptions& options = {});
 
+// Reads an MJCF articulated body (docs/mjcf.md: what is read, what is refused). `source` names
+// the file in error messages, which give the element's line. User data as write_mjcf writes it
+// gives back the exact rest values; without it the rest pose comes from the bodies' frames, a
+// ball limit is MuJoCo's cone (swing and twist both bounded by its angle) and a ball's joint
+// frame is its child's segment frame. Throws ModelError.
+Model parse_mjcf(const std::string& xml_text, const std::string& source);
+
 // the body of segment s in a document written without model names: "s<s>"
 std::string mjcf_segment_body(int segment);
 

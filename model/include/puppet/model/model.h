@@ -96,6 +96,8 @@ struct Model {
   std::vector<Joint> joints;      // joints[j].child == j + 1 (the root is segment 0)
   double total_mass = 0.0;
   double rest_height = 0.0;  // top minus bottom of every shape at rest
+  // the file's gravity (m/s²; JSON "gravity", MJCF <option gravity>), the scenarios' default
+  Vector3d gravity{0.0, 0.0, -9.81};
 
   int segment_count() const { return static_cast<int>(segments.size()); }
   int joint_count() const { return static_cast<int>(joints.size()); }

@@ -1,0 +1,699 @@
+// MJCF in: an articulated body written for MuJoCo, read into the same Model the JSON files give
+// (docs/mjcf.md lists what is read and what is refused). Every body is a segment with one geom;
+// its joint (free on the root; one hinge or ball, or none for a weld, elsewhere) ties it to its
+// parent. What the model cannot hold (actuators, tendons, equality constraints, several joints
+// or geoms on one body, joint springs and damping...) is refused with the element and its line,
+// never dropped. User data written by write_mjcf gives back the exact rest values.
+#include <tinyxml2.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <vector>
+
+#include "model_builder.h"
+#include "puppet/model/mjcf.h"
+
+namespace puppet {
+namespace {
+
+using tinyxml2::XMLElement;
+
+constexpr double kPi = 3.14159265358979323846;
+
+// attributes by element kind ("geom", "joint", ...) of one default class
+using ClassDefaults = std::map<std::string, std::map<std::string, std::string>>;
+
+class Reader {
+ public:
+  explicit Reader(std::string source) : source_(std::move(source)) {}
+
+  Model read(const std::string& text) {
+    tinyxml2::XMLDocument doc;
+    if (doc.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) {
+      // "XML_ERROR_MISMATCHED_ELEMENT" → "mismatched element"
+      std::string what = doc.ErrorName();
+      if (what.rfind("XML_ERROR_", 0) == 0) what = what.substr(10);
+      for (char& c : what) c = c == '_' ? ' ' : static_cast<char>(std::tolower(c));
+      throw ModelError(source_ + ":" + std::to_string(doc.ErrorLineNum()) +
+                       ": malformed XML: " + what);
+    }
+    const XMLElement* root = doc.RootElement();
+    if (root == nullptr) throw ModelError(source_ + ":1: malformed XML: no element");
+    if (std::string(root->Name()) != "mujoco") {
+      throw ModelError(source_ + ":" + std::to_string(root->GetLineNum()) + ": <" +
+                       one_line(root->Name()) + ">: the root element must be <mujoco>");
+    }
+    check_attributes(root, {"model"});
+    root_line_ = root->GetLineNum();
+    name_ = attribute(root, "model").value_or("mjcf");
+
+    // the sections, in any order; the compiler's settings first since everything reads them
+    for (const XMLElement* e = root->FirstChildElement("compiler"); e;
+         e = e->NextSiblingElement("compiler")) {
+      read_compiler(e);
+    }
+    const XMLElement* world = nullptr;
+    for (const XMLElement* e = root->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = e->Name();
+      if (tag == "compiler") continue;
+      if (tag == "option") {
+        read_option(e);
+      } else if (tag == "size") {
+        read_size(e);
+      } else if (tag == "default") {
+        read_default(e, "main", {});
+      } else if (tag == "worldbody") {
+        if (world) fail(e, "a second <worldbody>");
+        world = e;
+      } else if (tag == "visual" || tag == "statistic" || tag == "asset" || tag == "sensor") {
+        // what is drawn and what is measured: nothing that moves the body
+      } else if (tag == "contact") {
+        for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+          // segments never collide with each other here: an exclusion changes nothing
+          if (std::string(c->Name()) != "exclude") {
+            fail(c, "is not supported (segments collide only with the ground)");
+          }
+        }
+      } else if (tag == "actuator" || tag == "tendon" || tag == "equality" || tag == "keyframe" ||
+                 tag == "custom" || tag == "extension") {
+        fail(e,
+             "is not supported: the testbed drives no actuators and models no tendons, "
+             "equality constraints or keyframes");
+      } else {
+        fail(e, "is not an MJCF section this reader knows");
+      }
+    }
+    if (!world) fail(root, "has no <worldbody>");
+    read_world(world);
+
+    auto locate = [this](detail::Part part, int index) {
+      switch (part) {
+        case detail::Part::kSegment:
+          return source_ + ":" + std::to_string(segment_lines_[index]) + ": <body name=\"" +
+                 one_line(segments_[index].name) + "\">";
+        case detail::Part::kJoint:
+          return source_ + ":" + std::to_string(joint_lines_[index]) + ": <joint name=\"" +
+                 one_line(joints_[index].joint.name) + "\">";
+        case detail::Part::kModel:
+          break;
+      }
+      return source_ + ":" + std::to_string(root_line_) + ": <mujoco>";
+    };
+    // copies: locate reads the members while assemble consumes its arguments
+    Model model = detail::assemble(name_, segments_, joints_, locate);
+    model.gravity = gravity_;
+    return model;
+  }
+
+ private:
+  [[noreturn]] void fail(const XMLElement* e, const std::string& problem) const {
+    std::string what = "<" + std::string(e->Name());
+    if (const char* n = e->Attribute("name")) what += " name=\"" + one_line(n) + "\"";
+    throw ModelError(source_ + ":" + std::to_string(e->GetLineNum()) + ": " + what +
+                     ">: " + problem);
+  }
+
+  // bounded, single-line text from the file for messages
+  static std::string one_line(std::string text) {
+    for (char& c : text) {
+      if (c == '\n' || c == '\r' || c == '\t') c = ' ';
+    }
+    if (text.size() > 80) text = text.substr(0, 77) + "...";
+    return text;
+  }
+
+  void check_attributes(const XMLElement* e, std::initializer_list<const char*> known) const {
+    for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next()) {
+      bool ok = false;
+      for (const char* k : known) ok = ok || std::string(a->Name()) == k;
+      if (!ok) fail(e, "attribute \"" + one_line(a->Name()) + "\" is not supported");
+    }
+  }
+
+  static std::optional<std::string> attribute(const XMLElement* e, const char* key) {
+    const char* v = e->Attribute(key);
+    return v ? std::optional<std::string>(v) : std::nullopt;
+  }
+
+  // an attribute of a body element, else its class's default
+  std::optional<std::string> value(const XMLElement* e, const char* key,
+                                   const std::string& class_name) const {
+    if (auto v = attribute(e, key)) return v;
+    const auto c = defaults_.find(class_name);
+    if (c == defaults_.end()) return std::nullopt;
+    const auto kind = c->second.find(e->Name());
+    if (kind == c->second.end()) return std::nullopt;
+    const auto v = kind->second.find(key);
+    return v == kind->second.end() ? std::nullopt : std::optional<std::string>(v->second);
+  }
+
+  std::vector<double> numbers(const XMLElement* e, const char* key, const std::string& text) const {
+    std::vector<double> out;
+    const char* p = text.c_str();
+    while (true) {
+      while (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r') ++p;
+      if (*p == '\0') break;
+      char* end = nullptr;
+      const double x = std::strtod(p, &end);
+      if (end == p) fail(e, std::string("attribute \"") + key + "\" must be numbers");
+      if (!std::isfinite(x)) fail(e, std::string("attribute \"") + key + "\" must be finite");
+      out.push_back(x);
+      p = end;
+    }
+    return out;
+  }
+
+  std::vector<double> numbers(const XMLElement* e, const char* key, const std::string& class_name,
+                              size_t count, std::vector<double> fallback) const {
+    const auto text = value(e, key, class_name);
+    if (!text) return fallback;
+    std::vector<double> out = numbers(e, key, *text);
+    if (out.size() != count) {
+      fail(e, std::string("attribute \"") + key + "\" must have " + std::to_string(count) +
+                  " numbers");
+    }
+    return out;
+  }
+
+  Vector3d vector3(const XMLElement* e, const char* key, const std::string& class_name,
+                   const Vector3d& fallback) const {
+    const auto v = numbers(e, key, class_name, 3, {fallback.x(), fallback.y(), fallback.z()});
+    return {v[0], v[1], v[2]};
+  }
+
+  double angle(double x) const { return degrees_ ? x * kPi / 180.0 : x; }
+
+  // the element's orientation in its parent's frame: quat, axisangle, euler, xyaxes or zaxis
+  Quaterniond orientation(const XMLElement* e, const std::string& class_name) const {
+    int given = 0;
+    Quaterniond q = Quaterniond::Identity();
+    for (const char* key : {"quat", "axisangle", "euler", "xyaxes", "zaxis"}) {
+      if (!attribute(e, key)) continue;
+      ++given;
+      const std::string k = key;
+      if (k == "quat") {
+        const auto v = numbers(e, key, class_name, 4, {});
+        q = Quaterniond(v[0], v[1], v[2], v[3]);
+      } else if (k == "axisangle") {
+        const auto v = numbers(e, key, class_name, 4, {});
+        const Vector3d axis(v[0], v[1], v[2]);
+        if (axis.norm() < 1e-9) fail(e, "attribute \"axisangle\" has a zero axis");
+        q = Quaterniond(Eigen::AngleAxisd(angle(v[3]), axis.normalized()));
+      } else if (k == "euler") {
+        const auto v = numbers(e, key, class_name, 3, {});
+        for (int i = 0; i < 3; ++i) {
+          const char axis_name = euler_sequence_[i];
+          const Vector3d axis = std::tolower(axis_name) == 'x'   ? Vector3d::UnitX()
+                                : std::tolower(axis_name) == 'y' ? Vector3d::UnitY()
+                                                                 : Vector3d::UnitZ();
+          const Quaterniond turn(Eigen::AngleAxisd(angle(v[i]), axis));
+          // lower case: about the rotating axes; upper case: about the fixed ones
+          q = std::islower(axis_name) ? Quaterniond(q * turn) : Quaterniond(turn * q);
+        }
+      } else if (k == "xyaxes") {
+        const auto v = numbers(e, key, class_name, 6, {});
+        Vector3d x(v[0], v[1], v[2]), y(v[3], v[4], v[5]);
+        if (x.norm() < 1e-9) fail(e, "attribute \"xyaxes\" has a zero x axis");
+        x.normalize();
+        y -= x * x.dot(y);
+        if (y.norm() < 1e-9) fail(e, "attribute \"xyaxes\": y is parallel to x");
+        y.normalize();
+        Matrix3d r;
+        r << x, y, x.cross(y);
+        q = Quaterniond(r);
+      } else {
+        const Vector3d z = vector3(e, key, class_name, Vector3d::Zero());
+        if (z.norm() < 1e-9) fail(e, "attribute \"zaxis\" is a zero vector");
+        q = Quaterniond::FromTwoVectors(Vector3d::UnitZ(), z.normalized());
+      }
+    }
+    if (given > 1) fail(e, "gives its orientation more than once");
+    if (q.norm() < 1e-9) fail(e, "attribute \"quat\" is a zero quaternion");
+    return q.normalized();
+  }
+
+  void read_compiler(const XMLElement* e) {
+    check_attributes(e, {"angle", "coordinate", "inertiafromgeom", "eulerseq", "autolimits",
+                         "meshdir", "texturedir", "assetdir", "strippath", "discardvisual"});
+    if (auto a = attribute(e, "angle")) {
+      if (*a != "degree" && *a != "radian") fail(e, "angle must be degree or radian");
+      degrees_ = *a == "degree";
+    }
+    if (auto c = attribute(e, "coordinate"); c && *c != "local") {
+      fail(e, "coordinate=\"" + one_line(*c) + "\" is not supported (local only)");
+    }
+    if (auto i = attribute(e, "inertiafromgeom")) {
+      if (*i != "true" && *i != "false" && *i != "auto") {
+        fail(e, "inertiafromgeom must be true, false or auto");
+      }
+      inertia_from_geom_ = *i;
+    }
+    if (auto s = attribute(e, "eulerseq")) {
+      if (s->size() != 3 || s->find_first_not_of("xyzXYZ") != std::string::npos) {
+        fail(e, "eulerseq must be three of x, y, z (or X, Y, Z)");
+      }
+      euler_sequence_ = *s;
+    }
+    if (auto a = attribute(e, "autolimits")) auto_limits_ = *a == "true";
+  }
+
+  void read_option(const XMLElement* e) {
+    // the solver's own settings are each engine's; what the model is made of is read
+    check_attributes(e, {"timestep", "gravity", "integrator", "cone", "jacobian", "solver",
+                         "iterations", "tolerance", "noslip_iterations", "mpr_iterations",
+                         "collision", "impratio", "density", "viscosity", "wind", "magnetic"});
+    if (attribute(e, "gravity")) gravity_ = vector3(e, "gravity", "", gravity_);
+    for (const char* fluid : {"density", "viscosity"}) {
+      if (attribute(e, fluid) && numbers(e, fluid, "", 1, {})[0] != 0.0) {
+        fail(e, std::string(fluid) +
+                    " is not supported: air and water are the scenarios' (--air-drag, water)");
+      }
+    }
+    if (attribute(e, "wind") && !vector3(e, "wind", "", Vector3d::Zero()).isZero()) {
+      fail(e, "wind is not supported");
+    }
+    if (e->FirstChildElement()) fail(e->FirstChildElement(), "is not supported");
+  }
+
+  void read_size(const XMLElement* e) {
+    if (auto n = attribute(e, "nuser_body")) user_body_ = std::atoi(n->c_str());
+    if (auto n = attribute(e, "nuser_jnt")) user_joint_ = std::atoi(n->c_str());
+  }
+
+  void read_default(const XMLElement* e, const std::string& name, const ClassDefaults& parent) {
+    check_attributes(e, {"class"});
+    ClassDefaults mine = parent;
+    for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+      const std::string tag = c->Name();
+      if (tag == "default") continue;
+      for (const tinyxml2::XMLAttribute* a = c->FirstAttribute(); a; a = a->Next()) {
+        mine[tag][a->Name()] = a->Value();
+      }
+    }
+    if (!defaults_.emplace(name, mine).second) fail(e, "a second default class \"" + name + "\"");
+    for (const XMLElement* c = e->FirstChildElement("default"); c;
+         c = c->NextSiblingElement("default")) {
+      const auto child = attribute(c, "class");
+      if (!child) fail(c, "a nested default needs a class");
+      read_default(c, *child, mine);
+    }
+  }
+
+  std::string class_of(const XMLElement* e, const std::string& inherited) const {
+    const auto c = attribute(e, "class");
+    if (!c) return inherited;
+    if (!defaults_.count(*c)) fail(e, "unknown class \"" + one_line(*c) + "\"");
+    return *c;
+  }
+
+  void read_world(const XMLElement* world) {
+    check_attributes(world, {});
+    const XMLElement* root = nullptr;
+    for (const XMLElement* e = world->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = e->Name();
+      if (tag == "body") {
+        if (root) fail(e, "a second body tree in <worldbody> (the model has one root)");
+        root = e;
+      } else if (tag == "geom") {
+        // a floor: the scenarios decide whether there is ground
+        if (value(e, "type", class_of(e, "main")).value_or("sphere") != "plane") {
+          fail(e, "a geom on the world is not supported (only a floor plane, which is ignored)");
+        }
+      } else if (tag != "light" && tag != "camera" && tag != "site") {
+        fail(e, "is not supported in <worldbody>");
+      }
+    }
+    if (!root) fail(world, "has no body");
+    read_body(root, -1, Vector3d::Zero(), Quaterniond::Identity(), "main");
+  }
+
+  void read_body(const XMLElement* e, int parent, const Vector3d& parent_x,
+                 const Quaterniond& parent_q, const std::string& inherited_class) {
+    check_attributes(e, {"name", "pos", "quat", "axisangle", "euler", "xyaxes", "zaxis",
+                         "childclass", "user", "mocap"});
+    const auto name = attribute(e, "name");
+    if (!name || name->empty()) fail(e, "a body needs a name (it names the segment)");
+    if (attribute(e, "mocap").value_or("false") == "true")
+      fail(e, "mocap bodies are not supported");
+    std::string child_class = inherited_class;
+    if (auto c = attribute(e, "childclass")) {
+      if (!defaults_.count(*c)) fail(e, "unknown childclass \"" + one_line(*c) + "\"");
+      child_class = *c;
+    }
+    // the body frame in world
+    const Vector3d x = parent_x + parent_q * vector3(e, "pos", "", {0, 0, 0});
+    const Quaterniond q = (parent_q * orientation(e, "")).normalized();
+
+    std::vector<const XMLElement*> geoms, joints, bodies;
+    const XMLElement* inertial = nullptr;
+    for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+      const std::string tag = c->Name();
+      if (tag == "geom") {
+        geoms.push_back(c);
+      } else if (tag == "joint" || tag == "freejoint") {
+        joints.push_back(c);
+      } else if (tag == "body") {
+        bodies.push_back(c);
+      } else if (tag == "inertial") {
+        if (inertial) fail(c, "a second <inertial>");
+        inertial = c;
+      } else if (tag != "site" && tag != "camera" && tag != "light") {
+        fail(c, "is not supported in a body");
+      }
+    }
+    if (geoms.size() != 1) {
+      fail(e, "has " + std::to_string(geoms.size()) +
+                  " geoms (a segment is one shape: exactly one geom per body)");
+    }
+    const int index = static_cast<int>(segments_.size());
+    segments_.push_back(read_segment(e, geoms[0], inertial, x, q, child_class));
+    segments_.back().name = *name;
+    segment_lines_.push_back(e->GetLineNum());
+
+    if (parent < 0) {
+      if (joints.size() != 1 || !is_free(joints[0], child_class)) {
+        fail(e, "the root body needs exactly one free joint (the scenarios hold it or let it go)");
+      }
+      check_free(joints[0]);
+    } else {
+      if (joints.size() > 1) {
+        fail(joints[1], "a second joint in body \"" + *name +
+                            "\" (one joint per body: a ball for several rotations)");
+      }
+      joints_.push_back(
+          read_joint(e, joints.empty() ? nullptr : joints[0], index, parent, x, q, child_class));
+    }
+    for (const XMLElement* b : bodies) read_body(b, index, x, q, child_class);
+  }
+
+  bool is_free(const XMLElement* joint, const std::string& class_name) const {
+    if (std::string(joint->Name()) == "freejoint") return true;
+    return value(joint, "type", class_of(joint, class_name)).value_or("hinge") == "free";
+  }
+
+  void check_free(const XMLElement* joint) const {
+    if (std::string(joint->Name()) == "freejoint") {
+      check_attributes(joint, {"name", "group"});
+    } else {
+      check_attributes(joint, {"name", "type", "class", "group", "user", "pos"});
+    }
+  }
+
+  Segment read_segment(const XMLElement* body, const XMLElement* geom, const XMLElement* inertial,
+                       const Vector3d& x, const Quaterniond& q, const std::string& class_name) {
+    const std::string cls = class_of(geom, class_name);
+    check_attributes(
+        geom, {"name",      "class",  "type",    "size",        "fromto",   "pos",      "quat",
+               "axisangle", "euler",  "xyaxes",  "zaxis",       "mass",     "density",  "rgba",
+               "material",  "group",  "contype", "conaffinity", "condim",   "friction", "solref",
+               "solimp",    "solmix", "margin",  "gap",         "priority", "user"});
+    Segment s;
+    const std::string type = value(geom, "type", cls).value_or("sphere");
+    const auto size_text = value(geom, "size", cls);
+    if (!size_text) fail(geom, "needs a size");
+    const std::vector<double> size = numbers(geom, "size", *size_text);
+    for (double v : size) {
+      if (!(v > 0.0)) fail(geom, "attribute \"size\" must be positive");
+    }
+    Vector3d centre = vector3(geom, "pos", cls, {0, 0, 0});
+    Quaterniond frame = orientation(geom, cls);
+    const auto fromto = attribute(geom, "fromto");
+    auto need = [&](size_t n) {
+      if (size.size() < n) {
+        fail(geom, "a " + type + " needs " + std::to_string(n) + " size numbers");
+      }
+    };
+    if (type == "sphere") {
+      need(1);
+      s.shape.type = ShapeType::kSphere;
+      s.shape.radius = size[0];
+    } else if (type == "capsule") {
+      s.shape.type = ShapeType::kCapsule;
+      need(1);
+      s.shape.radius = size[0];
+      if (fromto) {
+        const auto v = numbers(geom, "fromto", *fromto);
+        if (v.size() != 6) fail(geom, "attribute \"fromto\" must have 6 numbers");
+        const Vector3d from(v[0], v[1], v[2]), to(v[3], v[4], v[5]);
+        if ((to - from).norm() < 1e-9) fail(geom, "fromto's ends coincide");
+        centre = 0.5 * (from + to);
+        frame = Quaterniond::FromTwoVectors(Vector3d::UnitZ(), (to - from).normalized());
+        s.shape.half_length = 0.5 * (to - from).norm();
+      } else {
+        need(2);
+        s.shape.half_length = size[1];
+      }
+    } else if (type == "box") {
+      need(3);
+      s.shape.type = ShapeType::kBox;
+      s.shape.half_extents = {size[0], size[1], size[2]};
+    } else {
+      fail(geom, "type \"" + one_line(type) +
+                     "\" is not supported (a segment is a sphere, capsule or box)");
+    }
+    if (fromto && type != "capsule") fail(geom, "fromto is read for capsules only");
+
+    // the segment frame: the geom's, at its centre
+    s.rest_position = x + q * centre;
+    s.rest_orientation = (q * frame).normalized();
+    if (auto user = body_user(body)) {
+      // write_mjcf's exact rest pose, if it still matches the body
+      const Vector3d ux((*user)[0], (*user)[1], (*user)[2]);
+      const Quaterniond uq((*user)[3], (*user)[4], (*user)[5], (*user)[6]);
+      if ((ux - s.rest_position).norm() > 1e-6 ||
+          uq.normalized().angularDistance(s.rest_orientation) > 1e-6) {
+        fail(body, "its user data (a rest pose) disagrees with its pos and orientation");
+      }
+      s.rest_position = ux;
+      s.rest_orientation = uq.normalized();
+    }
+
+    // mass and inertia: the inertial's, or the geom's solid
+    const bool use_inertial = inertial && inertia_from_geom_ != "true";
+    if (!use_inertial && inertia_from_geom_ == "false") {
+      fail(body, "inertiafromgeom is false and the body has no <inertial>");
+    }
+    if (use_inertial) {
+      read_inertial(inertial, centre, frame, s);
+    } else {
+      double mass = 0.0;
+      if (auto m = value(geom, "mass", cls)) {
+        mass = numbers(geom, "mass", *m).at(0);
+      } else {
+        const double density = value(geom, "density", cls)
+                                   ? numbers(geom, "density", *value(geom, "density", cls)).at(0)
+                                   : 1000.0;  // MuJoCo's default, water's
+        mass = density * shape_volume(s.shape);
+      }
+      if (!(mass > 0.0)) fail(geom, "its mass must be positive");
+      s.mass = mass;
+      s.inertia = solid_inertia(s.shape, mass);
+    }
+    derive_mass_terms(s);
+    return s;
+  }
+
+  // the inertial's mass and its inertia in the segment (geom) frame; the geom's centre and
+  // orientation are in the body frame
+  void read_inertial(const XMLElement* e, const Vector3d& geom_centre, const Quaterniond& geom_q,
+                     Segment& s) const {
+    check_attributes(e, {"pos", "quat", "axisangle", "euler", "xyaxes", "zaxis", "mass",
+                         "diaginertia", "fullinertia"});
+    const auto mass = attribute(e, "mass");
+    if (!mass) fail(e, "needs a mass");
+    s.mass = numbers(e, "mass", *mass).at(0);
+    if (!(s.mass > 0.0)) fail(e, "mass must be positive");
+    const auto pos = attribute(e, "pos");
+    if (!pos) fail(e, "needs a pos");
+    if ((vector3(e, "pos", "", Vector3d::Zero()) - geom_centre).norm() > 1e-9) {
+      fail(e,
+           "its pos is not the geom's centre (a segment's shape is centred on its centre of "
+           "mass)");
+    }
+    if (attribute(e, "diaginertia") && attribute(e, "fullinertia")) {
+      fail(e, "gives both diaginertia and fullinertia");
+    }
+    Matrix3d in_segment;
+    if (auto d = attribute(e, "diaginertia")) {
+      const auto v = numbers(e, "diaginertia", *d);
+      if (v.size() != 3) fail(e, "diaginertia must have 3 numbers");
+      const Quaterniond inertial_q = orientation(e, "");
+      if (inertial_q.coeffs() == geom_q.coeffs()) {
+        // the same axes (both unturned, as write_mjcf writes them): exact
+        in_segment = Vector3d(v[0], v[1], v[2]).asDiagonal();
+      } else {
+        const Matrix3d r = (geom_q.conjugate() * inertial_q).toRotationMatrix();
+        in_segment = r * Vector3d(v[0], v[1], v[2]).asDiagonal() * r.transpose();
+      }
+    } else if (auto f = attribute(e, "fullinertia")) {
+      const auto v = numbers(e, "fullinertia", *f);
+      if (v.size() != 6) fail(e, "fullinertia must have 6 numbers");
+      Matrix3d in_body;
+      in_body << v[0], v[3], v[4], v[3], v[1], v[5], v[4], v[5], v[2];
+      const Matrix3d r = geom_q.toRotationMatrix();
+      in_segment = r.transpose() * in_body * r;
+    } else {
+      fail(e, "needs diaginertia or fullinertia");
+    }
+    // diagonal in the segment (geom) frame: the model's inertia is
+    const Matrix3d off = in_segment - Matrix3d(in_segment.diagonal().asDiagonal());
+    if (off.cwiseAbs().maxCoeff() > 1e-9 * in_segment.diagonal().cwiseAbs().maxCoeff()) {
+      fail(e,
+           "its principal axes are not the geom's (the model's inertia is diagonal in the "
+           "shape's frame)");
+    }
+    s.inertia = in_segment.diagonal();
+    if ((s.inertia.array() <= 0.0).any()) fail(e, "its moments of inertia must be positive");
+  }
+
+  std::optional<std::vector<double>> body_user(const XMLElement* body) const {
+    const auto text = attribute(body, "user");
+    if (!text || user_body_ < kBodyUserSize) return std::nullopt;
+    auto v = numbers(body, "user", *text);
+    if (v.size() < static_cast<size_t>(kBodyUserSize)) return std::nullopt;
+    return v;
+  }
+
+  detail::RawJoint read_joint(const XMLElement* body, const XMLElement* e, int child, int parent,
+                              const Vector3d& x, const Quaterniond& q,
+                              const std::string& class_name) {
+    detail::RawJoint raw;
+    Joint& j = raw.joint;
+    raw.parent_name = segments_[parent].name;
+    raw.child_name = segments_[child].name;
+    if (e == nullptr) {
+      // no joint: MuJoCo welds the body to its parent. A weld has no point of its own; the
+      // anchor is taken between the two shapes, halfway from each one's surface point facing
+      // the other's centre
+      j.type = JointType::kFixed;
+      j.name = segments_[child].name;
+      const Segment& p = segments_[parent];
+      const Segment& c = segments_[child];
+      auto facing = [](const Segment& from, const Vector3d& towards) {
+        const Vector3d d = from.rest_orientation.conjugate() * (towards - from.rest_position);
+        if (d.norm() < 1e-12) return from.rest_position;
+        return Vector3d(from.rest_position + from.rest_orientation * support_point(from.shape, d));
+      };
+      j.anchor_world = 0.5 * (facing(p, c.rest_position) + facing(c, p.rest_position));
+      derive_limit_terms(j);
+      joint_lines_.push_back(body->GetLineNum());
+      return raw;
+    }
+    joint_lines_.push_back(e->GetLineNum());
+    if (std::string(e->Name()) == "freejoint") fail(e, "a free joint below the root");
+    const std::string cls = class_of(e, class_name);
+    check_attributes(e, {"name", "class", "type", "pos", "axis", "range", "limited", "ref",
+                         "stiffness", "springref", "damping", "armature", "frictionloss", "group",
+                         "user", "solreflimit", "solimplimit", "margin"});
+    j.name = attribute(e, "name").value_or(segments_[child].name);
+    for (const char* physics : {"stiffness", "damping", "armature", "frictionloss", "ref"}) {
+      const auto v = value(e, physics, cls);
+      if (v && numbers(e, physics, *v).at(0) != 0.0) {
+        fail(e, std::string(physics) + " is not supported (the model's joints are ideal)");
+      }
+    }
+    const std::string type = value(e, "type", cls).value_or("hinge");
+    const Vector3d pos = vector3(e, "pos", cls, {0, 0, 0});
+    j.anchor_world = x + q * pos;
+    const auto limited_text = value(e, "limited", cls).value_or("auto");
+    const auto range_text = value(e, "range", cls);
+    if (limited_text != "true" && limited_text != "false" && limited_text != "auto") {
+      fail(e, "limited must be true, false or auto");
+    }
+    if (limited_text == "auto" && range_text && !auto_limits_) {
+      // MuJoCo 2.2's compiler refuses it the same way
+      fail(e, "has a range but no limited (give limited, or compiler autolimits=\"true\")");
+    }
+    const bool limited = limited_text == "true" || (limited_text == "auto" && range_text);
+    std::vector<double> range;
+    if (limited) {
+      if (!range_text) fail(e, "limited but has no range");
+      range = numbers(e, "range", *range_text);
+      if (range.size() != 2) fail(e, "attribute \"range\" must have 2 numbers");
+      range = {angle(range[0]), angle(range[1])};
+    }
+    const auto user = joint_user(e);
+    if (type == "ball") {
+      j.type = JointType::kBall;
+      // the twist axis is the segment's own z: its long axis for a capsule
+      j.frame_world = segments_[child].rest_orientation;
+      j.swing_x = j.swing_y = j.twist = kPi;
+      if (limited) {
+        if (range[0] != 0.0) fail(e, "a ball joint's range must start at 0");
+        if (!(range[1] > 0.0)) fail(e, "a ball joint's range must end above 0");
+        j.swing_x = j.swing_y = j.twist = std::min(range[1], kPi);
+      }
+    } else if (type == "hinge") {
+      j.type = JointType::kHinge;
+      const Vector3d axis = vector3(e, "axis", cls, {0, 0, 1});
+      if (axis.norm() < 1e-9) fail(e, "attribute \"axis\" is a zero vector");
+      raw.hinge_axis_world = (q * axis).normalized();
+      j.lower = -kPi;
+      j.upper = kPi;
+      if (limited) {
+        if (range[0] > range[1]) fail(e, "its range has lo > hi");
+        if (range[0] > 0.0 || range[1] < 0.0) {
+          fail(e, "its range must contain 0, the rest angle");
+        }
+        j.lower = std::max(range[0], -kPi);
+        j.upper = std::min(range[1], kPi);
+      }
+    } else {
+      fail(e, "type \"" + one_line(type) + "\" is not supported below the root (hinge or ball)");
+    }
+    if (user) {
+      // write_mjcf's exact rest anchor, frame and limits
+      const auto& u = *user;
+      const Vector3d anchor(u[0], u[1], u[2]);
+      if ((anchor - j.anchor_world).norm() > 1e-6) {
+        fail(e, "its user data (a rest anchor) disagrees with its pos");
+      }
+      j.anchor_world = anchor;
+      j.frame_world = Quaterniond(u[3], u[4], u[5], u[6]).normalized();
+      if (j.type == JointType::kBall) {
+        j.swing_x = u[7];
+        j.swing_y = u[8];
+        j.twist = u[9];
+      } else {
+        j.hinge_axis = Vector3d(u[7], u[8], u[9]);
+        raw.hinge_axis_in_frame = true;
+      }
+    }
+    derive_limit_terms(j);
+    return raw;
+  }
+
+  std::optional<std::vector<double>> joint_user(const XMLElement* e) const {
+    const auto text = attribute(e, "user");
+    if (!text || user_joint_ < kJointUserSize) return std::nullopt;
+    auto v = numbers(e, "user", *text);
+    if (v.size() < static_cast<size_t>(kJointUserSize)) return std::nullopt;
+    return v;
+  }
+
+  std::string source_;
+  std::string name_;
+  int root_line_ = 1;
+  bool degrees_ = true;  // MuJoCo's default
+  std::string inertia_from_geom_ = "auto";
+  std::string euler_sequence_ = "xyz";
+  bool auto_limits_ = false;  // MuJoCo 2.2's default
+  Vector3d gravity_{0.0, 0.0, -9.81};
+  int user_body_ = 0, user_joint_ = 0;
+  std::map<std::string, ClassDefaults> defaults_;
+  std::vector<Segment> segments_;
+  std::vector<detail::RawJoint> joints_;
+  std::vector<int> segment_lines_, joint_lines_;
+};
+
+}  // namespace
+
+Model parse_mjcf(const std::string& xml_text, const std::string& source) {
+  return Reader(source).read(xml_text);
+}
+
+}  // namespace puppet

@@ -1,0 +1,215 @@
+// mjcf_reader.cpp: MJCF back into the model. Pinocchio through write_mjcf and back is the same
+// model bit for bit (and so moves the same), without user data it is the same bodies with
+// MuJoCo's cone for each ball limit, and a file written by hand is read in MuJoCo's own terms
+// (degrees, Euler sequences, fromto, default classes, masses from geom densities).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "puppet/compare/scenario.h"
+#include "puppet/compare/simulator.h"
+#include "puppet/model/mjcf.h"
+#include "puppet/model/model.h"
+
+namespace puppet {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+Model pinocchio() { return load_model(std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json"); }
+
+void expect_same_vector(const Vector3d& a, const Vector3d& b, const std::string& what) {
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(a[k], b[k]) << what << "[" << k << "]";
+}
+
+void expect_same_quaternion(const Quaterniond& a, const Quaterniond& b, const std::string& what) {
+  EXPECT_EQ(a.coeffs(), b.coeffs()) << what;
+}
+
+TEST(MjcfReader, PinocchioRoundTripsBitForBit) {
+  const Model a = pinocchio();
+  MjcfOptions options;
+  options.environment.gravity = a.gravity;
+  const Model b = parse_mjcf(write_mjcf(a, options), "pinocchio.xml");
+  EXPECT_EQ(b.name, a.name);
+  ASSERT_EQ(b.segment_count(), a.segment_count());
+  ASSERT_EQ(b.joint_count(), a.joint_count());
+  EXPECT_EQ(b.total_mass, a.total_mass);
+  EXPECT_EQ(b.rest_height, a.rest_height);
+  expect_same_vector(b.gravity, a.gravity, "gravity");
+  for (int i = 0; i < a.segment_count(); ++i) {
+    const Segment &s = a.segments[i], &t = b.segments[i];
+    SCOPED_TRACE(s.name);
+    EXPECT_EQ(t.name, s.name);
+    EXPECT_EQ(t.mass, s.mass);
+    EXPECT_EQ(t.inv_mass, s.inv_mass);
+    expect_same_vector(t.inertia, s.inertia, "inertia");
+    expect_same_vector(t.inv_inertia, s.inv_inertia, "inv_inertia");
+    EXPECT_EQ(t.shape.type, s.shape.type);
+    EXPECT_EQ(t.shape.radius, s.shape.radius);
+    EXPECT_EQ(t.shape.half_length, s.shape.half_length);
+    expect_same_vector(t.shape.half_extents, s.shape.half_extents, "half_extents");
+    expect_same_vector(t.rest_position, s.rest_position, "rest_position");
+    expect_same_quaternion(t.rest_orientation, s.rest_orientation, "rest_orientation");
+    EXPECT_EQ(t.parent, s.parent);
+    EXPECT_EQ(t.parent_joint, s.parent_joint);
+  }
+  for (int j = 0; j < a.joint_count(); ++j) {
+    const Joint &p = a.joints[j], &q = b.joints[j];
+    SCOPED_TRACE(p.name);
+    EXPECT_EQ(q.name, p.name);
+    EXPECT_EQ(q.type, p.type);
+    EXPECT_EQ(q.parent, p.parent);
+    EXPECT_EQ(q.child, p.child);
+    expect_same_vector(q.anchor_world, p.anchor_world, "anchor_world");
+    expect_same_vector(q.anchor_in_parent, p.anchor_in_parent, "anchor_in_parent");
+    expect_same_vector(q.anchor_in_child, p.anchor_in_child, "anchor_in_child");
+    expect_same_quaternion(q.frame_world, p.frame_world, "frame_world");
+    expect_same_quaternion(q.frame_in_parent, p.frame_in_parent, "frame_in_parent");
+    expect_same_quaternion(q.frame_in_child, p.frame_in_child, "frame_in_child");
+    EXPECT_EQ(q.swing_x, p.swing_x);
+    EXPECT_EQ(q.swing_y, p.swing_y);
+    EXPECT_EQ(q.twist, p.twist);
+    expect_same_vector(q.hinge_axis, p.hinge_axis, "hinge_axis");
+    EXPECT_EQ(q.lower, p.lower);
+    EXPECT_EQ(q.upper, p.upper);
+    EXPECT_EQ(q.twist_half_sin, p.twist_half_sin);
+    EXPECT_EQ(q.lower_half_cos, p.lower_half_cos);
+  }
+
+  // and so the same hang, step for step
+  std::vector<std::vector<BodyState>> states;
+  for (const Model* model : {&a, &b}) {
+    auto simulator = compare::make_simulator("procedural", {});
+    const compare::Scenario hang = compare::make_scenario("hang", *model);
+    simulator->reset(*model, hang);
+    std::vector<Vector3d> targets;
+    for (int k = 1; k <= 240; ++k) {
+      hang.targets_at(k / 240.0, targets);
+      simulator->set_pin_targets(targets);
+      simulator->step(1.0 / 240.0);
+    }
+    states.emplace_back(model->segment_count());
+    simulator->read_state(states.back());
+  }
+  for (int i = 0; i < a.segment_count(); ++i) {
+    expect_same_vector(states[1][i].x, states[0][i].x, "x after 1 s");
+    expect_same_quaternion(states[1][i].q, states[0][i].q, "q after 1 s");
+  }
+}
+
+// Without user data the file is read in MuJoCo's terms: the same bodies to rounding, each ball
+// limit MuJoCo's cone (write_mjcf gives it the model's largest half-angle) on swing and twist
+TEST(MjcfReader, WithoutUserDataBallLimitsAreCones) {
+  const Model a = pinocchio();
+  MjcfOptions options;
+  options.user_data = false;
+  const Model b = parse_mjcf(write_mjcf(a, options), "pinocchio.xml");
+  ASSERT_EQ(b.segment_count(), a.segment_count());
+  for (int i = 0; i < a.segment_count(); ++i) {
+    EXPECT_EQ(b.segments[i].mass, a.segments[i].mass);
+    EXPECT_LT((b.segments[i].inertia - a.segments[i].inertia).norm(), 1e-15);
+    EXPECT_LT((b.segments[i].rest_position - a.segments[i].rest_position).norm(), 1e-12);
+    EXPECT_LT(b.segments[i].rest_orientation.angularDistance(a.segments[i].rest_orientation),
+              1e-12);
+  }
+  for (int j = 0; j < a.joint_count(); ++j) {
+    const Joint &p = a.joints[j], &q = b.joints[j];
+    SCOPED_TRACE(p.name);
+    EXPECT_LT((q.anchor_world - p.anchor_world).norm(), 1e-12);
+    if (p.type == JointType::kBall) {
+      const double cone = mjcf_ball_range(p);
+      EXPECT_NEAR(q.swing_x, cone, 1e-15);
+      EXPECT_NEAR(q.swing_y, cone, 1e-15);
+      EXPECT_NEAR(q.twist, cone, 1e-15);
+    } else {
+      EXPECT_NEAR(q.lower, p.lower, 1e-15);
+      EXPECT_NEAR(q.upper, p.upper, 1e-15);
+      // the axis in world is the model's
+      EXPECT_LT((q.frame_world * q.hinge_axis - p.frame_world * p.hinge_axis).norm(), 1e-12);
+    }
+  }
+}
+
+// a file as a user would write it; every figure below is worked out by hand from it
+constexpr const char* kHandWritten = R"(<mujoco model="arm">
+  <compiler angle="degree" eulerseq="zyx"/>
+  <option gravity="0 0 -1.62"/>
+  <default>
+    <geom density="500"/>
+    <default class="limb">
+      <geom type="capsule" size="0.05"/>
+      <joint type="hinge" limited="true"/>
+    </default>
+  </default>
+  <worldbody>
+    <geom type="plane" size="5 5 0.1"/>
+    <light pos="0 0 3"/>
+    <body name="torso" pos="0 0 1.5" childclass="limb">
+      <freejoint name="root"/>
+      <geom type="box" size="0.1 0.2 0.3" mass="20"/>
+      <body name="upper" pos="0 0.22 0.25" euler="90 0 0">
+        <joint name="shoulder" type="ball" range="0 60"/>
+        <geom fromto="0 0 0 0 0 -0.3"/>
+        <body name="lower" pos="0 0 -0.35">
+          <joint name="elbow" axis="0 1 0" range="-10 150" pos="0 0 0.05"/>
+          <inertial pos="0 0 -0.15" mass="1.2" diaginertia="0.01 0.01 0.002"/>
+          <geom pos="0 0 -0.15" size="0.04 0.15"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>)";
+
+TEST(MjcfReader, HandWrittenFileInMujocosTerms) {
+  const Model m = parse_mjcf(kHandWritten, "arm.xml");
+  EXPECT_EQ(m.name, "arm");
+  EXPECT_EQ(m.gravity, Vector3d(0, 0, -1.62));
+  ASSERT_EQ(m.segment_count(), 3);
+  const Segment& torso = m.segments[0];
+  EXPECT_EQ(torso.mass, 20.0);
+  EXPECT_EQ(torso.shape.type, ShapeType::kBox);
+  EXPECT_NEAR(torso.inertia.x(), 20.0 / 12.0 * (0.4 * 0.4 + 0.6 * 0.6), 1e-12);
+
+  // zyx Euler: 90° about z turns the body's frame; fromto makes the capsule's axis −z of it
+  const Segment& upper = m.segments[1];
+  const double r = 0.05, h = 0.15;
+  const double volume = kPi * r * r * 2 * h + 4.0 / 3.0 * kPi * r * r * r;
+  EXPECT_NEAR(upper.mass, 500.0 * volume, 1e-12);
+  EXPECT_EQ(upper.shape.type, ShapeType::kCapsule);
+  EXPECT_NEAR(upper.shape.half_length, h, 1e-15);
+  EXPECT_LT((upper.rest_position - Vector3d(0, 0.22, 1.6)).norm(), 1e-12);
+  EXPECT_LT((upper.rest_orientation * Vector3d::UnitZ() - Vector3d(0, 0, -1)).norm(), 1e-12);
+  const Joint& shoulder = m.joints[0];
+  EXPECT_EQ(shoulder.type, JointType::kBall);
+  EXPECT_NEAR(shoulder.swing_x, kPi / 3, 1e-15);
+  EXPECT_NEAR(shoulder.twist, kPi / 3, 1e-15);
+  EXPECT_LT((shoulder.anchor_world - Vector3d(0, 0.22, 1.75)).norm(), 1e-12);
+
+  // the elbow: its axis (0 1 0) in a frame turned 90° about z is world −x; the inertial is read
+  // as given, in degrees the range is −10°…150°
+  const Segment& lower = m.segments[2];
+  EXPECT_EQ(lower.mass, 1.2);
+  EXPECT_LT((lower.inertia - Vector3d(0.01, 0.01, 0.002)).norm(), 1e-15);
+  EXPECT_LT((lower.rest_position - Vector3d(0, 0.22, 1.25)).norm(), 1e-12);
+  const Joint& elbow = m.joints[1];
+  EXPECT_EQ(elbow.type, JointType::kHinge);
+  EXPECT_LT((elbow.frame_world * elbow.hinge_axis - Vector3d(-1, 0, 0)).norm(), 1e-12);
+  EXPECT_NEAR(elbow.lower, -10 * kPi / 180, 1e-15);
+  EXPECT_NEAR(elbow.upper, 150 * kPi / 180, 1e-15);
+  EXPECT_LT((elbow.anchor_world - Vector3d(0, 0.22, 1.45)).norm(), 1e-12);
+
+  // the scenarios take the file's gravity
+  const compare::Scenario hang = compare::make_scenario("hang", m);
+  EXPECT_EQ(hang.environment.gravity, Vector3d(0, 0, -1.62));
+}
+
+TEST(MjcfReader, LoadModelReadsXmlFiles) {
+  const Model m = load_model(std::string(PUPPET_SOURCE_DIR) + "/models/humanoid.xml");
+  EXPECT_EQ(m.name, "humanoid");
+  EXPECT_GE(m.segment_count(), 13);
+}
+
+}  // namespace
+}  // namespace puppet
