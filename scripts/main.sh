@@ -2,7 +2,7 @@
 # The main job: set up, build (release), then on the built-in Pinocchio run every scenario in
 # every solver, rule and dt with accuracy against the truth (testbed run), the stability frontier
 # (testbed frontier), every solver against both truths with the limits opened (where the two
-# truths model the same joints), the ablation of the position-based rules (scripts/ablation.sh),
+# truths model the same joints), the scenarios on models/humanoid.xml, the ablation of the position-based rules (scripts/ablation.sh),
 # and the plots and REPORT.md (scripts/plot.py), all into results/. Extra arguments go to
 # testbed run.
 set -euo pipefail
@@ -14,5 +14,7 @@ cmake --build --preset release
 ./build/release/testbed frontier --model pinocchio --out results
 ./build/release/testbed run --model models/pinocchio-open-limits.json --dt 1/240 --no-timing \
   --sample-hz 1 --out results/truths-open-limits
+./build/release/testbed run --model models/humanoid.xml --dt 1/240 --no-timing --sample-hz 1 \
+  --out results/humanoid
 scripts/ablation.sh results/ablation
 /usr/bin/python3 scripts/plot.py results

@@ -407,6 +407,42 @@ def open_limits_section(folder):
                      [[sc] + [cell(sc, c) for c in o.configs] for sc in o.scenarios]), ""]
 
 
+def humanoid_section(folder):
+    """the main scenarios on models/humanoid.xml in every solver (main.sh)"""
+    path = os.path.join(folder, "humanoid", "summary.csv")
+    if not os.path.exists(path):
+        return []
+    h = Summary(path)
+    dt = h.table_dt()
+    second = h.has_second_truth()
+
+    def cell(sc, c):
+        if (sc, c, dt) not in h.status:
+            return "–"
+        if h.diverged(sc, c, dt):
+            return f"div@{fmt(h.get(sc, c, dt, 'diverged_at_s', 'value'))}s"
+        parts = [fmt(h.get(sc, c, dt, "pose_err_m", "reseeded_mean", "truth"))]
+        if second:
+            parts.append(fmt(h.get(sc, c, dt, "pose_err_m", "reseeded_mean", SECOND_TRUTH)))
+        return " / ".join(parts) + f", gap {fmt(h.get(sc, c, dt, 'joint_gap_m', 'max'))}"
+
+    out = ["## The humanoid (`models/humanoid.xml`)", "",
+           f"`humanoid/`: the scenarios on `{h.model}` (MJCF after MuJoCo's classic humanoid, "
+           "docs/mjcf.md), every solver, dt = " + dt_text(dt) + " s. Each cell: re-seeded pose "
+           "error against the truth" + (" / against the second truth" if second else "") +
+           " (m), and the largest joint gap (m); `div@t`: the run diverged at t.", "",
+           md_table(["scenario"] + [label(c) for c in h.configs],
+                    [[sc] + [cell(sc, c) for c in h.configs] for sc in h.scenarios]), ""]
+    rows = [[sc, fmt(h.truth_check(sc))] +
+            ([fmt(h.truth_check(sc, SECOND_TRUTH)), fmt(h.truths_agreement(sc, "reseeded_mean"))]
+             if second else []) for sc in h.scenarios]
+    out += ["The truths on the humanoid: each one's own error and their agreement (re-seeded "
+            "pose error, m):", "",
+            md_table(["scenario", "truth's own"] +
+                     (["mujoco-truth's own", "truths' agreement"] if second else []), rows), ""]
+    return out
+
+
 def report(s, frontier, plots, folder):
     dt = s.table_dt()
     check_dt = s.truth_check_dt()
@@ -603,6 +639,7 @@ def report(s, frontier, plots, folder):
                 md_table(["solver", "search", "largest ok", "first diverged", "why",
                           "pin gap at largest ok (m)"], rows), ""]
 
+    out += humanoid_section(folder)
     out += ablation_section(folder, frontier)
     out += ["## Findings", ""] + [f"- {f}" for f in findings(s, frontier, dt)] + [""]
     out += ["## Plots", ""]

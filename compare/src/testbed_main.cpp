@@ -145,9 +145,10 @@ int command_validate(const std::string& path) {
               model.rest_height);
   std::printf("  %-14s %-14s %8s  %s\n", "segment", "parent", "mass kg", "shape");
   for (const Segment& s : model.segments) {
-    const char* shape = s.shape.type == ShapeType::kCapsule ? "capsule"
-                        : s.shape.type == ShapeType::kBox   ? "box"
-                                                            : "sphere";
+    const char* shape = s.shape.type == ShapeType::kCapsule    ? "capsule"
+                        : s.shape.type == ShapeType::kBox      ? "box"
+                        : s.shape.type == ShapeType::kCylinder ? "cylinder"
+                                                               : "sphere";
     std::printf("  %-14s %-14s %8.3f  %s\n", s.name.c_str(),
                 s.parent >= 0 ? model.segments[s.parent].name.c_str() : "-", s.mass, shape);
   }

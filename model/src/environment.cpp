@@ -22,6 +22,9 @@ double half_height(const Shape& shape, const Vector3d& up) {
       return std::abs(up.z()) * shape.half_length + shape.radius;
     case ShapeType::kBox:
       return up.cwiseAbs().dot(shape.half_extents);
+    case ShapeType::kCylinder:
+      return std::abs(up.z()) * shape.half_length +
+             shape.radius * std::sqrt(std::max(0.0, 1.0 - up.z() * up.z()));
   }
   return 0.0;
 }

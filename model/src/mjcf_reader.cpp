@@ -431,8 +431,8 @@ class Reader {
       need(1);
       s.shape.type = ShapeType::kSphere;
       s.shape.radius = size[0];
-    } else if (type == "capsule") {
-      s.shape.type = ShapeType::kCapsule;
+    } else if (type == "capsule" || type == "cylinder") {
+      s.shape.type = type == "capsule" ? ShapeType::kCapsule : ShapeType::kCylinder;
       need(1);
       s.shape.radius = size[0];
       if (fromto) {
@@ -453,9 +453,11 @@ class Reader {
       s.shape.half_extents = {size[0], size[1], size[2]};
     } else {
       fail(geom, "type \"" + one_line(type) +
-                     "\" is not supported (a segment is a sphere, capsule or box)");
+                     "\" is not supported (a segment is a sphere, capsule, cylinder or box)");
     }
-    if (fromto && type != "capsule") fail(geom, "fromto is read for capsules only");
+    if (fromto && type != "capsule" && type != "cylinder") {
+      fail(geom, "fromto is read for capsules and cylinders only");
+    }
 
     // the segment frame: the geom's, at its centre
     s.rest_position = x + q * centre;

@@ -84,6 +84,8 @@ std::string geom_attributes(const Shape& shape) {
       return "type=\"capsule\" size=\"" + nums({shape.radius, shape.half_length}) + "\"";
     case ShapeType::kBox:
       return "type=\"box\" size=\"" + vec(shape.half_extents) + "\"";
+    case ShapeType::kCylinder:
+      return "type=\"cylinder\" size=\"" + nums({shape.radius, shape.half_length}) + "\"";
   }
   return {};
 }

@@ -133,6 +133,11 @@ Shape read_shape(const Element& e) {
     shape.type = ShapeType::kCapsule;
     shape.radius = e.positive("radius");
     shape.half_length = e.positive("half_length");
+  } else if (type == "cylinder") {
+    e.reject_unknown({"type", "radius", "half_length"});
+    shape.type = ShapeType::kCylinder;
+    shape.radius = e.positive("radius");
+    shape.half_length = e.positive("half_length");
   } else if (type == "sphere") {
     e.reject_unknown({"type", "radius"});
     shape.type = ShapeType::kSphere;
@@ -145,7 +150,7 @@ Shape read_shape(const Element& e) {
       e.fail("field \"half_extents\" must be positive");
     }
   } else {
-    e.fail("unknown shape type \"" + type + "\" (expected capsule, box or sphere)");
+    e.fail("unknown shape type \"" + type + "\" (expected capsule, box, cylinder or sphere)");
   }
   return shape;
 }

@@ -14,6 +14,8 @@ double shape_volume(const Shape& shape) {
              4.0 / 3.0 * M_PI * std::pow(shape.radius, 3);
     case ShapeType::kBox:
       return 8.0 * shape.half_extents.prod();
+    case ShapeType::kCylinder:
+      return M_PI * shape.radius * shape.radius * 2.0 * shape.half_length;
   }
   return 0.0;
 }
@@ -41,6 +43,11 @@ Vector3d solid_inertia(const Shape& shape, double mass) {
       return {mass / 12.0 * (e.y() * e.y() + e.z() * e.z()),
               mass / 12.0 * (e.x() * e.x() + e.z() * e.z()),
               mass / 12.0 * (e.x() * e.x() + e.y() * e.y())};
+    }
+    case ShapeType::kCylinder: {
+      const double r = shape.radius, h = shape.half_length;
+      const double transverse = mass * (3.0 * r * r + 4.0 * h * h) / 12.0;
+      return {transverse, transverse, 0.5 * mass * r * r};
     }
     case ShapeType::kCapsule: {
       // cylinder of height 2h plus two hemispherical caps, mass split by volume; each cap's
@@ -75,6 +82,14 @@ Vector3d support_point(const Shape& shape, const Vector3d& direction) {
     case ShapeType::kBox:
       return Vector3d(sign(d.x()) * shape.half_extents.x(), sign(d.y()) * shape.half_extents.y(),
                       sign(d.z()) * shape.half_extents.z());
+    case ShapeType::kCylinder: {
+      // the rim of the end cap facing d; straight along the axis, the cap's centre
+      const double radial = std::hypot(d.x(), d.y());
+      const Vector3d rim = radial < 1e-12 ? Vector3d::Zero()
+                                          : Vector3d(shape.radius * d.x() / radial,
+                                                     shape.radius * d.y() / radial, 0.0);
+      return rim + Vector3d(0, 0, sign(d.z()) * shape.half_length);
+    }
   }
   return Vector3d::Zero();
 }
@@ -92,6 +107,11 @@ double signed_distance(const Shape& shape, const Vector3d& p) {
       const double outside = q.cwiseMax(0.0).norm();
       const double inside = std::min(q.maxCoeff(), 0.0);
       return outside + inside;
+    }
+    case ShapeType::kCylinder: {
+      const Eigen::Vector2d q(std::hypot(p.x(), p.y()) - shape.radius,
+                              std::abs(p.z()) - shape.half_length);
+      return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
     }
   }
   return 0.0;

@@ -27,6 +27,8 @@ int candidate_count(const Shape& shape) {
       return 2;
     case ShapeType::kBox:
       return 8;
+    case ShapeType::kCylinder:
+      return 8;  // four rim points on each end cap
   }
   return 0;
 }
@@ -41,6 +43,19 @@ Vector3d contact_candidate(const Shape& shape, const Vector3d& up, int c) {
     case ShapeType::kBox:
       return {(c & 1 ? 1 : -1) * shape.half_extents.x(), (c & 2 ? 1 : -1) * shape.half_extents.y(),
               (c & 4 ? 1 : -1) * shape.half_extents.z()};
+    case ShapeType::kCylinder: {
+      // on each cap the rim's lowest point and three more a quarter turn apart: lying, the
+      // lowest two touch; standing, four hold the face
+      const double radial = std::hypot(up.x(), up.y());
+      const Eigen::Vector2d low =
+          radial < 1e-12 ? Eigen::Vector2d(1, 0) : Eigen::Vector2d(-up.x(), -up.y()) / radial;
+      const Eigen::Vector2d turned = (c & 3) == 0   ? low
+                                     : (c & 3) == 1 ? Eigen::Vector2d(-low.y(), low.x())
+                                     : (c & 3) == 2 ? Eigen::Vector2d(-low)
+                                                    : Eigen::Vector2d(low.y(), -low.x());
+      return {shape.radius * turned.x(), shape.radius * turned.y(),
+              c & 4 ? shape.half_length : -shape.half_length};
+    }
   }
   return Vector3d::Zero();
 }

@@ -24,6 +24,9 @@ std::unique_ptr<btCollisionShape> make_shape(const Shape& shape) {
       return std::make_unique<btCapsuleShapeZ>(shape.radius, 2.0 * shape.half_length);
     case ShapeType::kBox:
       return std::make_unique<btBoxShape>(to_bt(shape.half_extents));
+    case ShapeType::kCylinder:
+      return std::make_unique<btCylinderShapeZ>(
+          btVector3(shape.radius, shape.radius, shape.half_length));
   }
   return nullptr;
 }

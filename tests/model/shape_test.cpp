@@ -39,6 +39,40 @@ TEST(Shape, CapsuleInertiaMatchesIntegration) {
   EXPECT_NEAR(inertia.z(), mass * izz / volume, 3e-3 * inertia.z());
 }
 
+TEST(Shape, CylinderInertiaMatchesIntegration) {
+  // the same independent answer for a solid cylinder, and its support points and distances
+  Shape cylinder;
+  cylinder.type = ShapeType::kCylinder;
+  cylinder.radius = 0.06;
+  cylinder.half_length = 0.1;
+  const double mass = 2.0, r = cylinder.radius, h = cylinder.half_length;
+  const int n = 100;
+  double volume = 0, ixx = 0, izz = 0;
+  const double dx = 2 * r / n, dz = 2 * h / n;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      for (int k = 0; k < n; ++k) {
+        const Vector3d p(-r + (i + 0.5) * dx, -r + (j + 0.5) * dx, -h + (k + 0.5) * dz);
+        if (signed_distance(cylinder, p) > 0) continue;
+        const double dv = dx * dx * dz;
+        volume += dv;
+        ixx += (p.y() * p.y() + p.z() * p.z()) * dv;
+        izz += (p.x() * p.x() + p.y() * p.y()) * dv;
+      }
+    }
+  }
+  const Vector3d inertia = solid_inertia(cylinder, mass);
+  EXPECT_NEAR(shape_volume(cylinder), volume, 2e-3 * volume);
+  EXPECT_NEAR(inertia.x(), mass * ixx / volume, 3e-3 * inertia.x());
+  EXPECT_NEAR(inertia.z(), mass * izz / volume, 3e-3 * inertia.z());
+  // the rim of the cap facing the direction; along the axis, the cap's centre
+  EXPECT_LT((support_point(cylinder, Vector3d(1, 0, -1)) - Vector3d(r, 0, -h)).norm(), 1e-15);
+  EXPECT_LT((support_point(cylinder, Vector3d(0, 0, 1)) - Vector3d(0, 0, h)).norm(), 1e-15);
+  EXPECT_NEAR(signed_distance(cylinder, Vector3d(0, 0, 0)), -r, 1e-15);
+  EXPECT_NEAR(signed_distance(cylinder, Vector3d(0, 0, 0.3)), 0.3 - h, 1e-15);
+  EXPECT_NEAR(signed_distance(cylinder, Vector3d(0.1, 0, 0.13)), std::hypot(0.04, 0.03), 1e-15);
+}
+
 TEST(Shape, SupportAndDistance) {
   Shape box;
   box.type = ShapeType::kBox;

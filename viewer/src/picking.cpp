@@ -40,6 +40,33 @@ std::optional<double> intersect_capsule(const Ray& ray, double r, double h) {
   return best;
 }
 
+// the side where |z| ≤ h and the two end caps
+std::optional<double> intersect_cylinder(const Ray& ray, double r, double h) {
+  std::optional<double> best;
+  auto keep = [&](std::optional<double> t) {
+    if (t && (!best || *t < *best)) best = t;
+  };
+  const double a = ray.direction.x() * ray.direction.x() + ray.direction.y() * ray.direction.y();
+  const double b = ray.origin.x() * ray.direction.x() + ray.origin.y() * ray.direction.y();
+  const double c = ray.origin.x() * ray.origin.x() + ray.origin.y() * ray.origin.y() - r * r;
+  if (c <= 0.0 && std::abs(ray.origin.z()) <= h) return 0.0;  // starts inside
+  if (a > 1e-300) {
+    const double disc = b * b - a * c;
+    if (disc >= 0.0) {
+      const double t = (-b - std::sqrt(disc)) / a;
+      if (t >= 0.0 && std::abs(ray.at(t).z()) <= h) keep(t);
+    }
+  }
+  if (std::abs(ray.direction.z()) > 1e-300) {
+    for (const double z : {h, -h}) {
+      const double t = (z - ray.origin.z()) / ray.direction.z();
+      const Vector3d p = ray.at(t);
+      if (t >= 0.0 && p.x() * p.x() + p.y() * p.y() <= r * r) keep(t);
+    }
+  }
+  return best;
+}
+
 // slabs: the latest entry and the earliest exit over the three axes
 std::optional<double> intersect_box(const Ray& ray, const Vector3d& half) {
   double enter = 0.0, leave = std::numeric_limits<double>::infinity();
@@ -68,6 +95,8 @@ std::optional<double> intersect(const Shape& shape, const Ray& local_ray) {
       return intersect_capsule(local_ray, shape.radius, shape.half_length);
     case ShapeType::kBox:
       return intersect_box(local_ray, shape.half_extents);
+    case ShapeType::kCylinder:
+      return intersect_cylinder(local_ray, shape.radius, shape.half_length);
   }
   return std::nullopt;
 }

@@ -133,6 +133,19 @@ std::vector<float> cylinder_triangles(int slices) {
   return out;
 }
 
+// the unit disc at z = 0, facing +z (scaled by −1 in z it faces down)
+std::vector<float> disc_triangles(int slices) {
+  std::vector<float> out;
+  const Vector3f n(0, 0, 1);
+  for (int j = 0; j < slices; ++j) {
+    const double p0 = 2.0 * M_PI * j / slices, p1 = 2.0 * M_PI * (j + 1) / slices;
+    vertex(out, Vector3f::Zero(), n);
+    vertex(out, Vector3f(static_cast<float>(std::cos(p0)), static_cast<float>(std::sin(p0)), 0), n);
+    vertex(out, Vector3f(static_cast<float>(std::cos(p1)), static_cast<float>(std::sin(p1)), 0), n);
+  }
+  return out;
+}
+
 // the cube [−1, 1]³ with a normal per face
 std::vector<float> cube_triangles() {
   std::vector<float> out;
@@ -202,6 +215,7 @@ Renderer::Renderer() {
   u_line_view_projection_ = glGetUniformLocation(line_program_, "u_view_projection");
   sphere_ = upload(sphere_triangles(32, 16));
   cylinder_ = upload(cylinder_triangles(32));
+  disc_ = upload(disc_triangles(32));
   cube_ = upload(cube_triangles());
   quad_ = upload(quad_triangles());
 
@@ -277,6 +291,13 @@ void Renderer::draw_model(const Model& model, std::span<const BodyState> bodies,
         draw_mesh(cube_,
                   frame * translation_scale(Vector3f::Zero(), shape.half_extents.cast<float>()), c);
         break;
+      case ShapeType::kCylinder: {
+        const float h = static_cast<float>(shape.half_length);
+        draw_mesh(cylinder_, frame * translation_scale(Vector3f::Zero(), Vector3f(r, r, h)), c);
+        draw_mesh(disc_, frame * translation_scale(Vector3f(0, 0, h), Vector3f(r, r, 1)), c);
+        draw_mesh(disc_, frame * translation_scale(Vector3f(0, 0, -h), Vector3f(r, r, -1)), c);
+        break;
+      }
     }
   }
 }

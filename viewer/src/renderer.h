@@ -62,7 +62,7 @@ class Renderer {
   GLuint lit_program_ = 0, line_program_ = 0;
   GLint u_model_ = -1, u_normal_ = -1, u_view_projection_ = -1, u_colour_ = -1, u_light_ = -1,
         u_eye_ = -1, u_line_view_projection_ = -1;
-  Mesh sphere_, cylinder_, cube_, quad_;
+  Mesh sphere_, cylinder_, disc_, cube_, quad_;
   GLuint line_vao_ = 0, line_vbo_ = 0;
   std::vector<LineVertex> lines_;
   Eigen::Matrix4f view_projection_ = Eigen::Matrix4f::Identity();  // of the frame being drawn

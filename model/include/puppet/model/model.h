@@ -17,13 +17,14 @@ using Eigen::Matrix3d;
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
 
-enum class ShapeType { kSphere, kCapsule, kBox };
+enum class ShapeType { kSphere, kCapsule, kBox, kCylinder };
 
 // a collision/visual shape in its segment's frame, centred on the segment's COM
 struct Shape {
   ShapeType type = ShapeType::kSphere;
-  double radius = 0.0;             // sphere, capsule
-  double half_length = 0.0;        // capsule: half the cylinder part, along local z
+  double radius = 0.0;             // sphere, capsule, cylinder
+  double half_length = 0.0;        // capsule: half the cylinder part; cylinder: half its height;
+                                   // both along local z
   Vector3d half_extents{0, 0, 0};  // box
 };
 
