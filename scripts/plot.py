@@ -398,8 +398,8 @@ def open_limits_section(folder):
                     fmt(o.truths_agreement(sc, "reseeded_mean"))] for sc in o.scenarios]
     return ["## Both truths, limits opened", "",
             f"`truths-open-limits/`: `{o.model}` (every limit opened to ±175°), where the two "
-            "engines model the same bodies and joints. Each truth's own error (re-seeded at half "
-            "its dt) and their agreement (re-seeded pose error, m):", "",
+            "engines model the same bodies and nearly the same joints. Each truth's own error "
+            "(re-seeded at half its dt) and their agreement (re-seeded pose error, m):", "",
             md_table(["scenario", "truth's own", "mujoco-truth's own", "truths' agreement"], rows),
             "", f"Every solver against both truths: re-seeded pose error (m), truth / "
             f"mujoco-truth, dt = {dt_text(dt)} s (†: the full run diverged):", "",
@@ -508,9 +508,10 @@ def report(s, frontier, plots, folder):
                 "MuJoCo (RK4, 1/7680 s) against bullet-multibody (1/3840 s), pose error (m): "
                 "along the whole run, and re-seeded both ways (MuJoCo from the first truth's "
                 "states against it, bullet-multibody from the second's against it). The last "
-                "column is the same re-seeded figure for Pinocchio with every limit opened "
-                "(`truths-open-limits/`), where the two engines model the same physics except "
-                "for their contacts and pins.", "",
+                "column is the same re-seeded figure for Pinocchio with every limit opened to "
+                "±175° (`truths-open-limits/`), where the engines' limit models matter only when "
+                "a limb is flung round (MuJoCo's cone bounds the whole angle at 175°, where the "
+                "model allows 175° of swing and of twist).", "",
                 md_table(["scenario", "at 0.267 s", "at 1 s", "mean 1 s", "re-seeded",
                           "re-seeded (other way)", "re-seeded angle deg",
                           "truth out of limits, deg", "mujoco-truth out of limits, deg",
@@ -877,8 +878,9 @@ def findings(s, frontier, dt):
                     key=lambda p: -1 if math.isnan(p[0]) else p[0])
         (closed if worst[0] < 1e-9 else opened).append((c, worst))
     if closed:
-        text = (f"At dt = {dt_text(dt)} s, {', '.join(label(c) for c, _ in closed)} keep every joint "
-                "closed to rounding (< 1e-9 m) in every scenario, up to any divergence")
+        verb = "keeps" if len(closed) == 1 else "keep"
+        text = (f"At dt = {dt_text(dt)} s, {', '.join(label(c) for c, _ in closed)} {verb} every "
+                "joint closed to rounding (< 1e-9 m) in every scenario, up to any divergence")
         if opened:
             text += "; " + ", ".join(f"{label(c)} opens {fmt(w[0])} m in {w[1]}"
                                      for c, w in opened)
