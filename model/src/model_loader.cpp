@@ -37,7 +37,9 @@ class Element {
   }
 
   void reject_unknown(std::initializer_list<const char*> known) const {
-    for (const auto& [key, unused] : value_.items()) {
+    for (const auto& item : value_.items()) {
+      // a named copy: C++20 lambdas may not capture structured bindings (clang refuses)
+      const std::string& key = item.key();
       if (std::none_of(known.begin(), known.end(), [&](const char* k) { return key == k; })) {
         fail("unknown field \"" + key + "\"");
       }
