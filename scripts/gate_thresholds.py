@@ -86,6 +86,17 @@ def main():
             gates.append(gate(times, f"{scenario}: {rule} speedup over bullet-multibody",
                               f"step/{scenario}/bullet-multibody", f"step/{scenario}/{rule}",
                               floor, "min"))
+    # MuJoCo, the peer (its semi-implicit Euler step): the wrapper must not make it slower than
+    # bullet-multibody, and the rules a user would pick should be at least as fast as it
+    for scenario in ["hang", "drag", "drop"]:
+        if not any(f"step/{scenario}/mujoco" in t for t in times.values()):
+            continue
+        gates.append(gate(times, f"{scenario}: mujoco speedup over bullet-multibody",
+                          f"step/{scenario}/bullet-multibody", f"step/{scenario}/mujoco", 1,
+                          "min"))
+        for rule in ["relaxed"] + SUBSTEPPED:
+            gates.append(gate(times, f"{scenario}: {rule} speedup over mujoco",
+                              f"step/{scenario}/mujoco", f"step/{scenario}/{rule}", 1, "min"))
     for rule in ONE_PASS:
         gates.append(gate(times, f"hang: {rule} step / floor (free bodies)", f"step/hang/{rule}",
                           "floor/hang", 3, "max"))
