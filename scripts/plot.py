@@ -493,6 +493,8 @@ def report(s, frontier, plots, folder):
                 "are shown as `≤ limit` below.", "",
                 md_table(header, rows), ""]
     if second and not math.isnan(check_dt):
+        pin_rows = any(k[3] == "pin_gap_m" and k[5] in TRUTH_SOLVERS and k[2] not in s.dts
+                       for k in s.values)
         rows = []
         for sc in s.scenarios:
             rows.append([sc] + [fmt(s.truths_agreement(sc, stat)) for stat in
@@ -503,6 +505,9 @@ def report(s, frontier, plots, folder):
                          fmt(s.truths_agreement(sc, "max", "bullet-multibody",
                                                 "limit_violation_deg"), 2),
                          fmt(s.truths_agreement(sc, "max", metric="limit_violation_deg"), 2)] +
+                        ([fmt(s.truths_agreement(sc, "max", "bullet-multibody", "pin_gap_m")),
+                          fmt(s.truths_agreement(sc, "max", metric="pin_gap_m"))]
+                         if pin_rows else []) +
                         [open_limits_agreement(folder, sc)])
         out += ["## Where the truths agree", "",
                 "MuJoCo (RK4, 1/7680 s) against bullet-multibody (1/3840 s), pose error (m): "
@@ -514,8 +519,11 @@ def report(s, frontier, plots, folder):
                 "model allows 175° of swing and of twist).", "",
                 md_table(["scenario", "at 0.267 s", "at 1 s", "mean 1 s", "re-seeded",
                           "re-seeded (other way)", "re-seeded angle deg",
-                          "truth out of limits, deg", "mujoco-truth out of limits, deg",
-                          "re-seeded, limits opened"], rows), "",
+                          "truth out of limits, deg", "mujoco-truth out of limits, deg"] +
+                         (["truth pin gap m", "mujoco-truth pin gap m"] if pin_rows else []) +
+                         ["re-seeded, limits opened"], rows), "",
+                "Pin gap: the largest distance of a pinned point from its target along each "
+                "truth." if pin_rows else "",
                 "Out of limits: the largest violation of the model's limits (its swing ellipse "
                 "and twist, as the metrics measure them) along each truth. A solver that holds "
                 "the model's limits and is re-seeded from a state that far outside them is first "

@@ -124,6 +124,26 @@ double max_limit_violation_deg(const Model& model, const Trajectory& trajectory)
   return worst;
 }
 
+PinGaps trajectory_pin_gaps(const Scenario& scenario, const Trajectory& trajectory) {
+  const std::vector<Pin> pins = scenario.initial_pins();
+  std::vector<Vector3d> targets;
+  std::vector<double> gaps(pins.size());
+  PinGaps out;
+  double sum = 0.0;
+  int count = 0;
+  for (size_t k = 1; k < trajectory.samples.size(); ++k) {
+    scenario.targets_at(static_cast<double>(k) * kAccuracySampleInterval, targets);
+    pin_gaps(pins, targets, trajectory.samples[k], gaps);
+    for (double g : gaps) {
+      out.max = std::max(out.max, g);
+      sum += g * g;
+      ++count;
+    }
+  }
+  out.rms = count ? std::sqrt(sum / count) : 0.0;
+  return out;
+}
+
 std::vector<SummaryRow> accuracy_rows(Simulator& simulator, const Model& model,
                                       const Scenario& scenario, double dt, const Trajectory& run,
                                       const Trajectory& reference, const std::string& label) {

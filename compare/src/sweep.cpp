@@ -174,6 +174,10 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
           // how far the truth itself leaves the model's limits (MuJoCo's differ)
           r.summary.push_back({"limit_violation_deg", "max",
                                max_limit_violation_deg(model, truth[s][run]), "deg", label});
+          // and how well it holds its pins
+          const PinGaps pin = trajectory_pin_gaps(spec.scenarios[s], truth[s][run]);
+          r.summary.push_back({"pin_gap_m", "max", pin.max, "m", label});
+          r.summary.push_back({"pin_gap_m", "rms", pin.rms, "m", label});
           return;
         }
         const size_t k = truth_runs[i - check_jobs];

@@ -52,6 +52,12 @@ ReseededError reseeded_error(Simulator& simulator, const Model& model, const Sce
 // the largest violation of the model's limits over a trajectory's samples (deg; DESIGN.md's
 // swing ellipse and twist, the metrics' measure)
 double max_limit_violation_deg(const Model& model, const Trajectory& trajectory);
+// the largest and the RMS distance of a pin point from its target over a trajectory's samples
+// (m; the scenario's pins and targets at the sample times; 0 without pins)
+struct PinGaps {
+  double max = 0.0, rms = 0.0;
+};
+PinGaps trajectory_pin_gaps(const Scenario& scenario, const Trajectory& trajectory);
 
 // The accuracy rows of summary.csv for one run (metrics pose_err_m, joint_angle_err_deg):
 //   at_0.267s, at_0.5s, at_1s   the error at that sample (0.25 s is not a multiple of 1/30 s, so
