@@ -394,13 +394,22 @@ def open_limits_section(folder):
             return "div" if o.diverged(sc, c, dt) else "–"
         return f"{fmt(a)} / {fmt(b)}" + (" †" if o.diverged(sc, c, dt) else "")
 
+    pins = any(k[3] == "pin_gap_m" and k[5] in TRUTH_SOLVERS for k in o.values)
     rows = [[sc] + [fmt(o.truth_check(sc)), fmt(o.truth_check(sc, SECOND_TRUTH)),
-                    fmt(o.truths_agreement(sc, "reseeded_mean"))] for sc in o.scenarios]
+                    fmt(o.truths_agreement(sc, "reseeded_mean"))] +
+            ([fmt(o.truths_agreement(sc, stat, judged, "pin_gap_m"))
+              for judged in ("bullet-multibody", "mujoco") for stat in ("max", "rms")]
+             if pins else []) for sc in o.scenarios]
     return ["## Both truths, limits opened", "",
             f"`truths-open-limits/`: `{o.model}` (every limit opened to ±175°), where the two "
             "engines model the same bodies and nearly the same joints. Each truth's own error "
-            "(re-seeded at half its dt) and their agreement (re-seeded pose error, m):", "",
-            md_table(["scenario", "truth's own", "mujoco-truth's own", "truths' agreement"], rows),
+            "(re-seeded at half its dt) and their agreement (re-seeded pose error, m)"
+            + ("; and how far each truth lets its pinned points from their targets (max and RMS "
+               "over the samples, m): where the agreement is far above both truths' own errors, "
+               "the truth whose pins give is the one to doubt" if pins else "") + ":", "",
+            md_table(["scenario", "truth's own", "mujoco-truth's own", "truths' agreement"] +
+                     (["truth pin gap max", "rms", "mujoco-truth pin gap max", "rms"]
+                      if pins else []), rows),
             "", f"Every solver against both truths: re-seeded pose error (m), truth / "
             f"mujoco-truth, dt = {dt_text(dt)} s (†: the full run diverged):", "",
             md_table(["scenario"] + [label(c) for c in o.configs],
