@@ -10,6 +10,9 @@
 namespace puppet::compare {
 namespace {
 
+// the dt of each truth slot: [0] the truth, [1] its check, [2] the second truth, [3] its check
+constexpr double kTruthSlotDts[4] = {kTruthDt, kTruthCheckDt, kSecondTruthDt, kSecondTruthCheckDt};
+
 bool is_truth_solver(const SolverConfig& config) { return config.solver == kTruthSolver; }
 
 std::unique_ptr<Simulator> make(const SolverConfig& config) {
@@ -103,8 +106,7 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
           // the longer check first
           const size_t slot = k == 0 ? 1 : k == 1 ? 0 : k;
           auto simulator = make(slot < 2 ? truth_solver : second_solver);
-          constexpr double kDts[4] = {kTruthDt, kTruthCheckDt, kSecondTruthDt, kSecondTruthCheckDt};
-          const double dt = kDts[slot];
+          const double dt = kTruthSlotDts[slot];
           const double duration = duration_of(spec.scenarios[s], spec.run);
           truth[s][slot] = record_trajectory(*simulator, model, spec.scenarios[s], dt, duration);
         },
@@ -164,8 +166,7 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
           RunResult& r = results[run_count + i];
           r.scenario = spec.scenarios[s].name;
           r.solver = second_solver_run ? kSecondTruthSolver : kTruthSolver;
-          constexpr double kDts[4] = {kTruthDt, kTruthCheckDt, kSecondTruthDt, kSecondTruthCheckDt};
-          r.dt = kDts[run];
+          r.dt = kTruthSlotDts[run];
           r.diverged = truth[s][run].diverged;
           auto simulator = make(second_solver_run ? second_solver : truth_solver);
           const char* label = against == 0 ? "truth" : kSecondTruthReference;

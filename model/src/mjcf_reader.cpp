@@ -462,7 +462,7 @@ class Reader {
     // the segment frame: the geom's, at its centre
     s.rest_position = x + q * centre;
     s.rest_orientation = (q * frame).normalized();
-    if (auto user = body_user(body)) {
+    if (auto user = user_data(body, user_body_, kBodyUserSize)) {
       // write_mjcf's exact rest pose, if it still matches the body
       const Vector3d ux((*user)[0], (*user)[1], (*user)[2]);
       const Quaterniond uq((*user)[3], (*user)[4], (*user)[5], (*user)[6]);
@@ -552,11 +552,13 @@ class Reader {
     if ((s.inertia.array() <= 0.0).any()) fail(e, "its moments of inertia must be positive");
   }
 
-  std::optional<std::vector<double>> body_user(const XMLElement* body) const {
-    const auto text = attribute(body, "user");
-    if (!text || user_body_ < kBodyUserSize) return std::nullopt;
-    auto v = numbers(body, "user", *text);
-    if (v.size() < static_cast<size_t>(kBodyUserSize)) return std::nullopt;
+  // an element's user data when the file declares at least `size` numbers per element (size's
+  // nuser_body, nuser_jnt) and the element gives them
+  std::optional<std::vector<double>> user_data(const XMLElement* e, int declared, int size) const {
+    const auto text = attribute(e, "user");
+    if (!text || declared < size) return std::nullopt;
+    auto v = numbers(e, "user", *text);
+    if (v.size() < static_cast<size_t>(size)) return std::nullopt;
     return v;
   }
 
@@ -618,7 +620,7 @@ class Reader {
       if (range.size() != 2) fail(e, "attribute \"range\" must have 2 numbers");
       range = {angle(range[0]), angle(range[1])};
     }
-    const auto user = joint_user(e);
+    const auto user = user_data(e, user_joint_, kJointUserSize);
     if (type == "ball") {
       j.type = JointType::kBall;
       // the twist axis is the segment's own z: its long axis for a capsule
@@ -667,14 +669,6 @@ class Reader {
     }
     derive_limit_terms(j);
     return raw;
-  }
-
-  std::optional<std::vector<double>> joint_user(const XMLElement* e) const {
-    const auto text = attribute(e, "user");
-    if (!text || user_joint_ < kJointUserSize) return std::nullopt;
-    auto v = numbers(e, "user", *text);
-    if (v.size() < static_cast<size_t>(kJointUserSize)) return std::nullopt;
-    return v;
   }
 
   std::string source_;
