@@ -32,6 +32,10 @@ class Reader {
   explicit Reader(std::string source) : source_(std::move(source)) {}
 
   Model read(const std::string& text) {
+    if (const size_t nul = text.find('\0'); nul != std::string::npos) {
+      throw ModelError(source_ + ": a NUL byte at offset " + std::to_string(nul) +
+                       " (a model file is text)");
+    }
     tinyxml2::XMLDocument doc;
     if (doc.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) {
       // "XML_ERROR_MISMATCHED_ELEMENT" → "mismatched element"
@@ -50,6 +54,7 @@ class Reader {
     check_attributes(root, {"model"});
     root_line_ = root->GetLineNum();
     name_ = attribute(root, "model").value_or("mjcf");
+    if (std::string problem = detail::name_problem(name_); !problem.empty()) fail(root, problem);
 
     // the sections, in any order; the compiler's settings first since everything reads them
     for (const XMLElement* e = root->FirstChildElement("compiler"); e;
@@ -118,12 +123,22 @@ class Reader {
   }
 
   // bounded, single-line text from the file for messages
-  static std::string one_line(std::string text) {
-    for (char& c : text) {
-      if (c == '\n' || c == '\r' || c == '\t') c = ' ';
+  static std::string one_line(const std::string& text) {
+    return detail::printable(text, detail::kMaxNameLength);
+  }
+
+  // that v's norm is within the model's limits (a rotation or an axis as given)
+  template <typename V>
+  void check_norm(const XMLElement* e, const char* what, const V& v) const {
+    if (std::string problem = detail::norm_problem(v); !problem.empty()) {
+      fail(e, std::string(what) + " " + problem);
     }
-    if (text.size() > 80) text = text.substr(0, 77) + "...";
-    return text;
+  }
+  // v normalised, when its norm is within the model's limits
+  template <typename V>
+  V unit(const XMLElement* e, const char* what, const V& v) const {
+    check_norm(e, what, v);
+    return detail::normalized(v);
   }
 
   void check_attributes(const XMLElement* e, std::initializer_list<const char*> known) const {
@@ -197,12 +212,12 @@ class Reader {
       const std::string k = key;
       if (k == "quat") {
         const auto v = numbers(e, key, class_name, 4, {});
+        check_norm(e, "quat", Eigen::Vector4d(v[0], v[1], v[2], v[3]));
         q = Quaterniond(v[0], v[1], v[2], v[3]);
       } else if (k == "axisangle") {
         const auto v = numbers(e, key, class_name, 4, {});
-        const Vector3d axis(v[0], v[1], v[2]);
-        if (axis.norm() < 1e-9) fail(e, "attribute \"axisangle\" has a zero axis");
-        q = Quaterniond(Eigen::AngleAxisd(angle(v[3]), axis.normalized()));
+        const Vector3d axis = unit(e, "axisangle's axis", Vector3d(v[0], v[1], v[2]));
+        q = Quaterniond(Eigen::AngleAxisd(angle(v[3]), axis));
       } else if (k == "euler") {
         const auto v = numbers(e, key, class_name, 3, {});
         for (int i = 0; i < 3; ++i) {
@@ -216,9 +231,9 @@ class Reader {
         }
       } else if (k == "xyaxes") {
         const auto v = numbers(e, key, class_name, 6, {});
-        Vector3d x(v[0], v[1], v[2]), y(v[3], v[4], v[5]);
-        if (x.norm() < 1e-9) fail(e, "attribute \"xyaxes\" has a zero x axis");
-        x.normalize();
+        const Vector3d x = unit(e, "xyaxes' x", Vector3d(v[0], v[1], v[2]));
+        Vector3d y(v[3], v[4], v[5]);
+        check_norm(e, "xyaxes' y", y);
         y -= x * x.dot(y);
         if (y.norm() < 1e-9) fail(e, "attribute \"xyaxes\": y is parallel to x");
         y.normalize();
@@ -226,14 +241,13 @@ class Reader {
         r << x, y, x.cross(y);
         q = Quaterniond(r);
       } else {
-        const Vector3d z = vector3(e, key, class_name, Vector3d::Zero());
-        if (z.norm() < 1e-9) fail(e, "attribute \"zaxis\" is a zero vector");
-        q = Quaterniond::FromTwoVectors(Vector3d::UnitZ(), z.normalized());
+        const Vector3d z = unit(e, "zaxis", vector3(e, key, class_name, Vector3d::Zero()));
+        q = Quaterniond::FromTwoVectors(Vector3d::UnitZ(), z);
       }
     }
     if (given > 1) fail(e, "gives its orientation more than once");
-    if (q.norm() < 1e-9) fail(e, "attribute \"quat\" is a zero quaternion");
-    return q.normalized();
+    const Eigen::Vector4d unit_coeffs = detail::normalized(Eigen::Vector4d(q.coeffs()));
+    return Quaterniond(unit_coeffs[3], unit_coeffs[0], unit_coeffs[1], unit_coeffs[2]);
   }
 
   void read_compiler(const XMLElement* e) {
@@ -266,7 +280,11 @@ class Reader {
     check_attributes(e, {"timestep", "gravity", "integrator", "cone", "jacobian", "solver",
                          "iterations", "tolerance", "noslip_iterations", "mpr_iterations",
                          "collision", "impratio", "density", "viscosity", "wind", "magnetic"});
-    if (attribute(e, "gravity")) gravity_ = vector3(e, "gravity", "", gravity_);
+    if (attribute(e, "gravity")) {
+      gravity_ = vector3(e, "gravity", "", gravity_);
+      if (std::string problem = detail::gravity_problem(gravity_); !problem.empty())
+        fail(e, problem);
+    }
     for (const char* fluid : {"density", "viscosity"}) {
       if (attribute(e, fluid) && numbers(e, fluid, "", 1, {})[0] != 0.0) {
         fail(e, std::string(fluid) +
@@ -280,8 +298,15 @@ class Reader {
   }
 
   void read_size(const XMLElement* e) {
-    if (auto n = attribute(e, "nuser_body")) user_body_ = std::atoi(n->c_str());
-    if (auto n = attribute(e, "nuser_jnt")) user_joint_ = std::atoi(n->c_str());
+    auto count = [&](const char* key) {
+      const std::vector<double> v = numbers(e, key, *attribute(e, key));
+      if (v.size() != 1 || v[0] < -1 || v[0] > 1000 || v[0] != std::floor(v[0])) {
+        fail(e, std::string(key) + " must be an integer from -1 to 1000");
+      }
+      return static_cast<int>(v[0]);
+    };
+    if (attribute(e, "nuser_body")) user_body_ = count("nuser_body");
+    if (attribute(e, "nuser_jnt")) user_joint_ = count("nuser_jnt");
   }
 
   void read_default(const XMLElement* e, const std::string& name, const ClassDefaults& parent) {
@@ -337,6 +362,7 @@ class Reader {
                          "childclass", "user", "mocap"});
     const auto name = attribute(e, "name");
     if (!name || name->empty()) fail(e, "a body needs a name (it names the segment)");
+    if (std::string problem = detail::name_problem(*name); !problem.empty()) fail(e, problem);
     if (attribute(e, "mocap").value_or("false") == "true")
       fail(e, "mocap bodies are not supported");
     std::string child_class = inherited_class;
@@ -594,6 +620,7 @@ class Reader {
                          "stiffness", "springref", "damping", "armature", "frictionloss", "group",
                          "user", "solreflimit", "solimplimit", "margin"});
     j.name = attribute(e, "name").value_or(segments_[child].name);
+    if (std::string problem = detail::name_problem(j.name); !problem.empty()) fail(e, problem);
     for (const char* physics : {"stiffness", "damping", "armature", "frictionloss", "ref"}) {
       const auto v = value(e, physics, cls);
       if (v && numbers(e, physics, *v).at(0) != 0.0) {
@@ -634,8 +661,8 @@ class Reader {
     } else if (type == "hinge") {
       j.type = JointType::kHinge;
       const Vector3d axis = vector3(e, "axis", cls, {0, 0, 1});
-      if (axis.norm() < 1e-9) fail(e, "attribute \"axis\" is a zero vector");
-      raw.hinge_axis_world = (q * axis).normalized();
+      check_norm(e, "axis", axis);
+      raw.hinge_axis_world = detail::normalized(Vector3d(q * axis));
       j.lower = -kPi;
       j.upper = kPi;
       if (limited) {

@@ -2,13 +2,48 @@
 // derives the local quantities, so that both kinds of file are checked alike.
 #pragma once
 
+#include <cmath>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "puppet/model/model.h"
 
 namespace puppet::detail {
+
+// The model's limits (docs/model.md, "Limits"), checked by every front end through assemble()
+inline constexpr double kMinLength = 1e-4, kMaxLength = 1e3;      // shape sizes (m)
+inline constexpr double kMinMass = 1e-6, kMaxMass = 1e6;          // kg
+inline constexpr double kMinInertia = 1e-16, kMaxInertia = 1e13;  // principal moments (kg m²)
+inline constexpr double kMaxCoordinate = 1e4;                     // positions, anchors (m)
+inline constexpr double kMaxGravity = 1e3;                        // each component (m/s²)
+inline constexpr double kMinNorm = 1e-9, kMaxNorm = 1e9;          // quaternions and axes as given
+inline constexpr size_t kMaxNameLength = 64;                      // bytes
+inline constexpr size_t kMaxFileBytes = size_t{16} << 20;         // a model file
+
+// text from a file or a command line for a message, so that an error stays one bounded line:
+// bytes outside printable ASCII (and the backslash) as \xNN, cut after max_length characters;
+// shown() quotes it and cuts after kMaxNameLength
+std::string printable(std::string_view text, size_t max_length);
+std::string shown(std::string_view text);
+// what is wrong with a name (empty when nothing): 1 to 64 bytes of letters, digits, _ - . :
+std::string name_problem(std::string_view name);
+// what is wrong with a segment, a joint, gravity (empty when nothing), by the limits above: the
+// triangle inequality of the moments of inertia, unit rotations and axes
+std::string shape_problem(const Shape& shape);
+std::string segment_problem(const Segment& segment);
+std::string joint_problem(const Joint& joint);
+std::string gravity_problem(const Vector3d& gravity);
+// what is wrong with a quaternion or axis as given before it is normalised (empty when nothing)
+std::string norm_problem(const Eigen::Ref<const Eigen::VectorXd>& v);
+// v / |v| for such a vector: Eigen's normalized() where its squared norm is finite (the same
+// bits as always), through the stable norm where it overflows
+template <typename V>
+V normalized(const V& v) {
+  const double squared = v.squaredNorm();
+  return std::isfinite(squared) && squared > 0.0 ? V(v.normalized()) : V(v / v.stableNorm());
+}
 
 // a joint as read: the Joint's own fields (type, limits, anchor_world, frame_world) set, its
 // segments still by name, a hinge's axis in world

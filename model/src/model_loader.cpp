@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "model_builder.h"
+#include "puppet/model/file.h"
 #include "puppet/model/mjcf.h"
 #include "puppet/model/model.h"
 #include "puppet/model/rotation.h"
@@ -41,7 +42,7 @@ class Element {
       // a named copy: C++20 lambdas may not capture structured bindings (clang refuses)
       const std::string& key = item.key();
       if (std::none_of(known.begin(), known.end(), [&](const char* k) { return key == k; })) {
-        fail("unknown field \"" + key + "\"");
+        fail("unknown field " + detail::shown(key));
       }
     }
   }
@@ -100,12 +101,28 @@ class Element {
     return out;
   }
 
+  // a non-zero vector of N numbers, normalised (its norm within the model's limits)
+  template <int N>
+  Eigen::Matrix<double, N, 1> direction(const char* key) const {
+    const Eigen::Matrix<double, N, 1> v = vector<N>(key);
+    if (std::string problem = detail::norm_problem(v); !problem.empty()) {
+      fail(std::string("field \"") + key + "\" " + problem);
+    }
+    return detail::normalized(v);
+  }
+
   Quaterniond quaternion(const char* key) const {
-    const Eigen::Vector4d wxyz = vector<4>(key);
-    if (wxyz.norm() < 1e-9) fail(std::string("field \"") + key + "\" is a zero quaternion");
-    Quaterniond q(wxyz[0], wxyz[1], wxyz[2], wxyz[3]);
-    q.normalize();
-    return q;
+    const Eigen::Vector4d wxyz = direction<4>(key);
+    return Quaterniond(wxyz[0], wxyz[1], wxyz[2], wxyz[3]);
+  }
+
+  // a name (of the model, a segment, a joint, or one referred to), within the model's charset
+  std::string name(const char* key) const {
+    std::string text = string(key);
+    if (std::string problem = detail::name_problem(text); !problem.empty()) {
+      fail(std::string("field \"") + key + "\": " + problem);
+    }
+    return text;
   }
 
   Element child(const char* key, const std::string& name) const {
@@ -152,7 +169,8 @@ Shape read_shape(const Element& e) {
       e.fail("field \"half_extents\" must be positive");
     }
   } else {
-    e.fail("unknown shape type \"" + type + "\" (expected capsule, box, cylinder or sphere)");
+    e.fail("unknown shape type " + detail::shown(type) +
+           " (expected capsule, box, cylinder or sphere)");
   }
   return shape;
 }
@@ -195,9 +213,7 @@ detail::RawJoint read_joint(const Element& e) {
   } else if (type == "hinge") {
     e.reject_unknown({"name", "parent", "child", "anchor", "type", "frame", "axis", "range_deg"});
     j.type = JointType::kHinge;
-    raw.hinge_axis_world = e.vector<3>("axis");
-    if (raw.hinge_axis_world.norm() < 1e-9) e.fail("field \"axis\" is a zero vector");
-    raw.hinge_axis_world.normalize();
+    raw.hinge_axis_world = e.direction<3>("axis");
     const Eigen::Vector2d range = e.vector<2>("range_deg");
     if (range.x() > range.y()) {
       e.fail("field \"range_deg\" has lo > hi (" + Element::fmt(range.x()) + " > " +
@@ -214,11 +230,11 @@ detail::RawJoint read_joint(const Element& e) {
     e.reject_unknown({"name", "parent", "child", "anchor", "type", "frame"});
     j.type = JointType::kFixed;
   } else {
-    e.fail("unknown joint type \"" + type + "\" (expected ball, hinge or fixed)");
+    e.fail("unknown joint type " + detail::shown(type) + " (expected ball, hinge or fixed)");
   }
   derive_limit_terms(j);
-  raw.parent_name = e.string("parent");
-  raw.child_name = e.string("child");
+  raw.parent_name = e.name("parent");
+  raw.child_name = e.name("child");
   j.anchor_world = e.vector<3>("anchor");
   if (e.has("frame")) j.frame_world = e.quaternion("frame");
   return raw;
@@ -228,7 +244,7 @@ Model build(const json& root_json, const std::string& source) {
   Element root(root_json, source, "model");
   root.require_object();
   root.reject_unknown({"name", "segments", "joints", "gravity"});
-  const std::string name = root.string("name");
+  const std::string name = root.name("name");
 
   const json& segments_json = root.field("segments");
   if (!segments_json.is_array()) root.fail("field \"segments\" must be an array");
@@ -237,7 +253,7 @@ Model build(const json& root_json, const std::string& source) {
   for (size_t i = 0; i < segments_json.size(); ++i) {
     Element e(segments_json[i], source, "segment #" + std::to_string(i));
     e.require_object();
-    const std::string segment_name = e.string("name");
+    const std::string segment_name = e.name("name");
     Segment s = read_segment(Element(segments_json[i], source, "segment \"" + segment_name + "\""));
     s.name = segment_name;
     segments.push_back(std::move(s));
@@ -250,7 +266,7 @@ Model build(const json& root_json, const std::string& source) {
     for (size_t i = 0; i < joints_json.size(); ++i) {
       Element e(joints_json[i], source, "joint #" + std::to_string(i));
       e.require_object();
-      const std::string joint_name = e.string("name");
+      const std::string joint_name = e.name("name");
       detail::RawJoint raw =
           read_joint(Element(joints_json[i], source, "joint \"" + joint_name + "\""));
       raw.joint.name = joint_name;
@@ -273,7 +289,12 @@ Model build(const json& root_json, const std::string& source) {
     return source + ": model";
   };
   Model model = detail::assemble(name, std::move(segments), std::move(joints), locate);
-  if (root.has("gravity")) model.gravity = root.vector<3>("gravity");
+  if (root.has("gravity")) {
+    model.gravity = root.vector<3>("gravity");
+    if (std::string problem = detail::gravity_problem(model.gravity); !problem.empty()) {
+      root.fail("field \"gravity\": " + problem);
+    }
+  }
   return model;
 }
 
@@ -287,9 +308,15 @@ Model assemble(const std::string& name, std::vector<Segment> segments,
     throw ModelError(locate(part, index) + ": " + problem);
   };
   Model model;
+  if (std::string problem = name_problem(name); !problem.empty()) {
+    fail(Part::kModel, 0, "its name: " + problem);
+  }
   model.name = name;
   std::map<std::string, int> index_of;
   for (size_t i = 0; i < segments.size(); ++i) {
+    if (std::string problem = segment_problem(segments[i]); !problem.empty()) {
+      fail(Part::kSegment, static_cast<int>(i), problem);
+    }
     if (!index_of.emplace(segments[i].name, static_cast<int>(i)).second) {
       fail(Part::kSegment, static_cast<int>(i), "duplicate segment name");
     }
@@ -301,6 +328,9 @@ Model assemble(const std::string& name, std::vector<Segment> segments,
   for (size_t i = 0; i < raw_joints.size(); ++i) {
     const int ji = static_cast<int>(i);
     RawJoint& raw = raw_joints[i];
+    if (std::string problem = name_problem(raw.joint.name); !problem.empty()) {
+      fail(Part::kJoint, ji, problem);
+    }
     if (!joint_names.insert(raw.joint.name).second) fail(Part::kJoint, ji, "duplicate joint name");
     auto p = index_of.find(raw.parent_name);
     if (p == index_of.end()) {
@@ -371,6 +401,7 @@ Model assemble(const std::string& name, std::vector<Segment> segments,
     const Segment& parent = model.segments[j.parent];
     const Segment& child = model.segments[j.child];
 
+    if (std::string problem = joint_problem(j); !problem.empty()) fail(Part::kJoint, ji, problem);
     // local anchors, and the anchor within reach of both shapes
     j.anchor_in_parent =
         parent.rest_orientation.conjugate() * (j.anchor_world - parent.rest_position);
@@ -391,6 +422,7 @@ Model assemble(const std::string& name, std::vector<Segment> segments,
     if (j.type == JointType::kHinge && !raw.hinge_axis_in_frame) {
       j.hinge_axis = j.frame_world.conjugate() * raw.hinge_axis_world;
     }
+    if (std::string problem = joint_problem(j); !problem.empty()) fail(Part::kJoint, ji, problem);
     model.segments[i].parent_joint = i - 1;
     model.segments[i].parent = j.parent;
     model.joints.push_back(std::move(j));
@@ -421,9 +453,30 @@ int Model::find_segment(const std::string& segment_name) const {
 }
 
 Model parse_model(const std::string& json_text, const std::string& source) {
+  if (const size_t nul = json_text.find('\0'); nul != std::string::npos) {
+    throw ModelError(source + ": a NUL byte at offset " + std::to_string(nul) +
+                     " (a model file is text)");
+  }
   json document;
+  // a duplicate key is refused: JSON leaves it open, nlohmann keeps the last value silently
+  std::vector<std::set<std::string>> keys;  // of each object being parsed
+  const json::parser_callback_t refuse_duplicates = [&](int, json::parse_event_t event,
+                                                        json& parsed) {
+    if (event == json::parse_event_t::object_start) {
+      keys.emplace_back();
+    } else if (event == json::parse_event_t::object_end) {
+      keys.pop_back();
+    } else if (event == json::parse_event_t::key) {
+      const std::string& key = parsed.get_ref<const std::string&>();
+      if (!keys.back().insert(key).second) {
+        throw ModelError(source + ": malformed JSON: the key " + detail::shown(key) +
+                         " appears twice in one object");
+      }
+    }
+    return true;
+  };
   try {
-    document = json::parse(json_text);
+    document = json::parse(json_text, refuse_duplicates);
   } catch (const json::exception& error) {
     // nlohmann's message begins "[json.exception.parse_error.101] parse error at line…"
     std::string what = error.what();
@@ -446,17 +499,19 @@ Model load_model(const std::string& path_or_builtin) {
       used = 0;
     }
     if (used != count.size() || count.empty() || n < 1 || n > 100000) {
-      throw ModelError(path_or_builtin + ": chain length must be an integer in [1, 100000]");
+      throw ModelError(detail::printable(path_or_builtin, 64) +
+                       ": chain length must be an integer in [1, 100000]");
     }
     return make_chain(n);
   }
-  std::ifstream file(path_or_builtin);
-  if (!file) throw ModelError(path_or_builtin + ": cannot open the model file");
-  std::stringstream text;
-  text << file.rdbuf();
   const std::string& path = path_or_builtin;
+  const std::string source = detail::printable(path, 256);  // names the file in every message
+  std::string text, problem;
+  if (!read_regular_file(path, detail::kMaxFileBytes, &text, &problem)) {
+    throw ModelError(source + ": " + problem);
+  }
   const bool xml = path.size() > 4 && path.compare(path.size() - 4, 4, ".xml") == 0;
-  return xml ? parse_mjcf(text.str(), path) : parse_model(text.str(), path);
+  return xml ? parse_mjcf(text, source) : parse_model(text, source);
 }
 
 }  // namespace puppet

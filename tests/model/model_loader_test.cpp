@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -88,7 +91,8 @@ TEST(ModelLoader, MissingFileNamesTheFile) {
     load_model("/nonexistent/model.json");
     FAIL();
   } catch (const ModelError& e) {
-    EXPECT_EQ(std::string(e.what()), "/nonexistent/model.json: cannot open the model file");
+    EXPECT_EQ(std::string(e.what()),
+              "/nonexistent/model.json: cannot open the file (No such file or directory)");
   }
 }
 
@@ -112,16 +116,58 @@ TEST(ModelLoader, MalformedCorpus) {
       const std::string message = e.what();
       EXPECT_EQ(message.rfind(expected, 0), 0u)
           << "got:      " << message << "\nexpected: " << expected;
-      EXPECT_EQ(message.find('\n'), std::string::npos);
+      // one bounded line of printable ASCII, whatever the file holds (a 100 kB name, newlines)
+      EXPECT_LE(message.size(), 400u) << file;
+      EXPECT_TRUE(std::all_of(message.begin(), message.end(), [](char c) {
+        return c >= 0x20 && c < 0x7f;
+      })) << message;
     }
   }
-  EXPECT_GE(cases, 25 + 15);  // JSON, and MJCF
+  EXPECT_GE(cases, 49 + 23);  // JSON, and MJCF
   // and every file in the folder is listed
   int files = 0;
   for (const auto& entry : std::filesystem::directory_iterator(kData + "bad")) {
     files += entry.path().extension() == ".json" || entry.path().extension() == ".xml";
   }
   EXPECT_EQ(files, cases);
+}
+
+// a model is read only from a regular file of at most 16 MiB: a FIFO would wait for a writer,
+// /dev/zero never ends, and neither may hang or exhaust memory
+TEST(ModelLoader, ReadsOnlyBoundedRegularFiles) {
+  const std::filesystem::path folder =
+      std::filesystem::temp_directory_path() / ("puppet-loader-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(folder);
+  auto message_of = [](const std::string& path) {
+    try {
+      load_model(path);
+    } catch (const ModelError& e) {
+      return std::string(e.what());
+    }
+    return std::string("loaded");
+  };
+  const std::string fifo = (folder / "model.json").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_EQ(message_of(fifo), fifo + ": is not a regular file (a FIFO, a device or a socket)");
+  EXPECT_EQ(message_of("/dev/zero"),
+            "/dev/zero: is not a regular file (a FIFO, a device or a socket)");
+  EXPECT_EQ(message_of(folder.string()), folder.string() + ": is a folder, not a file");
+  const std::string big = (folder / "big.json").string();
+  { std::ofstream(big) << "{}"; }
+  std::filesystem::resize_file(big, (size_t{16} << 20) + 1);  // sparse: no 16 MiB written
+  EXPECT_EQ(message_of(big), big + ": is 16777217 bytes (at most 16777216 are read)");
+  std::filesystem::remove_all(folder);
+}
+
+// a rotation given with a large but finite norm is normalised, not turned to zero
+TEST(ModelLoader, NormalisesLargeQuaternionsOrRefusesThem) {
+  const std::string text = R"({"name": "one", "segments": [{"name": "a", "mass": 1,
+      "position": [0, 0, 1], "orientation": [1e8, 0, 0, 1e8],
+      "shape": {"type": "sphere", "radius": 0.1}}]})";
+  const Model model = parse_model(text, "large.json");
+  EXPECT_NEAR(model.segments[0].rest_orientation.angularDistance(
+                  Quaterniond(Eigen::AngleAxisd(M_PI / 2, Vector3d::UnitZ()))),
+              0.0, 1e-12);
 }
 
 }  // namespace

@@ -1,0 +1,169 @@
+// The model's limits (docs/model.md, "Limits"): what every front end checks before a model is
+// built, so that every quantity derived from it (inverse masses and inertias, totals, rest
+// height, normalised rotations) is a finite number with room to spare.
+#include <cmath>
+#include <cstdio>
+
+#include "model_builder.h"
+
+namespace puppet::detail {
+namespace {
+
+std::string number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", x);
+  return text;
+}
+
+bool within(double x, double lo, double hi) { return x >= lo && x <= hi; }  // false for NaN
+
+std::string vector_problem(const char* what, const Vector3d& v, double bound) {
+  for (int i = 0; i < 3; ++i) {
+    if (!within(v[i], -bound, bound)) {
+      return std::string(what) + " has a coordinate of " + number(v[i]) + " (at most " +
+             number(bound) + " in magnitude)";
+    }
+  }
+  return {};
+}
+
+std::string length_problem(const char* what, double x) {
+  if (within(x, kMinLength, kMaxLength)) return {};
+  return std::string(what) + " is " + number(x) + " m (from " + number(kMinLength) + " to " +
+         number(kMaxLength) + " m)";
+}
+
+std::string rotation_problem(const char* what, const Quaterniond& q) {
+  if (!q.coeffs().allFinite() || std::abs(q.squaredNorm() - 1.0) > 1e-9) {
+    return std::string(what) + " is not a unit quaternion";
+  }
+  return {};
+}
+
+}  // namespace
+
+std::string printable(std::string_view text, size_t max_length) {
+  std::string out;
+  size_t count = 0;
+  for (const char c : text) {
+    if (count++ == max_length) {
+      out += "...";
+      break;
+    }
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20 || byte >= 0x7f || c == '\\') {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\x%02x", byte);
+      out += escaped;
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+std::string shown(std::string_view text) {
+  std::string out = "\"";
+  for (const char c : printable(text, kMaxNameLength)) {
+    if (c == '"') {
+      out += "\\x22";
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+std::string name_problem(std::string_view name) {
+  if (name.empty()) return "an empty name";
+  if (name.size() > kMaxNameLength) {
+    return "the name " + shown(name) + " is " + std::to_string(name.size()) + " bytes (at most " +
+           std::to_string(kMaxNameLength) + ")";
+  }
+  for (const char c : name) {
+    const bool allowed = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+                         (c >= '0' && c <= '9') || c == '_' || c == '-' || c == '.' || c == ':';
+    if (!allowed) {
+      return "the name " + shown(name) +
+             " has a character other than letters, digits and _ - . : (ASCII)";
+    }
+  }
+  return {};
+}
+
+std::string shape_problem(const Shape& shape) {
+  std::string problem;
+  switch (shape.type) {
+    case ShapeType::kSphere:
+      problem = length_problem("the radius", shape.radius);
+      break;
+    case ShapeType::kCapsule:
+    case ShapeType::kCylinder:
+      problem = length_problem("the radius", shape.radius);
+      if (problem.empty()) problem = length_problem("the half length", shape.half_length);
+      break;
+    case ShapeType::kBox:
+      for (int i = 0; i < 3 && problem.empty(); ++i) {
+        problem = length_problem("a half extent", shape.half_extents[i]);
+      }
+      break;
+  }
+  return problem;
+}
+
+std::string segment_problem(const Segment& s) {
+  if (std::string p = name_problem(s.name); !p.empty()) return p;
+  if (std::string p = shape_problem(s.shape); !p.empty()) return p;
+  if (!within(s.mass, kMinMass, kMaxMass)) {
+    return "the mass is " + number(s.mass) + " kg (from " + number(kMinMass) + " to " +
+           number(kMaxMass) + " kg)";
+  }
+  const Vector3d& i = s.inertia;
+  for (int k = 0; k < 3; ++k) {
+    if (!within(i[k], kMinInertia, kMaxInertia)) {
+      return "a moment of inertia is " + number(i[k]) + " kg m^2 (from " + number(kMinInertia) +
+             " to " + number(kMaxInertia) + ")";
+    }
+  }
+  // a real body's principal moments obey the triangle inequality: I_a = ∫(r_b² + r_c²) dm
+  // ≤ I_b + I_c, with equality only for a flat body
+  for (int k = 0; k < 3; ++k) {
+    const double others = i[(k + 1) % 3] + i[(k + 2) % 3];
+    if (i[k] > others * (1.0 + 1e-9)) {
+      return "the moments of inertia (" + number(i.x()) + ", " + number(i.y()) + ", " +
+             number(i.z()) + ") break the triangle inequality (no real body has them)";
+    }
+  }
+  if (std::string p = vector_problem("the position", s.rest_position, kMaxCoordinate); !p.empty())
+    return p;
+  return rotation_problem("the orientation", s.rest_orientation);
+}
+
+std::string joint_problem(const Joint& j) {
+  if (std::string p = name_problem(j.name); !p.empty()) return p;
+  if (std::string p = vector_problem("the anchor", j.anchor_world, kMaxCoordinate); !p.empty())
+    return p;
+  if (std::string p = rotation_problem("the frame", j.frame_world); !p.empty()) return p;
+  if (j.type == JointType::kHinge &&
+      (!j.hinge_axis.allFinite() || std::abs(j.hinge_axis.squaredNorm() - 1.0) > 1e-9)) {
+    return "the hinge axis is not a unit vector";
+  }
+  return {};
+}
+
+std::string gravity_problem(const Vector3d& gravity) {
+  return vector_problem("gravity", gravity, kMaxGravity);
+}
+
+std::string norm_problem(const Eigen::Ref<const Eigen::VectorXd>& v) {
+  if (!v.allFinite()) return "is not finite";
+  // stableNorm: [1e200, 0, 0, 0] has a norm, although its squared norm overflows
+  const double n = v.stableNorm();
+  if (!within(n, kMinNorm, kMaxNorm)) {
+    return "has a norm of " + number(n) + " (from " + number(kMinNorm) + " to " + number(kMaxNorm) +
+           ")";
+  }
+  return {};
+}
+
+}  // namespace puppet::detail
