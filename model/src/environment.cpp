@@ -45,11 +45,12 @@ double submerged_fraction(const Segment& segment, const Environment& environment
 }
 
 EnvironmentForce environment_force(const Segment& segment, const Environment& environment,
-                                   const BodyState& body) {
+                                   const BodyState& body, double h) {
   EnvironmentForce out;
   const double f = submerged_fraction(segment, environment, body);
-  // air drag −c·m·v and −c·I·ω; in water, drag −k·f·m·v and −k·f·I·ω by the same reading
-  out.drag = environment.air_drag + (f > 0.0 ? environment.water_drag * f : 0.0);
+  // air drag −c·m·v and −c·I·ω; in water, drag −k·f·m·v and −k·f·I·ω by the same reading; each
+  // as the rate that decays the velocity exactly over the step
+  out.drag = step_drag_rate(environment.air_drag + (f > 0.0 ? environment.water_drag * f : 0.0), h);
   out.force = segment.mass * environment.gravity - out.drag * segment.mass * body.v;
   if (f > 0.0) {
     // buoyancy ρ·V·f·|g| against gravity
@@ -67,8 +68,8 @@ Wrench pin_spring_wrench(const Pin& pin, const BodyState& body) {
 }
 
 Wrench environment_wrench(const Segment& segment, const Environment& environment,
-                          const BodyState& body) {
-  const EnvironmentForce linear = environment_force(segment, environment, body);
+                          const BodyState& body, double h) {
+  const EnvironmentForce linear = environment_force(segment, environment, body, h);
   Wrench wrench;
   wrench.force = linear.force;
   if (linear.drag != 0.0) {

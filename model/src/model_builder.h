@@ -16,7 +16,7 @@ namespace puppet::detail {
 inline constexpr double kMinLength = 1e-4, kMaxLength = 1e3;      // shape sizes (m)
 inline constexpr double kMinMass = 1e-6, kMaxMass = 1e6;          // kg
 inline constexpr double kMinInertia = 1e-16, kMaxInertia = 1e13;  // principal moments (kg m²)
-inline constexpr double kMaxCoordinate = 1e4;                     // positions, anchors (m)
+inline constexpr double kMaxCoordinate = 1e5;                     // positions, anchors (m)
 inline constexpr double kMaxGravity = 1e3;                        // each component (m/s²)
 inline constexpr double kMinNorm = 1e-9, kMaxNorm = 1e9;          // quaternions and axes as given
 inline constexpr size_t kMaxNameLength = 64;                      // bytes

@@ -240,6 +240,45 @@ detail::RawJoint read_joint(const Element& e) {
   return raw;
 }
 
+// A duplicate key is refused: JSON leaves it open, nlohmann keeps the last value silently. A
+// SAX pass of its own (linear: the callback parser rescans an array at each object's end),
+// before the document is built; syntax errors are left to the parse that builds it.
+void refuse_duplicate_keys(const std::string& text, const std::string& source) {
+  struct Keys : nlohmann::json_sax<json> {
+    std::vector<std::set<std::string>> open;  // the keys of each object being read
+    const std::string* source = nullptr;
+    bool null() override { return true; }
+    bool boolean(bool) override { return true; }
+    bool number_integer(number_integer_t) override { return true; }
+    bool number_unsigned(number_unsigned_t) override { return true; }
+    bool number_float(number_float_t, const string_t&) override { return true; }
+    bool string(string_t&) override { return true; }
+    bool binary(binary_t&) override { return true; }
+    bool start_object(std::size_t) override {
+      open.emplace_back();
+      return true;
+    }
+    bool key(string_t& key) override {
+      if (!open.back().insert(key).second) {
+        throw ModelError(*source + ": malformed JSON: the key " + detail::shown(key) +
+                         " appears twice in one object");
+      }
+      return true;
+    }
+    bool end_object() override {
+      open.pop_back();
+      return true;
+    }
+    bool start_array(std::size_t) override { return true; }
+    bool end_array() override { return true; }
+    bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
+      return false;
+    }
+  } keys;
+  keys.source = &source;
+  json::sax_parse(text, &keys);
+}
+
 Model build(const json& root_json, const std::string& source) {
   Element root(root_json, source, "model");
   root.require_object();
@@ -458,25 +497,9 @@ Model parse_model(const std::string& json_text, const std::string& source) {
                      " (a model file is text)");
   }
   json document;
-  // a duplicate key is refused: JSON leaves it open, nlohmann keeps the last value silently
-  std::vector<std::set<std::string>> keys;  // of each object being parsed
-  const json::parser_callback_t refuse_duplicates = [&](int, json::parse_event_t event,
-                                                        json& parsed) {
-    if (event == json::parse_event_t::object_start) {
-      keys.emplace_back();
-    } else if (event == json::parse_event_t::object_end) {
-      keys.pop_back();
-    } else if (event == json::parse_event_t::key) {
-      const std::string& key = parsed.get_ref<const std::string&>();
-      if (!keys.back().insert(key).second) {
-        throw ModelError(source + ": malformed JSON: the key " + detail::shown(key) +
-                         " appears twice in one object");
-      }
-    }
-    return true;
-  };
   try {
-    document = json::parse(json_text, refuse_duplicates);
+    refuse_duplicate_keys(json_text, source);
+    document = json::parse(json_text);
   } catch (const json::exception& error) {
     // nlohmann's message begins "[json.exception.parse_error.101] parse error at line…"
     std::string what = error.what();

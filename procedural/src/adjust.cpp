@@ -285,7 +285,7 @@ void adjust(const Model& model, const Settings& settings, const Environment& env
         (targets[i] - world_point(state.bodies[pin.segment], pin.local_point)).norm();
     state.pin_force[i] = 2.0 * model.segments[pin.segment].mass * gap / (h * h);
   }
-  const AnchorOrder& order = tables.orders[anchor];
+  const AnchorOrder& order = anchor_order(model, tables, ws, anchor);
   switch (settings.rule) {
     case Rule::kXpbd:
       // two-sided sweeps only: no one-sided closure

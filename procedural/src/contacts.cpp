@@ -132,8 +132,9 @@ void contacts_after_adjust(const Model& model, const Settings& settings,
       // that hit deepest
       const int lowest = resolve_contacts(model, environment, state);
       if (lowest >= 0) {
-        one_sided_pass(model, tables.joints, settings.rule, tables.orders[lowest],
-                       PinClosure::kNone, targets, state, workspace);
+        one_sided_pass(model, tables.joints, settings.rule,
+                       anchor_order(model, tables, workspace, lowest), PinClosure::kNone, targets,
+                       state, workspace);
       }
       return;
     }

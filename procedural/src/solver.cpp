@@ -67,26 +67,46 @@ Settings rule_defaults(Settings settings) {
   return settings;
 }
 
-AnchorOrder make_anchor_order(const Model& model, int anchor) {
+Incidence make_incidence(const Model& model) {
   const int n = model.segment_count();
-  // adjacency: each joint seen from both of its segments
-  std::vector<std::vector<int>> incident(n);
-  for (int j = 0; j < model.joint_count(); ++j) {
-    incident[model.joints[j].parent].push_back(j);
-    incident[model.joints[j].child].push_back(j);
+  Incidence incidence;
+  incidence.offsets.assign(n + 1, 0);
+  for (const Joint& joint : model.joints) {
+    ++incidence.offsets[joint.parent + 1];
+    ++incidence.offsets[joint.child + 1];
   }
-  AnchorOrder order;
+  for (int s = 0; s < n; ++s) incidence.offsets[s + 1] += incidence.offsets[s];
+  incidence.joints.resize(incidence.offsets[n]);
+  std::vector<int> filled(incidence.offsets.begin(), incidence.offsets.end() - 1);
+  for (int j = 0; j < model.joint_count(); ++j) {
+    incidence.joints[filled[model.joints[j].parent]++] = j;
+    incidence.joints[filled[model.joints[j].child]++] = j;
+  }
+  return incidence;
+}
+
+void AnchorOrderScratch::reserve(int segments) {
+  position.resize(segments);
+  depth.resize(segments);
+  depth_start.resize(segments + 1);
+  stack.reserve(segments);
+}
+
+void fill_anchor_order(const Model& model, const Incidence& incidence, int anchor,
+                       AnchorOrder& order, AnchorOrderScratch& scratch) {
+  const int n = model.segment_count();
   order.anchor = anchor;
-  order.preorder.reserve(n);
+  order.links.clear();
+  order.preorder.clear();
   order.parent_position.assign(n, -1);
-  std::vector<int> position(n, -1);
+  std::vector<int>& position = scratch.position;
+  std::fill(position.begin(), position.end(), -1);
   // depth-first preorder: parents before children, and every subtree a contiguous range
-  struct Frame {
-    int segment, via_joint, from_position;
-  };
-  std::vector<Frame> stack{{anchor, -1, -1}};
+  auto& stack = scratch.stack;
+  stack.clear();
+  stack.push_back({anchor, -1, -1});
   while (!stack.empty()) {
-    const Frame frame = stack.back();
+    const AnchorOrderScratch::Frame frame = stack.back();
     stack.pop_back();
     const int k = static_cast<int>(order.preorder.size());
     position[frame.segment] = k;
@@ -98,22 +118,26 @@ AnchorOrder make_anchor_order(const Model& model, int anchor) {
       order.links.push_back(
           {frame.via_joint, b_is_child ? joint.parent : joint.child, frame.segment, b_is_child});
     }
-    const auto& joints = incident[frame.segment];
-    for (auto it = joints.rbegin(); it != joints.rend(); ++it) {
-      const Joint& joint = model.joints[*it];
+    // the segment's joints in reverse, so that the first one is walked first
+    for (int e = incidence.offsets[frame.segment + 1] - 1; e >= incidence.offsets[frame.segment];
+         --e) {
+      const Joint& joint = model.joints[incidence.joints[e]];
       const int other = joint.parent == frame.segment ? joint.child : joint.parent;
-      if (position[other] < 0) stack.push_back({other, *it, k});
+      if (position[other] < 0) stack.push_back({other, incidence.joints[e], k});
     }
   }
-  // breadth-first: depth by depth, in preorder within a depth
-  std::vector<int> depth(n, 0);
-  for (int k = 1; k < n; ++k) depth[k] = depth[order.parent_position[k]] + 1;
-  const int deepest = n > 0 ? *std::max_element(depth.begin(), depth.end()) : 0;
-  for (int d = 1; d <= deepest; ++d) {
-    for (int k = 1; k < n; ++k) {
-      if (depth[k] == d) order.level_links.push_back(order.links[k - 1]);
-    }
+  // breadth-first: depth by depth, in preorder within a depth (a counting sort, O(n))
+  std::vector<int>& depth = scratch.depth;
+  std::vector<int>& start = scratch.depth_start;
+  std::fill(start.begin(), start.end(), 0);
+  if (n > 0) depth[0] = 0;
+  for (int k = 1; k < n; ++k) {
+    depth[k] = depth[order.parent_position[k]] + 1;
+    ++start[depth[k]];
   }
+  for (int d = 1; d <= n; ++d) start[d] += start[d - 1];  // start[d]: links of depth ≤ d
+  order.level_links.resize(order.links.size());
+  for (int k = n - 1; k > 0; --k) order.level_links[--start[depth[k]]] = order.links[k - 1];
   // subtree ends, from the back: a subtree ends where its last descendant's does
   order.subtree_end.resize(n);
   for (int k = 0; k < n; ++k) order.subtree_end[k] = k + 1;
@@ -121,7 +145,27 @@ AnchorOrder make_anchor_order(const Model& model, int anchor) {
     const int p = order.parent_position[k];
     order.subtree_end[p] = std::max(order.subtree_end[p], order.subtree_end[k]);
   }
+}
+
+AnchorOrder make_anchor_order(const Model& model, int anchor) {
+  AnchorOrder order;
+  AnchorOrderScratch scratch;
+  scratch.reserve(model.segment_count());
+  fill_anchor_order(model, make_incidence(model), anchor, order, scratch);
   return order;
+}
+
+const AnchorOrder& anchor_order(const Model& model, const ModelTables& tables, Workspace& ws,
+                                int anchor) {
+  if (!tables.orders.empty()) return tables.orders[anchor];
+  for (int slot = 0; slot < 2; ++slot) {
+    if (ws.order_anchor[slot] == anchor) return ws.orders[slot];
+  }
+  const int slot = ws.order_next;
+  ws.order_next = 1 - slot;
+  fill_anchor_order(model, tables.incidence, anchor, ws.orders[slot], ws.order_scratch);
+  ws.order_anchor[slot] = anchor;
+  return ws.orders[slot];
 }
 
 namespace {
@@ -150,9 +194,14 @@ JointTerms make_joint_terms(const Model& model, const Joint& joint) {
 
 std::shared_ptr<const ModelTables> make_model_tables(const Model& model) {
   auto tables = std::make_shared<ModelTables>();
-  tables->orders.reserve(model.segment_count());
-  for (int anchor = 0; anchor < model.segment_count(); ++anchor) {
-    tables->orders.push_back(make_anchor_order(model, anchor));
+  tables->incidence = make_incidence(model);
+  if (model.segment_count() <= kKeptOrderSegments) {
+    AnchorOrderScratch scratch;
+    scratch.reserve(model.segment_count());
+    tables->orders.resize(model.segment_count());
+    for (int anchor = 0; anchor < model.segment_count(); ++anchor) {
+      fill_anchor_order(model, tables->incidence, anchor, tables->orders[anchor], scratch);
+    }
   }
   tables->joints.reserve(model.joint_count());
   for (const Joint& joint : model.joints) tables->joints.push_back(make_joint_terms(model, joint));
@@ -188,9 +237,20 @@ Solver::Solver(const Model& model, const Settings& settings, const Environment& 
   workspace_.tree_loop_factor = Eigen::PartialPivLU<LoopMatrix>(kMaxLoopRows);
   // a pin or a contact may anchor the pass at any segment: every order is there before step()
   if (!tables_) tables_ = make_model_tables(model);
-  if (static_cast<int>(tables_->orders.size()) != n ||
-      static_cast<int>(tables_->joints.size()) != model.joint_count()) {
+  const bool kept = !tables_->orders.empty();
+  if ((kept && static_cast<int>(tables_->orders.size()) != n) ||
+      static_cast<int>(tables_->joints.size()) != model.joint_count() ||
+      static_cast<int>(tables_->incidence.offsets.size()) != n + 1) {
     throw std::invalid_argument("model tables of another model");
+  }
+  if (!kept) {
+    // the workspace's orders hold any anchor's without allocating in a step
+    workspace_.order_scratch.reserve(n);
+    for (int slot = 0; slot < 2; ++slot) {
+      fill_anchor_order(model, tables_->incidence, 0, workspace_.orders[slot],
+                        workspace_.order_scratch);
+      workspace_.order_anchor[slot] = 0;
+    }
   }
   reset(rest_pose(model));
 }
@@ -321,8 +381,10 @@ void Solver::prefetch() const {
   prefetch_range(state_.user_torque);
   prefetch_range(workspace_.tremble_delta);
   const int anchor = state_.pin_count > 0 ? state_.pins[0].segment : 0;
-  prefetch_range(tables_->orders[anchor].links);
-  prefetch_range(tables_->orders[anchor].level_links);
+  if (!tables_->orders.empty()) {
+    prefetch_range(tables_->orders[anchor].links);
+    prefetch_range(tables_->orders[anchor].level_links);
+  }
 }
 
 void Solver::check_finite() {

@@ -44,7 +44,7 @@ void update(const Model& model, const Environment& environment, State& state, do
     state.x_prev[i] = body.x;
     state.q_prev[i] = body.q;
 
-    const EnvironmentForce environment_part = environment_force(segment, environment, body);
+    const EnvironmentForce environment_part = environment_force(segment, environment, body, h);
     Vector3d force = environment_part.force + state.user_force[i];
     if (environment.ground) {
       double low = 0.0, high = 0.0;
@@ -57,8 +57,8 @@ void update(const Model& model, const Environment& environment, State& state, do
     body.x += h * body.v;
 
     // angular, in the body frame: the drag torque −c·I·ω is the angular acceleration −c·ω there
-    // (no inertia, no rotation to world and back), then the user's torque impulse, then the
-    // implicit gyroscopic step
+    // (no inertia, no rotation to world and back; 1 − h·rate is e^(−c·h), step_drag_rate), then
+    // the user's torque impulse, then the implicit gyroscopic step
     Vector3d w_body = body.q.conjugate() * body.w;
     if (environment_part.drag != 0.0) w_body *= 1.0 - h * environment_part.drag;
     const Vector3d& torque = state.user_torque[i];

@@ -366,7 +366,7 @@ class MujocoSolver final : public Solver {
   void apply_wrenches() {
     for (int s = 0; s < model_.segment_count(); ++s) {
       const BodyState body = body_state(s);
-      const Wrench w = springs_.wrench(model_.segments[s], environment_, s, body);
+      const Wrench w = springs_.wrench(model_.segments[s], environment_, s, body, m_->opt.timestep);
       mjtNum* out = d_->xfrc_applied + 6 * body_of_[s];
       std::copy_n(w.force.data(), 3, out);
       std::copy_n(w.torque.data(), 3, out + 3);

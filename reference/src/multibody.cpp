@@ -293,7 +293,7 @@ void MultibodySolver::step(double dt) {
   // solver; world frame, at each COM
   read_state(bodies_);
   for (int s = 0; s < model_.segment_count(); ++s) {
-    const Wrench w = springs_.wrench(model_.segments[s], environment_, s, bodies_[s]);
+    const Wrench w = springs_.wrench(model_.segments[s], environment_, s, bodies_[s], dt);
     if (s == 0) {
       body_->addBaseForce(to_bt(w.force));
       body_->addBaseTorque(to_bt(w.torque));

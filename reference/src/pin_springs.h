@@ -33,10 +33,11 @@ struct PinSprings {
     springs[-1 - slots[k]].target = target;
     return -1;
   }
-  // the environment's wrench on a segment plus its springs' pull (world, at the COM)
+  // the environment's wrench on a segment over a step of length h plus its springs' pull (world,
+  // at the COM)
   Wrench wrench(const Segment& segment, const Environment& environment, int index,
-                const BodyState& body) const {
-    Wrench w = environment_wrench(segment, environment, body);
+                const BodyState& body, double h) const {
+    Wrench w = environment_wrench(segment, environment, body, h);
     for (const Pin& spring : springs) {
       if (spring.segment != index) continue;
       const Wrench pull = pin_spring_wrench(spring, body);

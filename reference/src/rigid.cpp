@@ -202,7 +202,7 @@ void RigidSolver::step(double dt) {
   if (diverged_) return;
   read_state(states_);
   for (int s = 0; s < model_.segment_count(); ++s) {
-    const Wrench w = springs_.wrench(model_.segments[s], environment_, s, states_[s]);
+    const Wrench w = springs_.wrench(model_.segments[s], environment_, s, states_[s], dt);
     bodies_[s]->applyCentralForce(to_bt(w.force));
     bodies_[s]->applyTorque(to_bt(w.torque));
   }

@@ -84,6 +84,26 @@ TEST(Allocation, NoneInsideAStep) {
   EXPECT_GT(g_allocations.load(), 0);  // the counter counts
 }
 
+// a model too large to keep every anchor's order (kKeptOrderSegments): its solver fills orders
+// into its workspace as the contacts and the pin move the anchor, without allocating either
+TEST(Allocation, NoneInsideAStepOfALargeModel) {
+  const Model model = make_chain(kKeptOrderSegments + 40);
+  const compare::Scenario scenario = compare::make_scenario("drop", model);
+  for (Rule rule : kAllRules) {
+    Settings settings;
+    settings.rule = rule;
+    Solver solver(model, settings, scenario.environment);
+    solver.reset(scenario.initial);
+    solver.set_pins(scenario.initial_pins());
+    const long during =
+        allocations_while_stepping(scenario, 40, [&](const std::vector<Vector3d>& targets) {
+          solver.set_pin_targets(targets);
+          solver.step(1.0 / 60.0);
+        });
+    EXPECT_EQ(during, 0) << rule_name(rule);
+  }
+}
+
 TEST(Allocation, NoneInsideACrowdStep) {
   const Model model = load_model(kPinocchio);
   const compare::Scenario scenario = compare::make_scenario("drag", model);

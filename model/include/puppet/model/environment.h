@@ -2,6 +2,7 @@
 // (shared/DESIGN.md, "Environment"), so that differences between solvers are the solvers'.
 #pragma once
 
+#include <cmath>
 #include <span>
 #include <vector>
 
@@ -73,16 +74,24 @@ void vertical_extent(const Segment& segment, const Quaterniond& q, const Vector3
 // (smooth, unlike a switch at the centre, which makes results depend on dt)
 double submerged_fraction(const Segment& segment, const Environment& environment,
                           const BodyState& body);
-// the environment's force on one segment, and the drag rate c (1/s) of its torque −c·I·ω
+// The rate that, applied as the force −rate·m·v over a step of length h, decays v by exactly
+// e^(−c·h), as the drag dv/dt = −c·v does: (1 − e^(−c·h))/h, which is c as h → 0 and at most 1/h.
+// An explicit −c·m·v would overshoot zero for c·h > 1 and grow without bound for c·h > 2.
+inline double step_drag_rate(double c, double h) {
+  return h > 0.0 && c != 0.0 ? -std::expm1(-c * h) / h : c;
+}
+// the environment's force on one segment over a step of length h, and the drag rate of its
+// torque −rate·I·ω (both step_drag_rate of c)
 struct EnvironmentForce {
-  Vector3d force{0, 0, 0};  // at the COM: gravity, buoyancy, drag −c·m·v
-  double drag = 0.0;        // c: air drag, plus water drag × submerged fraction
+  Vector3d force{0, 0, 0};  // at the COM: gravity, buoyancy, drag −rate·m·v
+  double drag = 0.0;        // step_drag_rate of c: air drag plus water drag × submerged fraction
 };
 EnvironmentForce environment_force(const Segment& segment, const Environment& environment,
-                                   const BodyState& body);
-// gravity, air drag, buoyancy and water drag on one segment (no contact forces)
+                                   const BodyState& body, double h);
+// gravity, air drag, buoyancy and water drag on one segment over a step of length h (no contact
+// forces)
 Wrench environment_wrench(const Segment& segment, const Environment& environment,
-                          const BodyState& body);
+                          const BodyState& body, double h);
 
 // A compliant pin (C > 0) as a zero-length spring of stiffness 1/C between its point and its
 // target: the force (target − p)/C at the point, as a wrench at the COM (world). The Bullet

@@ -105,6 +105,25 @@ struct AnchorOrder {
   // pass of single segments gives bit for bit the same result in any parent-first order.
   std::vector<AnchorOrder::Link> level_links;
 };
+// the joints at each segment, both ways (compressed rows: joints[offsets[s] .. offsets[s + 1]))
+struct Incidence {
+  std::vector<int> offsets;
+  std::vector<int> joints;
+};
+Incidence make_incidence(const Model& model);
+// scratch of fill_anchor_order, sized by the model: filling allocates nothing once reserved
+struct AnchorOrderScratch {
+  std::vector<int> position, depth, depth_start;
+  struct Frame {
+    int segment, via_joint, from_position;
+  };
+  std::vector<Frame> stack;
+  void reserve(int segments);
+};
+// the order from `anchor` into `order` in O(n), reusing its storage (no allocation when `order`
+// has held an order of this model and `scratch` is reserved for it)
+void fill_anchor_order(const Model& model, const Incidence& incidence, int anchor,
+                       AnchorOrder& order, AnchorOrderScratch& scratch);
 AnchorOrder make_anchor_order(const Model& model, int anchor);
 
 // What the corrections read of one joint. A segment's inertia is diagonal and constant in its own
@@ -130,9 +149,14 @@ struct JointTerms {
 
 // Everything the solver reads that depends on the model alone, built once. Solvers of one model
 // (a crowd's puppets) share one table instead of each holding a copy.
+// Every anchor's order is kept for models of up to kKeptOrderSegments segments (O(n²) memory:
+// 0.9 MB for 128); a larger model keeps none, and each solver fills the orders it needs into its
+// workspace when its anchor changes (O(n) each, see anchor_order()).
+inline constexpr int kKeptOrderSegments = 128;
 struct ModelTables {
-  std::vector<AnchorOrder> orders;  // by anchor segment, every one
+  std::vector<AnchorOrder> orders;  // by anchor segment: every one, or none for a large model
   std::vector<JointTerms> joints;   // by joint
+  Incidence incidence;
 };
 std::shared_ptr<const ModelTables> make_model_tables(const Model& model);
 
@@ -193,7 +217,17 @@ struct Workspace {
   std::vector<Vector6d> tree_columns;  // kMaxLoopRows × tree_nodes.size()
   std::array<TreeLoop, kMaxPins - 1> tree_loops{};
   Eigen::PartialPivLU<LoopMatrix> tree_loop_factor;
+  // a large model's anchor orders (ModelTables keeps none): the last two anchors asked for (a
+  // pin's and a contact's), filled in place
+  std::array<AnchorOrder, 2> orders;
+  std::array<int, 2> order_anchor{-1, -1};
+  int order_next = 0;
+  AnchorOrderScratch order_scratch;
 };
+// the order from `anchor`: the tables' when they keep every one, else the workspace's, filled
+// now if it does not hold it (O(n), no allocation)
+const AnchorOrder& anchor_order(const Model& model, const ModelTables& tables, Workspace& ws,
+                                int anchor);
 
 class Solver {
  public:
