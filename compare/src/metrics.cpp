@@ -92,7 +92,8 @@ double peak_speed(std::span<const BodyState> b) {
 
 double energy_reference(const Model& model, const Environment& environment,
                         std::span<const BodyState> initial) {
-  return model.total_mass * environment.gravity.norm() * model.rest_height +
+  return model.total_mass * std::max(environment.gravity.norm(), kStandardGravity) *
+             model.rest_height +
          kinetic_energy(model, initial);
 }
 
@@ -120,12 +121,13 @@ MetricsProbe::MetricsProbe(const Model& model, const Environment& environment,
     : model_(model),
       environment_(environment),
       pins_(pins.begin(), pins.end()),
-      energy0_(mechanical_energy(model, environment, initial)),
+      kinetic0_(kinetic_energy(model, initial)),
       energy_ref_(energy_reference(model, environment, initial)),
       momentum0_(linear_momentum(model, initial)),
       angular0_(angular_momentum(model, initial)),
       joint_buffer_(model.joint_count()),
       pin_buffer_(pins.size()) {
+  for (const BodyState& b : initial) initial_x_.push_back(b.x);
   // M·v_rms(0), v_rms² = Σ m v² / M
   double mv2 = 0.0;
   for (int i = 0; i < model.segment_count(); ++i) {
@@ -153,7 +155,12 @@ StepMetrics MetricsProbe::measure(double t, std::span<const BodyState> bodies,
   for (double g : pin_buffer_) m.pin_gap_max = std::max(m.pin_gap_max, g);
   limit_violations_deg(model_, bodies, joint_buffer_);
   for (double v : joint_buffer_) m.limit_violation_max_deg = std::max(m.limit_violation_max_deg, v);
-  m.energy_drift = (mechanical_energy(model_, environment_, bodies) - energy0_) / energy_ref_;
+  double potential_change = 0.0;
+  for (int i = 0; i < model_.segment_count(); ++i) {
+    potential_change -=
+        model_.segments[i].mass * environment_.gravity.dot(bodies[i].x - initial_x_[i]);
+  }
+  m.energy_drift = (kinetic_energy(model_, bodies) - kinetic0_ + potential_change) / energy_ref_;
   if (momentum_scale_ > 0.0) {
     m.linear_momentum_drift =
         (linear_momentum(model_, bodies) - momentum0_).norm() / momentum_scale_;

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 #include "puppet/model/rotation.h"
 
 namespace puppet::compare {
@@ -108,6 +111,57 @@ TEST(Metrics, PenetrationOfASunkBody) {
   auto bodies = rest_pose(model);
   for (auto& b : bodies) b.x.z() -= 0.02;  // the feet's lowest point was 1 cm up
   EXPECT_NEAR(ground_penetration(model, bodies), 0.01, 1e-12);
+}
+
+// the energy scale comes from the model's mass and height, never zero: weightless and at rest,
+// a small motion is a small drift (it was 0/0 or x/0, and every pinned run diverged at once)
+TEST(Metrics, EnergyDriftIsFiniteWithoutGravity) {
+  const Model model = load_model(kPinocchio);
+  Environment weightless;
+  weightless.gravity = Vector3d::Zero();
+  const auto bodies = rest_pose(model);
+  EXPECT_NEAR(energy_reference(model, weightless, bodies),
+              model.total_mass * kStandardGravity * model.rest_height, 1e-9);
+  MetricsProbe probe(model, weightless, {}, bodies);
+  auto moved = bodies;
+  moved[0].v = {0.1, 0, 0};
+  const StepMetrics m = probe.measure(0.1, moved, {});
+  const double expected = 0.5 * model.segments[0].mass * 0.01 /
+                          (model.total_mass * kStandardGravity * model.rest_height);
+  EXPECT_NEAR(m.energy_drift, expected, 1e-12);
+  EXPECT_EQ(divergence_reason(m), nullptr);
+}
+
+// the drift does not depend on where the model is: 10 km up, the same fall gives the same drift
+TEST(Metrics, EnergyDriftIgnoresAnOffset) {
+  const Model model = load_model(kPinocchio);
+  const Environment environment;
+  auto drift_of = [&](double offset) {
+    auto bodies = rest_pose(model);
+    for (BodyState& b : bodies) b.x.z() += offset;
+    MetricsProbe probe(model, environment, {}, bodies);
+    for (BodyState& b : bodies) {
+      b.x.z() -= 0.01;
+      b.v.z() = -0.3;
+    }
+    return probe.measure(0.1, bodies, {}).energy_drift;
+  };
+  EXPECT_NEAR(drift_of(1e4), drift_of(0.0), 1e-12);
+}
+
+// a metric that is not a number is never ok, whatever the state looks like
+TEST(Metrics, ANonFiniteMetricIsDiverged) {
+  for (double StepMetrics::*field :
+       {&StepMetrics::joint_gap_max, &StepMetrics::pin_gap_max, &StepMetrics::energy_drift,
+        &StepMetrics::angular_momentum_drift, &StepMetrics::peak_speed}) {
+    StepMetrics m;
+    EXPECT_EQ(divergence_reason(m), nullptr);
+    m.*field = std::numeric_limits<double>::quiet_NaN();
+    ASSERT_NE(divergence_reason(m), nullptr);
+    EXPECT_STREQ(divergence_reason(m), "non-finite metric");
+    m.*field = -INFINITY;
+    EXPECT_STREQ(divergence_reason(m), "non-finite metric");
+  }
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 // solver-specific code.
 #pragma once
 
+#include <cmath>
+
 #include <span>
 #include <string>
 #include <vector>
@@ -33,7 +35,10 @@ double ground_penetration(const Model& model, std::span<const BodyState> bodies)
 // fastest segment's COM speed (m/s)
 double peak_speed(std::span<const BodyState> bodies);
 
-// the scale energy drift is measured against: E_ref = M·|g|·H + KE(0)
+// the scale energy drift is measured against, from the model's own mass M and rest height H:
+// E_ref = M·max(|g|, g₀)·H + KE(0), g₀ = 9.81 m/s², so that it is never zero (weightless, at
+// rest) and does not depend on where the model is
+inline constexpr double kStandardGravity = 9.81;
 double energy_reference(const Model& model, const Environment& environment,
                         std::span<const BodyState> initial);
 
@@ -65,6 +70,11 @@ constexpr double kDivergedEnergyDrift = 10;  // × E_ref
 // why a state counts as diverged, or nullptr when it does not
 inline const char* divergence_reason(const StepMetrics& m) {
   if (!m.finite) return "non-finite";
+  // a metric that is not a number (an overflow, 0/0) is never a state that is ok
+  const double sum = m.joint_gap_max + m.joint_gap_rms + m.pin_gap_max + m.limit_violation_max_deg +
+                     m.energy_drift + m.linear_momentum_drift + m.angular_momentum_drift +
+                     m.penetration + m.peak_speed;
+  if (!std::isfinite(sum)) return "non-finite metric";
   if (m.joint_gap_max > kDivergedJointGap) return "joint gap";
   if (m.energy_drift > kDivergedEnergyDrift) return "energy";
   return nullptr;
@@ -91,7 +101,10 @@ class MetricsProbe {
   const Model& model_;
   Environment environment_;
   std::vector<Pin> pins_;
-  double energy0_, energy_ref_;
+  // energy drift as ΔKE + ΔPE from the initial state, so that no offset of the model costs
+  // precision: ΔPE = −Σ m g·(x − x(0))
+  double kinetic0_, energy_ref_;
+  std::vector<Vector3d> initial_x_;
   Vector3d momentum0_, angular0_;
   double momentum_scale_;
   std::vector<double> joint_buffer_, pin_buffer_;
