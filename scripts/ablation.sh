@@ -39,7 +39,7 @@ for config in "${configs[@]}"; do
   manifest+=$'\n'"\"$name\",\"$label\",\"$flags\""
   echo "ablation: $name"
 done
-# the yank frontier with the compliant grab, beside the hard one in results/frontier.csv
+# the yank frontier with the compliant grab, beside the hard one in results/frontier/frontier.csv
 "$testbed" frontier --model pinocchio --solver procedural,bullet-multibody,bullet-rigid \
   --rule relaxed,xpbd,tree --grab-compliance 1e-4 --out "$folder/frontier-compliant" >/dev/null
 echo "ablation: frontier-compliant"

@@ -10,8 +10,8 @@ cd "$(dirname "$0")/.."
 scripts/setup.sh
 cmake --preset release >/dev/null
 cmake --build --preset release
-./build/release/testbed run --model pinocchio --out results "$@"
-./build/release/testbed frontier --model pinocchio --out results
+./build/release/testbed run --model pinocchio --out results/main "$@"
+./build/release/testbed frontier --model pinocchio --out results/frontier
 ./build/release/testbed run --model models/pinocchio-open-limits.json --dt 1/240 --no-timing \
   --sample-hz 1 --out results/truths-open-limits
 ./build/release/testbed run --model models/humanoid.xml --dt 1/240 --no-timing --sample-hz 1 \

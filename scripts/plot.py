@@ -3,8 +3,9 @@
 
     scripts/plot.py [RESULTS]            (default: results/)
 
-reads RESULTS/summary.csv, RESULTS/frontier.csv (optional) and RESULTS/traces/*.csv and writes
-RESULTS/plots/*.png and RESULTS/REPORT.md. It runs on the distribution's python3 and
+reads RESULTS/main/summary.csv and RESULTS/main/traces/*.csv (testbed run --out RESULTS/main),
+RESULTS/frontier/frontier.csv (testbed frontier, optional) and the optional folders beside them
+(truths-open-limits, humanoid, ablation), and writes RESULTS/plots/*.png and RESULTS/REPORT.md. It runs on the distribution's python3 and
 python3-matplotlib (hence /usr/bin/python3, not whatever python3 comes first on PATH).
 """
 
@@ -17,6 +18,10 @@ from collections import defaultdict
 from datetime import datetime, timezone
 
 import matplotlib
+
+# the testbed's folders under RESULTS (each command replaces its own folder whole)
+MAIN = "main"  # testbed run: summary.csv and traces/
+FRONTIER = "frontier"  # testbed frontier: frontier.csv
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -154,7 +159,7 @@ def read_frontier(path):
 def read_trace(folder, model, scenario, config, dt):
     solver, rule = config
     name = f"{model}__{scenario}__{solver}__{rule or '-'}__{dt:.9g}.csv"
-    path = os.path.join(folder, "traces", name)
+    path = os.path.join(folder, MAIN, "traces", name)
     if not os.path.exists(path):
         return None
     t, gap = [], []
@@ -457,8 +462,8 @@ def report(s, frontier, plots, folder):
     check_dt = s.truth_check_dt()
     now = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     out = ["# Report: the procedural solver against Bullet and MuJoCo", ""]
-    out += [f"Generated {now} by `scripts/plot.py` from `summary.csv`"
-            f"{' and `frontier.csv`' if frontier else ''} (commit `{s.git_sha}`, "
+    out += [f"Generated {now} by `scripts/plot.py` from `{MAIN}/summary.csv`"
+            f"{f' and `{FRONTIER}/frontier.csv`' if frontier else ''} (commit `{s.git_sha}`, "
             f"model `{s.model}`, machine: {s.machine}). Every number below is read from those "
             "files; `testbed run` and `testbed frontier` regenerate them.", ""]
     out += ["## What was run", "",
@@ -828,7 +833,7 @@ def ablation_section(folder, frontier):
             key = (r["solver"], r["rule"])
             rows.append([label(key)] + [largest(f, *key, q) for q in ("hz", "dt")
                                         for f in (frontier, soft_frontier)])
-        out += ["The yank frontier with the hard grab (`frontier.csv`) and the compliant one "
+        out += [f"The yank frontier with the hard grab (`{FRONTIER}/frontier.csv`) and the compliant one "
                 "(`ablation/frontier-compliant/frontier.csv`).", "",
                 md_table(["solver", "largest Hz, hard", "largest Hz, compliant", "largest dt, hard",
                           "largest dt, compliant"], rows), ""]
@@ -949,13 +954,13 @@ def main(argv):
         print(__doc__.strip(), file=sys.stderr)
         return 2
     folder = argv[1] if len(argv) == 2 else "results"
-    summary_path = os.path.join(folder, "summary.csv")
+    summary_path = os.path.join(folder, MAIN, "summary.csv")
     if not os.path.exists(summary_path):
         print(f"plot.py: {summary_path}: not found (run testbed run first)", file=sys.stderr)
         return 2
     try:
         s = Summary(summary_path)
-        frontier = read_frontier(os.path.join(folder, "frontier.csv"))
+        frontier = read_frontier(os.path.join(folder, FRONTIER, "frontier.csv"))
     except (ReportError, ValueError, KeyError) as error:
         print(f"plot.py: {error}", file=sys.stderr)
         return 2

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "puppet/compare/cancel.h"
 #include "puppet/compare/metrics.h"
 
 namespace puppet::compare {
@@ -19,6 +20,7 @@ void advance(Simulator& simulator, const Model& model, const Scenario& scenario,
   MetricsProbe probe(model, scenario.environment, pins, scenario.initial);
   for (int k = 0; k < sample_count && !out.diverged; ++k) {
     for (int s = 0; s < per_sample; ++s) {
+      throw_if_cancelled();
       const int step = k * per_sample + s + 1;
       scenario.targets_at(t0 + step * dt, targets);
       simulator.set_pin_targets(targets);

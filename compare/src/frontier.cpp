@@ -106,9 +106,10 @@ std::string frontier_csv(const std::vector<FrontierRow>& rows, const OutputConte
   out << kFrontierHeader << '\n';
   auto optional = [](const std::optional<double>& v) { return v ? csv_number(*v) : ""; };
   for (const FrontierRow& r : rows) {
-    out << r.solver << ',' << r.rule << ',' << r.quantity << ',' << r.unit << ','
-        << csv_number(r.held) << ',' << optional(r.largest_ok) << ',' << optional(r.first_diverged)
-        << ',' << (r.largest_ok ? csv_number(r.pin_gap_at_largest_ok) : "") << ',' << r.reason
+    out << csv_field(r.solver) << ',' << csv_field(r.rule) << ',' << csv_field(r.quantity) << ','
+        << csv_field(r.unit) << ',' << csv_number(r.held) << ',' << optional(r.largest_ok) << ','
+        << optional(r.first_diverged) << ','
+        << (r.largest_ok ? csv_number(r.pin_gap_at_largest_ok) : "") << ',' << csv_field(r.reason)
         << ',' << (r.first_diverged ? csv_number(r.diverged_at) : "") << ',' << r.runs << ','
         << csv_field(context.model) << ',' << csv_field(context.git_sha) << ','
         << csv_field(context.machine) << '\n';

@@ -1,9 +1,14 @@
 #include "puppet/compare/output.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -33,11 +38,14 @@ std::string sanitise(const std::string& text) {
 }  // namespace
 
 std::string csv_field(const std::string& text) {
-  std::string out = text;
-  for (char& c : out) {
-    if (c == ',' || c == '"' || c == '\n') c = ' ';
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  // RFC 4180: in double quotes, a quote inside doubled
+  std::string out = "\"";
+  for (const char c : text) {
+    out += c;
+    if (c == '"') out += '"';
   }
-  return out;
+  return out + "\"";
 }
 
 std::string format_dt(double dt) { return csv_number(dt); }
@@ -53,11 +61,11 @@ std::string summary_csv(const std::vector<RunResult>& results, const OutputConte
   for (const RunResult& r : results) {
     const char* status = r.diverged ? "diverged" : "ok";
     for (const SummaryRow& row : r.summary) {
-      out << r.scenario << ',' << r.solver << ',' << r.rule << ',' << format_dt(r.dt) << ','
-          << r.substeps << ',' << row.metric << ',' << row.stat << ',' << csv_number(row.value)
-          << ',' << row.unit << ',' << csv_field(context.model) << ',' << row.reference << ','
-          << status << ',' << csv_field(context.git_sha) << ',' << csv_field(context.machine)
-          << '\n';
+      out << csv_field(r.scenario) << ',' << csv_field(r.solver) << ',' << csv_field(r.rule) << ','
+          << format_dt(r.dt) << ',' << r.substeps << ',' << csv_field(row.metric) << ','
+          << csv_field(row.stat) << ',' << csv_number(row.value) << ',' << csv_field(row.unit)
+          << ',' << csv_field(context.model) << ',' << csv_field(row.reference) << ',' << status
+          << ',' << csv_field(context.git_sha) << ',' << csv_field(context.machine) << '\n';
     }
   }
   return out.str();
@@ -88,24 +96,29 @@ std::string poses_csv(const Model& model, const RunResult& r) {
   out << "t,segment,x,y,z,qw,qx,qy,qz\n";
   for (const PoseSample& p : r.poses) {
     const BodyState& b = p.body;
-    out << csv_number(p.t) << ',' << model.segments[p.segment].name << ',' << csv_number(b.x.x())
-        << ',' << csv_number(b.x.y()) << ',' << csv_number(b.x.z()) << ',' << csv_number(b.q.w())
-        << ',' << csv_number(b.q.x()) << ',' << csv_number(b.q.y()) << ',' << csv_number(b.q.z())
-        << '\n';
+    out << csv_number(p.t) << ',' << csv_field(model.segments[p.segment].name) << ','
+        << csv_number(b.x.x()) << ',' << csv_number(b.x.y()) << ',' << csv_number(b.x.z()) << ','
+        << csv_number(b.q.w()) << ',' << csv_number(b.q.x()) << ',' << csv_number(b.q.y()) << ','
+        << csv_number(b.q.z()) << '\n';
   }
   return out.str();
 }
 
 void write_file_atomically(const std::string& path, const std::string& content) {
-  const std::string temporary = path + ".tmp";
+  // a name of this writer's own: two writers of one path (two threads, two processes) never
+  // share a temporary, and the last rename wins whole
+  static std::atomic<unsigned> counter{0};
+  const std::string temporary =
+      path + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
   {
     std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
     if (!file) throw std::runtime_error(path + ": cannot write");
     file << content;
     file.flush();
     if (!file) {
+      const std::string reason = std::strerror(errno);
       std::remove(temporary.c_str());
-      throw std::runtime_error(path + ": write failed");
+      throw std::runtime_error(path + ": write failed (" + reason + ")");
     }
   }
   std::error_code error;
@@ -137,7 +150,7 @@ std::string machine_description() {
       break;
     }
   }
-  return csv_field(model) + " x" + std::to_string(std::thread::hardware_concurrency());
+  return model + " x" + std::to_string(std::thread::hardware_concurrency());
 }
 
 }  // namespace puppet::compare

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "puppet/compare/cancel.h"
+
 namespace puppet::compare {
 namespace {
 
@@ -101,6 +103,7 @@ RunResult run_scenario(Simulator& simulator, const Model& model, const Scenario&
   if (per_sample) result.trajectory.samples.push_back(bodies);
 
   for (int k = 0; k < steps; ++k) {
+    throw_if_cancelled();
     result.steps = k + 1;
     const double t = (k + 1) * options.dt;
     scenario.targets_at(t, targets);
@@ -137,6 +140,7 @@ void time_scenario(Simulator& simulator, const Model& model, const Scenario& sce
   simulator.set_stage_timing(false);
   simulator.reset(model, scenario);
   for (int k = 0; k < steps && !simulator.diverged(); ++k) {
+    throw_if_cancelled();
     scenario.targets_at((k + 1) * options.dt, targets);
     simulator.set_pin_targets(targets);
     const auto begin = Clock::now();
@@ -158,6 +162,7 @@ void time_scenario(Simulator& simulator, const Model& model, const Scenario& sce
   simulator.set_stage_timing(true);
   simulator.reset(model, scenario);
   for (int k = 0; k < steps && !simulator.diverged(); ++k) {
+    throw_if_cancelled();
     scenario.targets_at((k + 1) * options.dt, targets);
     simulator.set_pin_targets(targets);
     simulator.step(options.dt);

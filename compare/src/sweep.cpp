@@ -32,7 +32,9 @@ SolverOptions second_truth_options() {
   return options;
 }
 
-bool have_second_truth() { return reference::have_mujoco(); }
+bool have_second_truth(const Model& model) {
+  return reference::have_mujoco() && reference::mujoco_model_problem(model).empty();
+}
 
 const std::vector<double>& sweep_dts() {
   static const std::vector<double> dts{1.0 / 30, 1.0 / 60, 1.0 / 120, 1.0 / 240, 1.0 / 480};
@@ -78,7 +80,7 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
   const bool pairwise = truth_config != spec.configs.end();
   const SolverConfig truth_solver{kTruthSolver, pairwise ? truth_config->options : SolverOptions{}};
 
-  const bool second = any_judged && have_second_truth();
+  const bool second = any_judged && have_second_truth(model);
   const SolverConfig second_solver{kSecondTruthSolver, second_truth_options()};
 
   // phases: [truths and their checks] → [the checks' rows, bullet-multibody runs] → [other runs];

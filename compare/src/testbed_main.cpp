@@ -4,6 +4,8 @@
 // with status 2 and one line naming the flag or file and the problem, before anything is written.
 #include <unistd.h>
 
+#include <csignal>
+
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -16,17 +18,21 @@
 #include <sstream>
 #include <thread>
 
+#include "puppet/compare/cancel.h"
 #include "puppet/compare/frontier.h"
 #include "puppet/compare/gate.h"
 #include "puppet/compare/number.h"
 #include "puppet/compare/output.h"
+#include "puppet/compare/output_folder.h"
 #include "puppet/compare/run.h"
 #include "puppet/compare/scenario.h"
 #include "puppet/compare/simulator.h"
 #include "puppet/compare/sweep.h"
 #include "puppet/model/mjcf.h"
 #include "puppet/model/model.h"
+#include "puppet/model/text.h"
 #include "puppet/procedural/solver.h"
+#include "puppet/reference/mujoco.h"
 
 namespace {
 
@@ -34,12 +40,13 @@ using namespace puppet;
 using namespace puppet::compare;
 
 constexpr int kBadInput = 2;
+constexpr size_t kMessageLength = 400;  // an error is one line of at most this many characters
 
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-Vector3d parse_vector(const std::string& flag, const std::string& text) {
+Vector3d parse_vector(const std::string& flag, const std::string& text, double bound) {
   std::vector<double> parts;
   std::stringstream in(text);
   std::string item;
@@ -49,7 +56,15 @@ Vector3d parse_vector(const std::string& flag, const std::string& text) {
     parts.push_back(value);
   }
   if (parts.size() != 3 || std::count(text.begin(), text.end(), ',') != 2) {
-    throw UsageError(flag + ": expected three finite numbers X,Y,Z, got \"" + text + "\"");
+    throw UsageError(flag + ": expected three finite numbers X,Y,Z, got " + shown(text));
+  }
+  for (double part : parts) {
+    if (std::abs(part) > bound) {
+      std::ostringstream message;
+      message << flag << ": " << shown(text) << " has a component beyond " << bound
+              << " in magnitude";
+      throw UsageError(message.str());
+    }
   }
   return {parts[0], parts[1], parts[2]};
 }
@@ -59,24 +74,24 @@ PointChoice parse_point(const std::string& flag, const std::string& text) {
   const auto colon = text.find(':');
   choice.segment = text.substr(0, colon);
   if (choice.segment.empty())
-    throw UsageError(flag + ": expected SEGMENT[:x,y,z], got \"" + text + "\"");
-  if (colon != std::string::npos) choice.local_point = parse_vector(flag, text.substr(colon + 1));
+    throw UsageError(flag + ": expected SEGMENT[:x,y,z], got " + shown(text));
+  // within 100 m of the segment's centre
+  if (colon != std::string::npos) {
+    choice.local_point = parse_vector(flag, text.substr(colon + 1), 100.0);
+  }
   return choice;
 }
 
-double parse_positive(const std::string& flag, const std::string& text) {
+// a number within [lo, hi] (the flag's stated range, docs in --help and the README)
+double parse_in(const std::string& flag, const std::string& text, double lo, double hi,
+                const char* unit = "") {
   double value = 0.0;
-  if (!parse_finite(text, &value))
-    throw UsageError(flag + ": not a finite number: \"" + text + "\"");
-  if (!(value > 0.0)) throw UsageError(flag + ": must be positive, got " + text);
-  return value;
-}
-
-double parse_non_negative(const std::string& flag, const std::string& text) {
-  double value = 0.0;
-  if (!parse_finite(text, &value))
-    throw UsageError(flag + ": not a finite number: \"" + text + "\"");
-  if (value < 0.0) throw UsageError(flag + ": must not be negative, got " + text);
+  if (!parse_finite(text, &value)) throw UsageError(flag + ": not a finite number: " + shown(text));
+  if (!(value >= lo && value <= hi)) {
+    std::ostringstream range;
+    range << flag << ": " << text << " is out of range (from " << lo << " to " << hi << unit << ")";
+    throw UsageError(range.str());
+  }
   return value;
 }
 
@@ -90,12 +105,17 @@ std::vector<std::string> expand(const std::string& flag, const std::string& valu
     if (std::find(all.begin(), all.end(), item) == all.end()) {
       std::string known;
       for (const auto& a : all) known += (known.empty() ? "" : ", ") + a;
-      throw UsageError(flag + ": unknown value \"" + item + "\" (expected all or one of " + known +
-                       ")");
+      throw UsageError(flag + ": unknown value " + shown(item) + " (expected all or one of " +
+                       known + ")");
+    }
+    // a repeat would run twice, write its summary rows twice and overwrite its own trace
+    if (std::find(out.begin(), out.end(), item) != out.end()) {
+      throw UsageError(flag + ": " + shown(item) + " is listed twice");
     }
     out.push_back(item);
   }
-  if (out.empty()) throw UsageError(flag + ": empty");
+  if (out.empty() || value.back() == ',')
+    throw UsageError(flag + ": empty item in " + shown(value));
   return out;
 }
 
@@ -218,41 +238,54 @@ class Progress {
   int last_tenth_ = -1;
 };
 
-int parse_count(const std::string& flag, const std::string& text, int minimum) {
+int parse_count(const std::string& flag, const std::string& text, int minimum, int maximum) {
   double value = 0.0;
-  if (!parse_finite(text, &value) || value < minimum || value != std::floor(value) || value > 1e6) {
-    throw UsageError(flag + ": expected an integer of at least " + std::to_string(minimum) +
-                     ", got \"" + text + "\"");
+  if (!parse_finite(text, &value) || value < minimum || value != std::floor(value) ||
+      value > maximum) {
+    throw UsageError(flag + ": expected an integer from " + std::to_string(minimum) + " to " +
+                     std::to_string(maximum) + ", got " + shown(text));
   }
   return static_cast<int>(value);
 }
+
+// the steps a run may take, from 10 µs to 0.1 s each
+constexpr double kMinDt = 1e-5, kMaxDt = 0.1;
 
 std::vector<double> parse_dts(const std::string& text) {
   std::vector<double> dts;
   std::stringstream in(text);
   std::string item;
-  while (std::getline(in, item, ',')) dts.push_back(parse_positive("--dt", item));
-  if (dts.empty()) throw UsageError("--dt: empty");
+  while (std::getline(in, item, ',')) {
+    const double dt = parse_in("--dt", item, kMinDt, kMaxDt, " s");
+    // two dts that print alike would be one run twice and one trace file
+    for (double other : dts) {
+      if (format_dt(other) == format_dt(dt)) {
+        throw UsageError("--dt: " + shown(item) + " is the step " + format_dt(dt) +
+                         " s, listed already");
+      }
+    }
+    dts.push_back(dt);
+  }
+  if (dts.empty() || text.back() == ',') throw UsageError("--dt: empty item in " + shown(text));
   return dts;
 }
 
 ScenarioOptions parse_scenario_options(const RunFlags& f) {
   ScenarioOptions options;
-  double tilt = 0.0;
-  if (!parse_finite(f.tilt, &tilt))
-    throw UsageError("--tilt: not a finite number: \"" + f.tilt + "\"");
-  options.tilt_deg = tilt;
-  options.hz = parse_positive("--hz", f.hz);
+  options.tilt_deg = parse_in("--tilt", f.tilt, -180.0, 180.0, " deg");
+  options.hz = parse_in("--hz", f.hz, 1e-3, 50.0, " Hz");
   if (!f.pin.empty()) options.pin = parse_point("--pin", f.pin);
   if (!f.grab.empty()) options.grab = parse_point("--grab", f.grab);
   if (!f.grab_compliance.empty()) {
-    options.grab_compliance = parse_non_negative("--grab-compliance", f.grab_compliance);
+    options.grab_compliance = parse_in("--grab-compliance", f.grab_compliance, 0.0, 1e3, " m/N");
   }
-  if (!f.gravity.empty()) options.gravity = parse_vector("--gravity", f.gravity);
-  if (!f.air_drag.empty()) options.air_drag = parse_non_negative("--air-drag", f.air_drag);
+  // the model's own limit on gravity
+  if (!f.gravity.empty()) options.gravity = parse_vector("--gravity", f.gravity, 1e3);
+  // drag decays exactly over a step (step_drag_rate): any rate is stable
+  if (!f.air_drag.empty()) options.air_drag = parse_in("--air-drag", f.air_drag, 0.0, 1e9, " 1/s");
   if (!f.ground.empty()) {
     if (f.ground != "on" && f.ground != "off") {
-      throw UsageError("--ground: expected on or off, got \"" + f.ground + "\"");
+      throw UsageError("--ground: expected on or off, got " + shown(f.ground));
     }
     options.ground = f.ground == "on";
   }
@@ -263,10 +296,10 @@ ScenarioOptions parse_scenario_options(const RunFlags& f) {
 std::vector<SolverConfig> parse_solver_configs(const RunFlags& f) {
   SolverOptions options;
   options.iterations = f.iterations.empty() ? procedural::kRuleDefault
-                                            : parse_count("--iterations", f.iterations, 0);
-  options.substeps =
-      f.substeps.empty() ? procedural::kRuleDefault : parse_count("--substeps", f.substeps, 1);
-  options.bullet_iterations = parse_count("--bullet-iterations", f.bullet_iterations, 1);
+                                            : parse_count("--iterations", f.iterations, 0, 1000);
+  options.substeps = f.substeps.empty() ? procedural::kRuleDefault
+                                        : parse_count("--substeps", f.substeps, 1, 1000);
+  options.bullet_iterations = parse_count("--bullet-iterations", f.bullet_iterations, 1, 1000);
   options.bullet_euler_limits = f.bullet_euler_limits;
   if (f.mujoco_integrator == "euler") {
     options.mujoco_integrator = reference::MujocoIntegrator::kEuler;
@@ -275,8 +308,8 @@ std::vector<SolverConfig> parse_solver_configs(const RunFlags& f) {
   } else if (f.mujoco_integrator == "rk4") {
     options.mujoco_integrator = reference::MujocoIntegrator::kRk4;
   } else {
-    throw UsageError("--mujoco-integrator: expected euler, implicit or rk4, got \"" +
-                     f.mujoco_integrator + "\"");
+    throw UsageError("--mujoco-integrator: expected euler, implicit or rk4, got " +
+                     shown(f.mujoco_integrator));
   }
   options.derive_velocities = !f.no_velocities;
   options.tremble = !f.no_tremble;
@@ -305,16 +338,84 @@ Model parse_model(const RunFlags& f) {
   }
 }
 
-// the output folder (and, with traces, its traces/ folder) must be writable before anything runs
-std::filesystem::path prepare_output(const std::string& folder, bool traces) {
-  namespace fs = std::filesystem;
-  const fs::path out(folder), target = traces ? out / "traces" : out;
-  std::error_code error;
-  fs::create_directories(target, error);
-  const fs::path probe = target / ".write-test";
-  if (error || !std::ofstream(probe)) throw UsageError("--out: cannot write to \"" + folder + "\"");
-  fs::remove(probe, error);
-  return out;
+// What the flags imply, checked before anything runs: every run takes at least one step and at
+// most kMaxSteps (the truths too, at their 1/15360 s), what the sweep holds in memory at once
+// stays under kMaxMemory, and every trace's file name fits a file system's 255 bytes.
+constexpr double kMaxSteps = 1e7;
+constexpr double kMaxMemory = 2.0 * (1u << 30);  // bytes
+
+void check_run_size(const SweepSpec& spec, const Model& model) {
+  const double n = model.segment_count();
+  double longest = 0.0;
+  for (const Scenario& scenario : spec.scenarios) {
+    longest = std::max(longest, spec.run.duration >= 0.0 ? spec.run.duration : scenario.duration);
+  }
+  const double smallest_dt = *std::min_element(spec.dts.begin(), spec.dts.end());
+  const double largest_dt = *std::max_element(spec.dts.begin(), spec.dts.end());
+  const std::string flag = spec.run.duration >= 0.0 ? "--duration" : "--dt";
+  if (std::llround(longest / largest_dt) < 1) {
+    throw UsageError(flag + ": a run of " + format_dt(longest) + " s at dt " +
+                     format_dt(largest_dt) + " s takes no step");
+  }
+  const double steps = longest / smallest_dt;
+  if (steps > kMaxSteps) {
+    std::ostringstream message;
+    message << flag << ": " << format_dt(longest) << " s at dt " << format_dt(smallest_dt)
+            << " s is " << steps << " steps per run (at most " << kMaxSteps << ")";
+    throw UsageError(message.str());
+  }
+  const double truth_steps = longest * 15360.0;
+  if (spec.accuracy && truth_steps > kMaxSteps) {
+    std::ostringstream message;
+    message << "--duration: the truths would take " << truth_steps
+            << " steps of 1/15360 s (at most " << kMaxSteps
+            << "); shorten it or pass --no-accuracy";
+    throw UsageError(message.str());
+  }
+  // in flight per job: the trace, the poses kept and the trajectory for accuracy; held for the
+  // whole sweep: four truth trajectories per scenario and bullet-multibody's at every dt
+  const double samples = longest / kAccuracySampleInterval + 1;
+  const double kept_poses = spec.run.sample_hz > 0.0 ? longest * spec.run.sample_hz + 1 : steps;
+  const double per_job = steps * sizeof(StepMetrics) + kept_poses * n * sizeof(PoseSample) +
+                         samples * n * sizeof(BodyState);
+  const double held = spec.accuracy ? (4.0 + spec.dts.size()) * spec.scenarios.size() * samples *
+                                          n * sizeof(BodyState)
+                                    : 0.0;
+  const double memory = spec.jobs * per_job + held;
+  if (memory > kMaxMemory) {
+    std::ostringstream message;
+    message << "--model, --duration, --sample-hz, --jobs: the sweep would hold "
+            << std::lround(memory / (1 << 20)) << " MiB at once (at most "
+            << std::lround(kMaxMemory / (1 << 20))
+            << "); use a smaller model, a shorter run, fewer poses kept or fewer jobs";
+    throw UsageError(message.str());
+  }
+  for (const Scenario& scenario : spec.scenarios) {
+    for (const SolverConfig& config : spec.configs) {
+      for (double dt : spec.dts) {
+        RunResult r;
+        r.scenario = scenario.name;
+        r.solver = config.solver;
+        r.rule = config.solver == "procedural" ? config.options.rule : "";
+        r.dt = dt;
+        const std::string name = trace_stem(model.name, r) + "__poses.csv";
+        if (name.size() > 255) {
+          throw UsageError("--model: the trace file name " + shown(name) + " is " +
+                           std::to_string(name.size()) + " bytes (at most 255)");
+        }
+      }
+    }
+  }
+}
+
+// every chosen solver can build the model (MuJoCo nests its bodies at most 96 deep)
+void check_solvers_build(const std::vector<SolverConfig>& configs, const Model& model) {
+  for (const SolverConfig& config : configs) {
+    if (config.solver != "mujoco") continue;
+    if (std::string problem = reference::mujoco_model_problem(model); !problem.empty()) {
+      throw UsageError("--solver: mujoco cannot run " + shown(model.name) + ": " + problem);
+    }
+  }
 }
 
 // the dt of the sweep shown in the table: the one nearest 1/240 s
@@ -359,11 +460,12 @@ int command_run(const RunFlags& f) {
   // every flag checked before anything runs or is written
   SweepSpec spec;
   spec.dts = parse_dts(f.dt);
-  if (!f.duration.empty()) spec.run.duration = parse_non_negative("--duration", f.duration);
-  spec.run.sample_hz = parse_non_negative("--sample-hz", f.sample_hz);
+  if (!f.duration.empty())
+    spec.run.duration = parse_in("--duration", f.duration, 0.0, 3600.0, " s");
+  spec.run.sample_hz = parse_in("--sample-hz", f.sample_hz, 0.0, 1e4, " Hz");
   spec.run.timing = !f.no_timing;
   spec.accuracy = !f.no_accuracy;
-  spec.jobs = parse_count("--jobs", f.jobs, 1);
+  spec.jobs = parse_count("--jobs", f.jobs, 1, 256);
   const ScenarioOptions scenario_options = parse_scenario_options(f);
   spec.configs = parse_solver_configs(f);
   const auto scenarios = expand("--scenario", f.scenario, scenario_names());
@@ -372,7 +474,16 @@ int command_run(const RunFlags& f) {
   for (const auto& name : scenarios) {
     spec.scenarios.push_back(make_scenario(name, model, scenario_options));
   }
-  const std::filesystem::path out = prepare_output(f.out, true), traces = out / "traces";
+  check_run_size(spec, model);
+  check_solvers_build(spec.configs, model);
+  if (spec.accuracy && !have_second_truth(model)) {
+    std::fprintf(stderr, "testbed: no second truth (MuJoCo) for this model: %s\n",
+                 reference::have_mujoco() ? reference::mujoco_model_problem(model).c_str()
+                                          : "this build has no MuJoCo");
+  }
+  OutputFolder folder("--out", f.out, {"summary.csv", "traces"});
+  const std::filesystem::path traces = folder.staging() / "traces";
+  std::filesystem::create_directory(traces);
 
   for (double dt : spec.dts) {
     if (spec.accuracy && !divides_sample_interval(dt)) {
@@ -390,11 +501,11 @@ int command_run(const RunFlags& f) {
   const std::vector<RunResult> results = run_sweep(spec);
 
   const OutputContext context{model.name, current_git_sha(), machine_description()};
-  write_file_atomically((out / "summary.csv").string(), summary_csv(results, context));
+  write_file_atomically((folder.staging() / "summary.csv").string(), summary_csv(results, context));
+  folder.commit();
   print_table(results, table_dt(spec.dts));
   const size_t runs = spec.scenarios.size() * spec.configs.size() * spec.dts.size();
-  std::printf("\nwrote %s and %zu traces under %s\n", (out / "summary.csv").c_str(), 2 * runs,
-              traces.c_str());
+  std::printf("\nwrote %s: summary.csv and %zu traces\n", folder.path().c_str(), 2 * runs);
   return 0;
 }
 
@@ -402,16 +513,18 @@ int command_frontier(const RunFlags& f) {
   FrontierSpec spec;
   spec.scenario = parse_scenario_options(f);
   spec.configs = parse_solver_configs(f);
-  spec.jobs = parse_count("--jobs", f.jobs, 1);
+  spec.jobs = parse_count("--jobs", f.jobs, 1, 256);
   const Model model = parse_model(f);
   spec.model = &model;
+  check_solvers_build(spec.configs, model);
   make_scenario("yank", model, spec.scenario);  // a bad --grab fails here, before any run
-  const std::filesystem::path out = prepare_output(f.out, false);
+  OutputFolder folder("--out", f.out, {"frontier.csv"});
   spec.on_progress = Progress("frontier");
   const std::vector<FrontierRow> rows = find_frontier(spec);
 
   const OutputContext context{model.name, current_git_sha(), machine_description()};
-  write_file_atomically((out / "frontier.csv").string(), frontier_csv(rows, context));
+  write_file_atomically((folder.staging() / "frontier.csv").string(), frontier_csv(rows, context));
+  folder.commit();
   std::printf(
       "\nyank, no air drag: the largest circle frequency (at dt = %s s) and the largest dt "
       "(at %s Hz) that stay ok\n",
@@ -433,7 +546,7 @@ int command_frontier(const RunFlags& f) {
                 cell(r.largest_ok, dt).c_str(), cell(r.first_diverged, dt).c_str(), pin_gap,
                 r.reason.c_str());
   }
-  std::printf("\nwrote %s\n", (out / "frontier.csv").c_str());
+  std::printf("\nwrote %s/frontier.csv\n", folder.path().c_str());
   return 0;
 }
 
@@ -553,6 +666,17 @@ int main(int argc, char** argv) {
   gate->add_option("--thresholds", gate_thresholds, "the gates (JSON)")->capture_default_str();
   gate->add_option("--csv", gate_csv, "also write every benchmark's median to this CSV");
 
+  // CLI11 says "A subcommand is required" of a mistyped one: name it
+  std::string known;
+  bool is_command = false;
+  for (const CLI::App* command : app.get_subcommands({})) {
+    known += (known.empty() ? "" : ", ") + command->get_name();
+    is_command = is_command || (argc > 1 && command->get_name() == argv[1]);
+  }
+  if (argc > 1 && argv[1][0] != '-' && !is_command) {
+    std::cerr << "testbed: unknown command " << shown(argv[1]) << " (expected " << known << ")\n";
+    return kBadInput;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -560,10 +684,16 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "testbed: " << e.what() << '\n';
+    std::cerr << "testbed: " << one_line(e.what(), kMessageLength) << '\n';
     return kBadInput;
   }
 
+  // SIGINT and SIGTERM stop the runs at their next step; the output folder is left as it was
+  struct sigaction action {};
+  action.sa_handler = [](int signal) { request_cancel(signal); };
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
   try {
     if (app.got_subcommand("list")) return command_list();
     if (app.got_subcommand("validate")) return command_validate(validate_path);
@@ -571,16 +701,23 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("frontier")) return command_frontier(f);
     if (app.got_subcommand("gate")) return command_gate(gate_files, gate_thresholds, gate_csv);
     return command_run(f);
+  } catch (const Cancelled&) {
+    const int signal = cancel_signal();
+    std::fprintf(stderr, "\ntestbed: stopped by %s; the output folder is as it was\n",
+                 signal == SIGTERM ? "SIGTERM" : "SIGINT");
+    return 128 + signal;
+  } catch (const OutputError& e) {
+    std::cerr << "testbed: " << one_line(e.what(), kMessageLength) << '\n';
   } catch (const UsageError& e) {
-    std::cerr << "testbed: " << e.what() << '\n';
+    std::cerr << "testbed: " << one_line(e.what(), kMessageLength) << '\n';
   } catch (const ModelError& e) {
-    std::cerr << "testbed: " << e.what() << '\n';
+    std::cerr << "testbed: " << one_line(e.what(), kMessageLength) << '\n';
   } catch (const ScenarioError& e) {
-    std::cerr << "testbed: " << e.what() << '\n';
+    std::cerr << "testbed: " << one_line(e.what(), kMessageLength) << '\n';
   } catch (const GateError& e) {
-    std::cerr << "testbed gate: " << e.what() << '\n';
+    std::cerr << "testbed gate: " << one_line(e.what(), kMessageLength) << '\n';
   } catch (const std::exception& e) {
-    std::cerr << "testbed: " << e.what() << '\n';
+    std::cerr << "testbed: " << one_line(e.what(), kMessageLength) << '\n';
     return 1;
   }
   return kBadInput;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "puppet/model/model.h"
+#include "puppet/model/text.h"
 
 namespace puppet::detail {
 
@@ -22,11 +23,8 @@ inline constexpr double kMinNorm = 1e-9, kMaxNorm = 1e9;          // quaternions
 inline constexpr size_t kMaxNameLength = 64;                      // bytes
 inline constexpr size_t kMaxFileBytes = size_t{16} << 20;         // a model file
 
-// text from a file or a command line for a message, so that an error stays one bounded line:
-// bytes outside printable ASCII (and the backslash) as \xNN, cut after max_length characters;
-// shown() quotes it and cuts after kMaxNameLength
-std::string printable(std::string_view text, size_t max_length);
-std::string shown(std::string_view text);
+using puppet::printable;
+using puppet::shown;
 // what is wrong with a name (empty when nothing): 1 to 64 bytes of letters, digits, _ - . :
 std::string name_problem(std::string_view name);
 // what is wrong with a segment, a joint, gravity (empty when nothing), by the limits above: the

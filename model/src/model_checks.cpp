@@ -5,8 +5,53 @@
 #include <cstdio>
 
 #include "model_builder.h"
+#include "puppet/model/text.h"
 
-namespace puppet::detail {
+namespace puppet {
+
+std::string printable(std::string_view text, size_t max_length) {
+  std::string out;
+  size_t count = 0;
+  for (const char c : text) {
+    if (count++ == max_length) {
+      out += "...";
+      break;
+    }
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20 || byte >= 0x7f || c == '\\') {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\x%02x", byte);
+      out += escaped;
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+std::string one_line(std::string_view text, size_t max_length) {
+  std::string out(text.substr(0, max_length));
+  for (char& c : out) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20 || byte == 0x7f) c = '?';
+  }
+  if (text.size() > max_length) out += "...";
+  return out;
+}
+
+std::string shown(std::string_view text) {
+  std::string out = "\"";
+  for (const char c : printable(text, 64)) {
+    if (c == '"') {
+      out += "\\x22";
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+namespace detail {
 namespace {
 
 std::string number(double x) {
@@ -41,38 +86,6 @@ std::string rotation_problem(const char* what, const Quaterniond& q) {
 }
 
 }  // namespace
-
-std::string printable(std::string_view text, size_t max_length) {
-  std::string out;
-  size_t count = 0;
-  for (const char c : text) {
-    if (count++ == max_length) {
-      out += "...";
-      break;
-    }
-    const auto byte = static_cast<unsigned char>(c);
-    if (byte < 0x20 || byte >= 0x7f || c == '\\') {
-      char escaped[8];
-      std::snprintf(escaped, sizeof escaped, "\\x%02x", byte);
-      out += escaped;
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
-
-std::string shown(std::string_view text) {
-  std::string out = "\"";
-  for (const char c : printable(text, kMaxNameLength)) {
-    if (c == '"') {
-      out += "\\x22";
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
 
 std::string name_problem(std::string_view name) {
   if (name.empty()) return "an empty name";
@@ -166,4 +179,5 @@ std::string norm_problem(const Eigen::Ref<const Eigen::VectorXd>& v) {
   return {};
 }
 
-}  // namespace puppet::detail
+}  // namespace detail
+}  // namespace puppet

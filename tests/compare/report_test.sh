@@ -12,8 +12,8 @@ trap 'rm -rf "$out"' EXIT
 fail() { echo "report_test: $*" >&2; exit 1; }
 
 "$testbed" run --model chain:4 --scenario drop --solver all --rule literal,relaxed --dt 1/60,1/120 \
-  --duration 1 --sample-hz 30 --out "$out" >"$out/run.log" 2>&1 || fail "testbed run: $(tail -3 "$out/run.log")"
-"$testbed" frontier --model chain:4 --solver procedural --rule literal --out "$out" >"$out/frontier.log" 2>&1 ||
+  --duration 1 --sample-hz 30 --out "$out/main" >"$out/run.log" 2>&1 || fail "testbed run: $(tail -3 "$out/run.log")"
+"$testbed" frontier --model chain:4 --solver procedural --rule literal --out "$out/frontier" >"$out/frontier.log" 2>&1 ||
   fail "testbed frontier: $(tail -3 "$out/frontier.log")"
 $plot "$out" || fail "plot.py failed"
 
@@ -28,7 +28,7 @@ for section in "## What was run" "## How far the truths can be trusted" "## Accu
   grep -qF "$section" "$out/REPORT.md" || fail "REPORT.md has no \"$section\""
 done
 # with MuJoCo in the build, the second truth: its section, and every solver judged against it
-if grep -q ',mujoco-truth,' "$out/summary.csv"; then
+if grep -q ',mujoco-truth,' "$out/main/summary.csv"; then
   grep -qF "## Where the truths agree" "$out/REPORT.md" || fail "REPORT.md has no truths' agreement"
   grep -qF "Against the second truth" "$out/REPORT.md" || fail "REPORT.md judges nothing against the second truth"
 fi
@@ -42,7 +42,8 @@ message=$($plot "$empty" 2>&1); status=$?
 set -e
 [ "$status" -eq 2 ] || fail "plot.py on an empty folder: status $status"
 [[ "$message" == *"summary.csv: not found"* ]] || fail "plot.py on an empty folder said: $message"
-echo "scenario,solver" >"$empty/summary.csv"
+mkdir "$empty/main"
+echo "scenario,solver" >"$empty/main/summary.csv"
 set +e
 message=$($plot "$empty" 2>&1); status=$?
 set -e

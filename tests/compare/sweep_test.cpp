@@ -35,7 +35,7 @@ TEST(Sweep, SummaryHasEveryRunItsAccuracyAndStableUnits) {
   const std::vector<RunResult> results = run_sweep(small_sweep(model, 2, true));
   // the runs, then the truth's check and, with MuJoCo, the second truth's check and the truths
   // against each other
-  const bool second = have_second_truth();
+  const bool second = have_second_truth(model);
   ASSERT_EQ(results.size(), 3u * 2u + (second ? 4u : 1u));
   const std::string csv = summary_csv(results, {"chain:4", "abc", "machine"});
   std::stringstream in(csv);

@@ -1,12 +1,20 @@
 // The testbed command as a user meets it: exit codes, one-line errors, nothing half-written.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
+#include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <thread>
+#include <vector>
 
 namespace {
 
@@ -113,9 +121,51 @@ TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
   expect_bad("frontier --jobs x" + o, "--jobs");
   expect_bad("frontier --solver ode" + o, "--solver");
   expect_bad("frontier --grab tail" + o, "--grab");
-  EXPECT_FALSE(fs::exists(out / "frontier.csv"));
-  EXPECT_FALSE(fs::exists(out / "summary.csv"));
+  EXPECT_FALSE(fs::exists(out));
   expect_bad("run --scenario hang --duration 0.1 --out /proc/forbidden", "--out");
+  // what a flag implies, and its ranges: each of these ran (or crashed) before it was checked
+  for (const auto& [arguments, names] : std::vector<std::pair<std::string, std::string>>{
+           {"run --dt 1e-300", "--dt"},
+           {"run --dt 4.9e-324", "--dt"},
+           {"run --dt 1e300", "--dt"},
+           {"run --dt 1/3/4", "--dt"},
+           {"run --dt 0x10", "--dt"},
+           {"run --dt ' 1/60'", "--dt"},
+           {"run --dt 1/240,0.00416666667", "--dt"},
+           {"run --dt 1/60,", "--dt"},
+           {"run --dt 1e-9", "--dt"},
+           {"run --duration 1e7", "--duration"},
+           {"run --duration 0", "--duration"},
+           {"run --duration 600 --dt 1e-5 --no-accuracy", "--duration"},
+           {"run --duration 1000 --dt 1/60", "--duration"},
+           {"run --scenario hang,hang --jobs 2", "--scenario"},
+           {"run --solver mujoco,mujoco", "--solver"},
+           {"run --scenario hang,", "--scenario"},
+           {"run --air-drag 1e10", "--air-drag"},
+           {"run --tilt 1e300", "--tilt"},
+           {"run --hz 0", "--hz"},
+           {"run --jobs 100000", "--jobs"},
+           {"run --iterations 1000000", "--iterations"},
+           {"run --grab r_forearm:1e9,0,0", "--grab"},
+           {"run --gravity 0,0,-1e9", "--gravity"},
+           {"run --grab-compliance 1e300", "--grab-compliance"},
+           {"run --model chain:20000 --sample-hz 0 --no-accuracy --scenario hang", "MiB"},
+           {"run --model chain:150 --solver mujoco --scenario hang", "--solver: mujoco"},
+           {"run --scenario \"$(printf 'a\\nb')\"", "--scenario"},
+       }) {
+    expect_bad(arguments + o, names);
+  }
+  expect_bad("explode", "\"explode\"");
+  expect_bad("run --out ''", "--out");
+  expect_bad("run --out /", "--out");
+  // a folder that holds anything but the command's own files is not replaced
+  const fs::path mine = fresh_folder("foreign");
+  fs::create_directories(mine);
+  std::ofstream(mine / "thesis.tex") << "years of work";
+  expect_bad("run --scenario hang --duration 0.1 --out " + mine.string(), "thesis.tex");
+  EXPECT_TRUE(fs::exists(mine / "thesis.tex"));
+  fs::remove_all(mine);
+  EXPECT_FALSE(fs::exists(out));
 }
 
 TEST(TestbedCli, ShortRunWritesSummaryAndTraces) {
@@ -141,6 +191,160 @@ TEST(TestbedCli, ShortRunWritesSummaryAndTraces) {
   EXPECT_NE(text.find("\nspin,bullet-rigid,,0.00416666667,1,momentum_drift,angular_max,"),
             std::string::npos);
   EXPECT_NE(o.output.find("joint gap m"), std::string::npos);  // the table
+  fs::remove_all(out);
+}
+
+// A testbed started in the background: its pid, and its exit status once it ends.
+struct Child {
+  pid_t pid = -1;
+  // ends within `seconds` (true) or not; status is the exit code, or 128 + the signal
+  bool wait(double seconds, int* status) const {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    while (std::chrono::steady_clock::now() < until) {
+      int raw = 0;
+      if (::waitpid(pid, &raw, WNOHANG) == pid) {
+        *status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
+        return true;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
+  }
+};
+
+// `file_limit` > 0: the child may write no file larger than that (a full disk, as it meets it)
+Child start(const std::vector<std::string>& arguments, long file_limit = 0) {
+  Child child;
+  child.pid = ::fork();
+  if (child.pid == 0) {
+    if (file_limit > 0) {
+      const rlimit limit{static_cast<rlim_t>(file_limit), static_cast<rlim_t>(file_limit)};
+      ::setrlimit(RLIMIT_FSIZE, &limit);
+      ::signal(SIGXFSZ, SIG_IGN);  // a write past it fails with EFBIG instead
+    }
+    std::vector<char*> argv{const_cast<char*>(TESTBED_BINARY)};
+    for (const std::string& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    const int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, 1);
+    ::dup2(null, 2);
+    ::execv(TESTBED_BINARY, argv.data());
+    ::_exit(127);
+  }
+  return child;
+}
+
+std::string read_all(const fs::path& path) {
+  std::ifstream file(path);
+  return std::string((std::istreambuf_iterator<char>(file)), {});
+}
+
+// what a folder's parent holds beside the folder: the staging folders and locks of its commands
+std::vector<std::string> leftovers(const fs::path& folder) {
+  std::string prefix = ".";  // appended, not "." + name + ".": GCC 12's -Wrestrict misfires
+  prefix += folder.filename().string();
+  prefix += '.';
+  std::vector<std::string> out;
+  for (const auto& entry : fs::directory_iterator(folder.parent_path())) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(prefix, 0) == 0) out.push_back(name);
+  }
+  return out;
+}
+
+// a long run on a folder that already holds a short run's results
+std::vector<std::string> long_run(const fs::path& out) {
+  return {"run",  "--scenario", "all",   "--solver",    "procedural", "--rule",
+          "tree", "--dt",       "1/480", "--no-timing", "--out",      out.string()};
+}
+
+fs::path folder_with_results(const std::string& name) {
+  const fs::path out = fresh_folder(name);
+  const Outcome first = testbed(
+      "run --scenario hang --solver procedural --rule literal --duration 0.1 "
+      "--no-accuracy --no-timing --out " +
+      out.string());
+  EXPECT_EQ(first.status, 0) << first.output;
+  return out;
+}
+
+// SIGINT and SIGTERM stop a run within a second; the folder keeps the old results, whole, and
+// nothing else is left behind
+TEST(TestbedCli, InterruptedRunsLeaveTheOldResults) {
+  for (const int signal : {SIGINT, SIGTERM}) {
+    const fs::path out = folder_with_results("interrupted");
+    const std::string before = read_all(out / "summary.csv");
+    const size_t traces_before = std::distance(fs::directory_iterator(out / "traces"), {});
+    const Child child = start(long_run(out));
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // well into the truths
+    ::kill(child.pid, signal);
+    int status = 0;
+    ASSERT_TRUE(child.wait(1.0, &status)) << "still running a second after signal " << signal;
+    EXPECT_EQ(status, 128 + signal);
+    EXPECT_EQ(read_all(out / "summary.csv"), before);
+    EXPECT_EQ(static_cast<size_t>(std::distance(fs::directory_iterator(out / "traces"), {})),
+              traces_before);
+    EXPECT_TRUE(leftovers(out).empty()) << leftovers(out).front();
+    fs::remove_all(out);
+  }
+}
+
+// killed outright, a run leaves the old results and its staging folder beside them, which the
+// next command on the folder removes
+TEST(TestbedCli, ACrashLeavesTheOldResultsAndTheNextRunTidies) {
+  const fs::path out = folder_with_results("crashed");
+  const std::string before = read_all(out / "summary.csv");
+  const Child child = start(long_run(out));
+  std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+  ::kill(child.pid, SIGKILL);
+  int status = 0;
+  ASSERT_TRUE(child.wait(5.0, &status));
+  EXPECT_EQ(read_all(out / "summary.csv"), before);
+  EXPECT_FALSE(leftovers(out).empty());  // its staging folder, and its lock file
+  const Outcome next = testbed(
+      "run --scenario spin --solver procedural --rule literal "
+      "--duration 0.1 --no-accuracy --no-timing --out " +
+      out.string());
+  EXPECT_EQ(next.status, 0) << next.output;
+  EXPECT_NE(read_all(out / "summary.csv").find("\nspin,"), std::string::npos);
+  EXPECT_EQ(read_all(out / "summary.csv").find("\nhang,"), std::string::npos);  // no mix
+  EXPECT_TRUE(leftovers(out).empty());
+  fs::remove_all(out);
+}
+
+// a second command on a folder being written is refused, and the first one finishes unharmed
+TEST(TestbedCli, ASecondCommandOnTheSameFolderIsRefused) {
+  const fs::path out = fresh_folder("contended");
+  const Child first =
+      start({"run", "--scenario", "all", "--solver", "procedural", "--rule", "tree", "--dt",
+             "1/480", "--duration", "2", "--no-accuracy", "--no-timing", "--out", out.string()});
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  const Outcome second = testbed("run --scenario hang --duration 0.1 --out " + out.string());
+  EXPECT_EQ(second.status, 2) << second.output;
+  EXPECT_NE(second.output.find("is being written by another command (pid"), std::string::npos)
+      << second.output;
+  int status = -1;
+  ASSERT_TRUE(first.wait(120.0, &status));
+  EXPECT_EQ(status, 0);
+  EXPECT_NE(read_all(out / "summary.csv").find("\ndrag,"), std::string::npos);
+  EXPECT_TRUE(leftovers(out).empty());
+  fs::remove_all(out);
+}
+
+// a disk that fills up mid-run (here: no file may pass 4 kB) fails the run, which says so, and
+// leaves the old results
+TEST(TestbedCli, AFullDiskLeavesTheOldResults) {
+  const fs::path out = folder_with_results("full");
+  const std::string before = read_all(out / "summary.csv");
+  const Child child = start(
+      {"run", "--scenario", "hang", "--solver", "procedural", "--rule", "literal", "--duration",
+       "1", "--sample-hz", "0", "--no-accuracy", "--no-timing", "--out", out.string()},
+      4096);
+  int status = -1;
+  ASSERT_TRUE(child.wait(60.0, &status));
+  EXPECT_EQ(status, 1);
+  EXPECT_EQ(read_all(out / "summary.csv"), before);
+  EXPECT_TRUE(leftovers(out).empty());
   fs::remove_all(out);
 }
 

@@ -22,7 +22,8 @@ inline constexpr const char* kSummaryHeader =
 
 // a number with 9 significant digits, empty for NaN
 std::string csv_number(double value);
-// free text as one CSV field: commas, quotes and newlines become spaces
+// text as one CSV field (RFC 4180): as it is, or in double quotes with quotes doubled when it
+// holds a comma, a quote or a line break
 std::string csv_field(const std::string& text);
 // dt as a decimal with 9 significant digits
 std::string format_dt(double dt);

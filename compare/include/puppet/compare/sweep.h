@@ -25,8 +25,9 @@ constexpr double kSecondTruthDt = 1.0 / 7680.0;
 constexpr double kSecondTruthCheckDt = 1.0 / 15360.0;
 constexpr double kSecondTruthTimeConstant = 2.0 / 3840.0;
 SolverOptions second_truth_options();
-// whether this build has the second truth
-bool have_second_truth();
+// whether this build has the second truth and MuJoCo can build the model
+// (reference::mujoco_model_problem); a sweep without it judges against the first truth alone
+bool have_second_truth(const Model& model);
 
 // the dts of the default sweep
 const std::vector<double>& sweep_dts();

@@ -42,7 +42,7 @@ struct SessionConfig {
   // "grab" (the seed anchors the pass at the dragged segment), "scenario" (the scenario's first
   // pin, the string the puppet hangs from) or "auto": grab for literal, whose translations are
   // stable from any anchor, scenario for the rotating rules, which anchored at a hand lose the
-  // puppet within a second (as in yank, results/frontier.csv). Bullet does not care.
+  // puppet within a second (as in yank, results/frontier/frontier.csv). Bullet does not care.
   std::string anchor = "auto";
   // the mouse's grab: 0 holds the point on the cursor's ray (the seed's hard pin); C > 0 (m/N)
   // pulls it with a spring of stiffness 1/C, as MuJoCo's and Bullet's pickers do
