@@ -19,6 +19,7 @@ packages=(
   libgl-dev libopengl-dev # OpenGL 3.3 headers, GLVND libOpenGL (CMake: OpenGL::OpenGL)
   libgl1-mesa-dri libglx-mesa0 # Mesa: its software renderer where there is no GPU
   xvfb xauth         # the viewer's headless tests (xvfb-run)
+  clang-14 libclang-rt-14-dev # the clang build and the loader's fuzzer (scripts/fuzz.sh)
 )
 
 missing=()

@@ -116,10 +116,11 @@ class Reader {
 
  private:
   [[noreturn]] void fail(const XMLElement* e, const std::string& problem) const {
-    std::string what = "<" + std::string(e->Name());
+    std::string what = "<" + one_line(e->Name());
     if (const char* n = e->Attribute("name")) what += " name=\"" + one_line(n) + "\"";
+    // the problem may quote the file (a class name, a value): printable, and bounded
     throw ModelError(source_ + ":" + std::to_string(e->GetLineNum()) + ": " + what +
-                     ">: " + problem);
+                     ">: " + detail::printable(problem, 200));
   }
 
   // bounded, single-line text from the file for messages

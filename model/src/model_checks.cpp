@@ -11,14 +11,13 @@ namespace puppet {
 
 std::string printable(std::string_view text, size_t max_length) {
   std::string out;
-  size_t count = 0;
   for (const char c : text) {
-    if (count++ == max_length) {
+    if (out.size() >= max_length) {
       out += "...";
       break;
     }
     const auto byte = static_cast<unsigned char>(c);
-    if (byte < 0x20 || byte >= 0x7f || c == '\\') {
+    if (byte < 0x20 || byte >= 0x7f) {
       char escaped[8];
       std::snprintf(escaped, sizeof escaped, "\\x%02x", byte);
       out += escaped;

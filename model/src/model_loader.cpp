@@ -505,7 +505,8 @@ Model parse_model(const std::string& json_text, const std::string& source) {
     std::string what = error.what();
     const auto bracket = what.find("] ");
     if (bracket != std::string::npos) what = what.substr(bracket + 2);
-    throw ModelError(source + ": malformed JSON: " + what);
+    // it quotes the last token read, which may be a whole (100 kB) string
+    throw ModelError(source + ": malformed JSON: " + detail::printable(what, 200));
   }
   return build(document, source);
 }

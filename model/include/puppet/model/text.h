@@ -7,7 +7,7 @@
 
 namespace puppet {
 
-// bytes outside printable ASCII (and the backslash) as \xNN, cut after max_length characters
+// bytes outside printable ASCII as \xNN, cut after max_length characters
 // with "...", so that a message stays one bounded line whatever it quotes
 std::string printable(std::string_view text, size_t max_length);
 // a message as one line: control bytes as '?', cut after max_length characters with "..."
