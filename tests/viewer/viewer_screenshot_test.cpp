@@ -137,7 +137,8 @@ TEST(ViewerScreenshot, BadInputExitsTwoAndWritesNothing) {
   for (const std::string arguments :
        {"--dt 0", "--dt nan", "--frames -1", "--script wave", "--solver ode", "--ghost havok",
         "--rule fastest", "--model /nonexistent/model.json", "--scenario float", "--width 10",
-        "--msaa 17", "--anchor head", "--frames 2 --bogus"}) {
+        "--msaa 17", "--anchor head", "--frames 2 --bogus", "--dt 1e-300", "--dt 1/3/4",
+        "--model /dev/zero", "--model chain:150 --solver mujoco"}) {
     EXPECT_EQ(viewer(arguments + " --frames 2 --screenshot " + path.string(), false), 2)
         << arguments;
   }

@@ -21,6 +21,7 @@
 
 #include "panel.h"
 #include "puppet/compare/number.h"
+#include "puppet/model/text.h"
 #include "puppet/viewer/script.h"
 #include "renderer.h"
 
@@ -290,16 +291,17 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "viewer: " << e.what() << '\n';
+    std::cerr << "viewer: " << one_line(e.what(), 400) << '\n';
     return kBadInput;
   }
 
   auto bad = [](const std::string& message) {
-    std::cerr << "viewer: " << message << '\n';
+    std::cerr << "viewer: " << one_line(message, 400) << '\n';
     return kBadInput;
   };
-  if (!compare::parse_finite(dt_text, &config.dt) || config.dt <= 0.0) {
-    return bad("--dt: expected a positive number of seconds, got \"" + dt_text + "\"");
+  // the testbed's range: a smaller step would take longer than a frame forever
+  if (!compare::parse_finite(dt_text, &config.dt) || !(config.dt >= 1e-5 && config.dt <= 0.1)) {
+    return bad("--dt: expected a step from 1e-5 to 0.1 s, got " + shown(dt_text));
   }
   if (frames < 0) return bad("--frames: must be ≥ 0");
   if (!screenshot.empty() && frames == 0) return bad("--screenshot: needs --frames N");
@@ -310,7 +312,7 @@ int main(int argc, char** argv) {
   std::optional<Script> script;
   if (!script_name.empty()) {
     script = parse_script(script_name);
-    if (!script) return bad("--script: expected drag, shake or hang, got \"" + script_name + "\"");
+    if (!script) return bad("--script: expected drag, shake or hang, got " + shown(script_name));
   }
   if (!screenshot.empty() && !writable(screenshot)) {
     return bad("--screenshot: cannot write " + screenshot);
