@@ -88,9 +88,15 @@ struct Perturbed {
     std::normal_distribution<double> noise(0.0, 0.05);
     const auto rest = rest_pose(model);
     bodies.assign(rest.begin(), rest.end());
+    // drawn in a stated order: the order of a call's arguments is the compiler's (GCC's is
+    // right to left, clang's left to right), so Vector3d(noise(rng), ...) is another start
+    auto draw = [&] {
+      const double z = noise(rng), y = noise(rng), x = noise(rng);
+      return Vector3d(x, y, z);
+    };
     for (BodyState& body : bodies) {
-      body.x += Vector3d(noise(rng), noise(rng), noise(rng));
-      body.q = times_exp(body.q, Vector3d(noise(rng), noise(rng), noise(rng)));
+      body.x += draw();
+      body.q = times_exp(body.q, draw());
     }
     const int head = model.find_segment("head"), hand = model.find_segment("r_forearm");
     pins = {Pin{head, Vector3d(0.01, 0.02, 0.05)}, Pin{hand, Vector3d(0.0, 0.01, -0.1)}};

@@ -11,6 +11,13 @@
 namespace puppet::viewer {
 namespace {
 
+// in a stated order (a call's arguments are evaluated in the compiler's): z, y, x, as GCC did
+template <typename Distribution, typename Engine>
+Vector3d random_vector(Distribution& u, Engine& rng) {
+  const double z = u(rng), y = u(rng), x = u(rng);
+  return {x, y, z};
+}
+
 Shape sphere(double r) { return {ShapeType::kSphere, r, 0.0, {0, 0, 0}}; }
 Shape capsule(double r, double h) { return {ShapeType::kCapsule, r, h, {0, 0, 0}}; }
 Shape box(const Vector3d& half) { return {ShapeType::kBox, 0.0, 0.0, half}; }
@@ -43,8 +50,8 @@ TEST(Intersect, EntryPointsLieOnTheSurface) {
   for (const Shape& shape : shapes) {
     int hits = 0;
     for (int i = 0; i < 2000; ++i) {
-      const Vector3d origin = 2.0 * Vector3d(u(rng), u(rng), u(rng)).normalized();
-      const Vector3d aim = 0.3 * Vector3d(u(rng), u(rng), u(rng));
+      const Vector3d origin = 2.0 * random_vector(u, rng).normalized();
+      const Vector3d aim = 0.3 * random_vector(u, rng);
       const Ray ray{origin, (aim - origin).normalized()};
       const auto t = intersect(shape, ray);
       if (!t) {
