@@ -167,6 +167,13 @@ class Reader {
     return v == kind->second.end() ? std::nullopt : std::optional<std::string>(v->second);
   }
 
+  // exactly one number (an empty attribute, or two numbers, is refused)
+  double single(const XMLElement* e, const char* key, const std::string& text) const {
+    const std::vector<double> v = numbers(e, key, text);
+    if (v.size() != 1) fail(e, std::string("attribute \"") + key + "\" must be one number");
+    return v[0];
+  }
+
   std::vector<double> numbers(const XMLElement* e, const char* key, const std::string& text) const {
     std::vector<double> out;
     const char* p = text.c_str();
@@ -511,10 +518,10 @@ class Reader {
     } else {
       double mass = 0.0;
       if (auto m = value(geom, "mass", cls)) {
-        mass = numbers(geom, "mass", *m).at(0);
+        mass = single(geom, "mass", *m);
       } else {
         const double density = value(geom, "density", cls)
-                                   ? numbers(geom, "density", *value(geom, "density", cls)).at(0)
+                                   ? single(geom, "density", *value(geom, "density", cls))
                                    : 1000.0;  // MuJoCo's default, water's
         mass = density * shape_volume(s.shape);
       }
@@ -534,7 +541,7 @@ class Reader {
                          "diaginertia", "fullinertia"});
     const auto mass = attribute(e, "mass");
     if (!mass) fail(e, "needs a mass");
-    s.mass = numbers(e, "mass", *mass).at(0);
+    s.mass = single(e, "mass", *mass);
     if (!(s.mass > 0.0)) fail(e, "mass must be positive");
     const auto pos = attribute(e, "pos");
     if (!pos) fail(e, "needs a pos");
@@ -624,7 +631,7 @@ class Reader {
     if (std::string problem = detail::name_problem(j.name); !problem.empty()) fail(e, problem);
     for (const char* physics : {"stiffness", "damping", "armature", "frictionloss", "ref"}) {
       const auto v = value(e, physics, cls);
-      if (v && numbers(e, physics, *v).at(0) != 0.0) {
+      if (v && single(e, physics, *v) != 0.0) {
         fail(e, std::string(physics) + " is not supported (the model's joints are ideal)");
       }
     }
