@@ -259,8 +259,8 @@ TEST(Session, TheEnvironmentChangesMidRun) {
 }
 
 // each run is judged on its own: at dt = 1/50 the hand-held puppet (yank) tears the ragdoll's
-// joints open (results/frontier/frontier.csv: bullet-rigid fails from dt = 0.018 s by its joint gap) while
-// the procedural solver, whose joints are closed by construction, goes on
+// joints open (results/frontier/frontier.csv: bullet-rigid fails from dt = 0.018 s by its joint
+// gap) while the procedural solver, whose joints are closed by construction, goes on
 TEST(Session, EachRunReportsItsOwnDivergence) {
   SessionConfig c;
   c.scenario = "yank";
