@@ -3,25 +3,30 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "puppet/compare/output.h"
+#include "puppet/model/file.h"
+#include "puppet/model/text.h"
 
 namespace puppet::compare {
 namespace {
 
 using nlohmann::json;
 
+// a regular file, as a model is read (a FIFO would block, /dev/zero never end): Google
+// Benchmark's JSON of a full run is a few MB
 json read_json(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw GateError(path + ": cannot open");
+  std::string text, problem;
+  if (!read_regular_file(path, size_t{256} << 20, &text, &problem)) {
+    throw GateError(printable(path, 256) + ": " + problem);
+  }
   try {
-    return json::parse(in);
+    return json::parse(text);
   } catch (const json::exception& e) {
-    throw GateError(path + ": not JSON (" + std::string(e.what()) + ")");
+    throw GateError(printable(path, 256) + ": not JSON (" + printable(e.what(), 200) + ")");
   }
 }
 

@@ -59,6 +59,18 @@ long allocations_while_stepping(const compare::Scenario& scenario, int steps, St
   return during;
 }
 
+// heap allocations over 40 steps of 1/60 s of the scenario in a solver with these settings
+long allocations_in_scenario(const Model& model, const compare::Scenario& scenario,
+                             const Settings& settings) {
+  Solver solver(model, settings, scenario.environment);
+  solver.reset(scenario.initial);
+  solver.set_pins(scenario.initial_pins());
+  return allocations_while_stepping(scenario, 40, [&](const std::vector<Vector3d>& targets) {
+    solver.set_pin_targets(targets);
+    solver.step(1.0 / 60.0);
+  });
+}
+
 TEST(Allocation, NoneInsideAStep) {
   const Model model = load_model(kPinocchio);
   for (const std::string& name : compare::scenario_names()) {
@@ -69,15 +81,8 @@ TEST(Allocation, NoneInsideAStep) {
       settings.tremble = scenario.tremble;
       settings.substeps = 2;
       settings.time_stages = true;
-      Solver solver(model, settings, scenario.environment);
-      solver.reset(scenario.initial);
-      solver.set_pins(scenario.initial_pins());
       // 0.67 s at 1/60 in two substeps: long enough for drop to reach the ground
-      const long during =
-          allocations_while_stepping(scenario, 40, [&](const std::vector<Vector3d>& targets) {
-            solver.set_pin_targets(targets);
-            solver.step(1.0 / 60.0);
-          });
+      const long during = allocations_in_scenario(model, scenario, settings);
       EXPECT_EQ(during, 0) << name << " " << rule_name(rule);
     }
   }
@@ -92,14 +97,7 @@ TEST(Allocation, NoneInsideAStepOfALargeModel) {
   for (Rule rule : kAllRules) {
     Settings settings;
     settings.rule = rule;
-    Solver solver(model, settings, scenario.environment);
-    solver.reset(scenario.initial);
-    solver.set_pins(scenario.initial_pins());
-    const long during =
-        allocations_while_stepping(scenario, 40, [&](const std::vector<Vector3d>& targets) {
-          solver.set_pin_targets(targets);
-          solver.step(1.0 / 60.0);
-        });
+    const long during = allocations_in_scenario(model, scenario, settings);
     EXPECT_EQ(during, 0) << rule_name(rule);
   }
 }
