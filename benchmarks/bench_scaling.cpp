@@ -49,7 +49,7 @@ void crowd_benchmark(benchmark::State& state, const std::string& rule) {
     puppet.set_pin_targets(*step_targets);
   };
   for (auto _ : state) {
-    for (int k = 0; k < puppets; ++k) crowd.puppet(k).mutable_state() = lone->state();
+    for (int k = 0; k < puppets; ++k) crowd.puppet(k).restore(lone->state());
     state.SetIterationTime(seconds_of([&] {
       for (const std::vector<Vector3d>& targets : workload.batch_targets) {
         step_targets = &targets;

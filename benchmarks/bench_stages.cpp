@@ -27,7 +27,7 @@ void stage_benchmark(benchmark::State& state, const std::string& scenario, const
   for (int s = 0; s < stage; ++s) solver->run_stage(static_cast<procedural::Stage>(s), kDt);
   start = solver->state();
   for (auto _ : state) {
-    solver->mutable_state() = start;
+    solver->restore(start);
     state.SetIterationTime(seconds_of([&] { solver->run_stage(stage, kDt); }));
   }
   state.SetItemsProcessed(state.iterations());
@@ -38,7 +38,7 @@ void floor_benchmark(benchmark::State& state, const std::string& scenario) {
   const auto solver = warmed_up_solver(state, workload, "literal");
   const procedural::State start = solver->state();
   for (auto _ : state) {
-    solver->mutable_state() = start;
+    solver->restore(start);
     state.SetIterationTime(seconds_of([&] {
       for (int k = 0; k < kBatchSteps; ++k) solver->run_stage(procedural::kUpdate, kDt);
     }));

@@ -39,22 +39,12 @@ class ProceduralSimulator : public Simulator {
     const auto& bodies = solver_->state().bodies;
     std::copy(bodies.begin(), bodies.end(), out.begin());
   }
-  void set_state(std::span<const BodyState> bodies) override {
-    procedural::State& state = solver_->mutable_state();
-    for (size_t i = 0; i < bodies.size(); ++i) {
-      state.bodies[i] = bodies[i];
-      state.x_prev[i] = bodies[i].x;
-      state.q_prev[i] = bodies[i].q;
-    }
-    // substeps interpolate from the previous targets: a re-seeded state starts at the current
-    for (int i = 0; i < state.pin_count; ++i) state.pin_previous_target[i] = state.pins[i].target;
-    state.diverged = false;
-  }
+  void set_state(std::span<const BodyState> bodies) override { solver_->place(bodies); }
   std::unique_ptr<Snapshot> snapshot() const override {
     return std::make_unique<ProceduralSnapshot>(solver_->state());
   }
   void restore(const Snapshot& snapshot) override {
-    solver_->mutable_state() = static_cast<const ProceduralSnapshot&>(snapshot).state;
+    solver_->restore(static_cast<const ProceduralSnapshot&>(snapshot).state);
   }
   bool diverged() const override { return solver_->state().diverged; }
 

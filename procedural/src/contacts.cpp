@@ -111,25 +111,37 @@ int resolve_contacts(const Model& model, const Environment& environment, State& 
   return lowest;
 }
 
-void contacts_after_adjust(const Model& model, const Settings& settings,
-                           const Environment& environment, const ModelTables& tables,
-                           const PinTargets& targets, State& state, Workspace& workspace) {
-  switch (settings.rule) {
+ContactPolicy contact_policy(Rule rule) {
+  switch (rule) {
     case Rule::kXpbd:
     case Rule::kTree:
-      return;  // the ground is a constraint of their sweeps or Newton iterations, the last of each
+      return ContactPolicy::kInAdjust;
     case Rule::kRelaxed:
       // seed: relaxed has resolved contacts inside its sweeps; re-anchoring its final pass at a
       // foot made the whole body swing on the ankle's limit (measured: 100 m/s in `drop`), so
       // what this push-out leaves open is reported as joint gap instead
-      resolve_contacts(model, environment, state);
-      return;
+      return ContactPolicy::kPushOut;
     case Rule::kLiteral:
     case Rule::kSmoothed:
     case Rule::kWeighted:
-    case Rule::kSubtree: {
+    case Rule::kSubtree:
       // a contact move may reopen joints: the one-sided rules re-run their pass from the segment
       // that hit deepest
+      return ContactPolicy::kPushOutAndRepass;
+  }
+  return ContactPolicy::kPushOut;
+}
+
+void contacts(const Model& model, const Settings& settings, const Environment& environment,
+              const ModelTables& tables, const PinTargets& targets, State& state,
+              Workspace& workspace) {
+  switch (contact_policy(settings.rule)) {
+    case ContactPolicy::kInAdjust:
+      return;
+    case ContactPolicy::kPushOut:
+      resolve_contacts(model, environment, state);
+      return;
+    case ContactPolicy::kPushOutAndRepass: {
       const int lowest = resolve_contacts(model, environment, state);
       if (lowest >= 0) {
         one_sided_pass(model, tables.joints, settings.rule,
@@ -139,6 +151,10 @@ void contacts_after_adjust(const Model& model, const Settings& settings,
       return;
     }
   }
+}
+
+bool needs_ground_velocity_pass(Rule rule) {
+  return contact_policy(rule) == ContactPolicy::kInAdjust;
 }
 
 void ground_velocity_pass(const Model& model, const Environment& environment, State& state) {

@@ -1,252 +1,110 @@
-// The solver's stages and the geometry they share; private to procedural/.
+// The solver's stages, in the order a substep runs them (solver.cpp), and the passes they are
+// made of. Private to procedural/. Each declaration names the file that defines it.
+//
+//   update      update.cpp, tremble.cpp       every segment alone under its forces
+//   adjust      adjust.cpp                    the rule's position pass: rules/*.cpp, made of the
+//                                             one-sided pass (one_sided_pass.cpp) or of shared
+//                                             corrections (two_sided.cpp)
+//   contacts    contacts.cpp                  the ground, as the rule's contact policy says
+//   velocities  velocities.cpp, contacts.cpp  v, ω from the poses; the ground's velocity pass
 #pragma once
 
 #include <array>
 #include <span>
+#include <vector>
 
-#include "puppet/model/rotation.h"
+#include "geometry.h"
+#include "joint_limits.h"
+#include "model_tables.h"
 #include "puppet/procedural/solver.h"
+#include "workspace.h"
 
 namespace puppet::procedural {
 
-// false exactly for the identity a correction returns when it has nothing to do (its vector part
-// is zero): such corrections skip every quaternion product
-inline bool rotates(const Quaterniond& q) { return q.x() != 0.0 || q.y() != 0.0 || q.z() != 0.0; }
+// per-substep pin targets (already interpolated across substeps)
+using PinTargets = std::array<Vector3d, kMaxPins>;
 
-// a rigid motion p ↦ q·p + t, applied to a whole segment (or a subtree of them). Most
-// corrections are pure translations (the literal rule's, a limit that holds).
-struct Motion {
-  Quaterniond q = Quaterniond::Identity();
-  Vector3d t{0, 0, 0};
+// --- stage 1, update.cpp, tremble.cpp
+void update(const Model& model, const Environment& environment, State& state, double h);
+// the seed's tremble (§3.4), added to positions at the end of update; delta per segment out
+void tremble(const Model& model, const Settings& settings, State& state, double h,
+             std::vector<Vector3d>& delta);
 
-  bool rotates() const { return puppet::procedural::rotates(q); }
-  Vector3d apply(const Vector3d& p) const { return rotates() ? Vector3d(q * p + t) : p + t; }
-  void apply(BodyState& body) const {
-    if (!rotates()) {
-      body.x += t;
-      return;
-    }
-    body.x = q * body.x + t;
-    body.q = renormalized(q * body.q);
-  }
-  // (this ∘ inner)(p) = this(inner(p))
-  Motion after(const Motion& inner) const { return {q * inner.q, apply(inner.t)}; }
-  // rotation `rotation` about the point `centre`
-  static Motion about(const Quaterniond& rotation, const Vector3d& centre) {
-    return {rotation, centre - rotation * centre};
-  }
-};
+// --- stage 2, adjust.cpp: pins, joints and limits from the anchor, by the settings' rule
+void adjust(const Model& model, const Settings& settings, const Environment& environment,
+            const ModelTables& tables, int anchor, const PinTargets& targets, State& state,
+            Workspace& workspace, double h);
 
-// What close_point() gives: the rule's rotation R of a body about its centre, then the
-// translation T of its centre (eq. 5). A single segment takes it directly (its centre is its x);
-// a composite turns it into the rigid motion of everything it carries.
-struct Correction {
-  Quaterniond rotation = Quaterniond::Identity();
-  Vector3d translation{0, 0, 0};
-
-  bool rotates() const { return puppet::procedural::rotates(rotation); }
-  // p ↦ centre + T + R (p − centre)
-  Motion motion(const Vector3d& centre) const {
-    if (!rotates()) return {rotation, translation};
-    return {rotation, centre + translation - rotation * centre};
-  }
-  // a single segment: x ↦ x + T, q ↦ R q
-  void apply(BodyState& body) const {
-    body.x += translation;
-    if (rotates()) body.q = renormalized(rotation * body.q);
-  }
-};
-
-// The side of a joint that a correction moves: one segment, or a composite subtree. Its inertia
-// is kept in `frame`: a segment's own orientation, where it is diagonal and constant (no tensor
-// is built per correction), or for a composite the rotation its pass has given it so far, where
-// its tensor is the one built at the pass's start (full, no R I Rᵀ per correction).
-struct MovingBody {
-  double mass = 0.0, inv_mass = 0.0;
-  Vector3d centre{0, 0, 0};  // centre of mass, world
-  Quaterniond frame = Quaterniond::Identity();
-  bool diagonal = false;           // a segment: inertia_diag; else the two tensors
-  Vector3d inertia_diag{0, 0, 0};  // about the centre, in frame
-  Matrix3d inertia;                // a composite's tensor, in frame; unset for a segment
-  Matrix3d inertia_inv;            // its inverse
-
-  Vector3d to_frame(const Vector3d& world) const { return frame.conjugate() * world; }
-  Vector3d to_world(const Vector3d& local) const { return frame * local; }
-  // aᵀ I a, in frame
-  double inertia_along(const Vector3d& a) const {
-    return diagonal ? a.cwiseAbs2().dot(inertia_diag) : a.dot(inertia * a);
-  }
-  // an upper bound of inertia_along over unit axes: the largest principal moment, or for a
-  // composite the trace (the sum of its principal moments)
-  double largest_moment() const { return diagonal ? inertia_diag.maxCoeff() : inertia.trace(); }
-};
-
-MovingBody single_body(const Segment& segment, const BodyState& body);
-
-// the 3×3 effective mass of a point at offset r from the centre, K = E/m − [r]× I⁻¹ [r]×, for an
-// inverse inertia tensor (symmetric; any frame, r in the same)
-inline Matrix3d point_mass_matrix(double inv_mass, const Matrix3d& inertia_inv, const Vector3d& r) {
-  // E/m − [r]× A [r]× = E/m + Σ (r × eᵢ)ᵀ A (r × eⱼ) for a symmetric A = I⁻¹, written out:
-  // the columns A (r × eᵢ), then six dot products
-  const Matrix3d& a = inertia_inv;
-  const double x = r.x(), y = r.y(), z = r.z();
-  const Vector3d au_x = z * a.col(1) - y * a.col(2);  // A (r × e_x), r × e_x = (0, z, −y)
-  const Vector3d au_y = x * a.col(2) - z * a.col(0);  // r × e_y = (−z, 0, x)
-  const Vector3d au_z = y * a.col(0) - x * a.col(1);  // r × e_z = (y, −x, 0)
-  const double xx = z * au_x.y() - y * au_x.z(), yy = x * au_y.z() - z * au_y.x(),
-               zz = y * au_z.x() - x * au_z.y();
-  const double xy = z * au_y.y() - y * au_y.z(), xz = z * au_z.y() - y * au_z.z(),
-               yz = x * au_z.z() - z * au_z.x();
-  const double m = inv_mass;
-  Matrix3d k;
-  k << m + xx, xy, xz,  //
-      xy, m + yy, yz,   //
-      xz, yz, m + zz;
-  return k;
-}
-
-// [r]×, the matrix of r × ·
-inline Matrix3d cross_matrix(const Vector3d& r) {
-  Matrix3d m;
-  m << 0, -r.z(), r.y(),  //
-      r.z(), 0, -r.x(),   //
-      -r.y(), r.x(), 0;
-  return m;
-}
-
-// the same for a segment in its own frame, where D⁻¹ = diag(inertia_inv)
-inline Matrix3d diagonal_point_mass_matrix(double inv_mass, const Vector3d& inertia_inv,
-                                           const Vector3d& r) {
-  // −[r]× D⁻¹ [r]× for D⁻¹ = diag(a, b, c), written out: symmetric, ~20 flops
-  const double a = inertia_inv.x(), b = inertia_inv.y(), c = inertia_inv.z();
-  const double x = r.x(), y = r.y(), z = r.z();
-  const double m = inv_mass;
-  Matrix3d k;
-  k << m + b * z * z + c * y * y, -c * x * y, -b * x * z,  //
-      -c * x * y, m + a * z * z + c * x * x, -a * y * z,   //
-      -b * x * z, -a * y * z, m + a * y * y + b * x * x;
-  return k;
-}
-
+// --- forced_rotation.cpp
 // The correction that moves point c_b of `body` onto c_a: the rule's forced rotation R about
-// the body's centre (eqs. 2–3 or their readings), then the forced translation of eq. 5,
-// T = (I − R)·r + s, which closes the gap exactly.
+// the body's centre (eqs. 2–3 or their readings, rules/*.cpp), then the forced translation of
+// eq. 5, T = (I − R)·r + s, which closes the gap exactly.
 // (The literal rule's dt and mass cancel out of eqs. 2–3: no rule needs the step length.)
 // The weighted reading here is for a composite body (rule subtree); a single segment is closed by
 // close_segment_point(), or in a joint by its constant gain (JointTerms::rotation_gain).
 Correction close_point(Rule rule, const MovingBody& body, const Vector3d& c_b, const Vector3d& c_a);
 
-// |r × s| (m²) below which the literal rule surely turns nothing, for a body whose largest
-// principal moment is `largest_moment` (its θ = φ·exp(−1/(I_b |r × s|)) is exactly 0), never
-// below the threshold under which r ∥ s
-double literal_still_cross(double largest_moment);
-
-// The orientation of b that brings the joint back inside its limits with a fixed (eq. 4),
-// evaluated on q_rel = (parent frame)⁻¹(child frame) whichever side b is: false when the joint
-// is inside, and *q_b_limited is left alone; else a product of unit quaternions (unit but for
-// rounding: renormalized() is enough; q_b_limited may point at q_b). Reads the joint's
-// limit_free_w and frame_shift from `terms`.
-bool limited_orientation(const Joint& joint, const JointTerms& terms, bool b_is_child,
-                         const Quaterniond& q_a, const Quaterniond& q_b, Quaterniond* q_b_limited);
-// the same as the rotation that takes b there (world; identity when inside), for the callers that
-// move more than b about the joint point
-Quaterniond limit_correction(const Joint& joint, const JointTerms& terms, bool b_is_child,
-                             const Quaterniond& q_a, const Quaterniond& q_b);
-// the same for rule relaxed's shared correction, seen from the child: the rotation vector (child's
-// frame) that turns the child inside the limits with the parent fixed, from
-// child_to_parent = q_c⁻¹ q_p (the parent's frame seen from the child's); false when inside
-bool limit_error(const Joint& joint, const JointTerms& terms, const Quaterniond& child_to_parent,
-                 Vector3d* error);
-// cos(ρ/2) for the largest angle ρ that no limit of the joint can reach in any direction (> 1
-// when there is none): a relative rotation by less than ρ needs no swing–twist decomposition
-double limit_free_w(const Joint& joint);
-
-// world position of a point given in a segment's frame
-inline Vector3d world_point(const BodyState& body, const Vector3d& local) {
-  return body.x + body.q * local;
-}
-
-// m⁻¹ y for an invertible 3×3 m, by Cramer's rule on m's columns: one division, ~40 flops
-inline Vector3d solve3(const Matrix3d& m, const Vector3d& y) {
-  const Vector3d c0 = m.col(0), c1 = m.col(1), c2 = m.col(2);
-  const Vector3d c12 = c1.cross(c2);
-  const double inv_det = 1.0 / c0.dot(c12);
-  return inv_det * Vector3d(y.dot(c12), c0.dot(y.cross(c2)), c0.dot(c1.cross(y)));
-}
-
-// The least-energy impulse λ that moves a segment's point `r_frame` (its own frame, from its
-// centre) onto `target` to first order, in the segment's frame, where its inertia is diagonal:
-// λ = K⁻¹ (the gap in that frame). It moves the centre by λ/m and turns the segment by
-// D⁻¹ (r × λ).
-inline Vector3d point_impulse(const Segment& segment, const BodyState& body,
-                              const Vector3d& r_frame, const Vector3d& target) {
-  const Vector3d gap = body.q.conjugate() * (target - body.x) - r_frame;
-  return solve3(diagonal_point_mass_matrix(segment.inv_mass, segment.inv_inertia, r_frame), gap);
-}
-
-// The weighted correction of one segment that moves its point `r_frame` onto `target`, applied
-// in place: the rotation of point_impulse(), then the translation that puts the point exactly on
-// target (eq. 5). The same as close_point(kWeighted, ...) but for rounding.
-inline void close_segment_point(const Segment& segment, const Vector3d& r_frame,
-                                const Vector3d& target, BodyState& body) {
-  const Vector3d lambda = point_impulse(segment, body, r_frame, target);
-  body.q = renormalized(times_exp(body.q, segment.inv_inertia.cwiseProduct(r_frame.cross(lambda))));
-  body.x = target - body.q * r_frame;
-}
-
-// per-substep pin targets (already interpolated across substeps)
-using PinTargets = std::array<Vector3d, kMaxPins>;
-
-// stage 1: every segment alone under its forces
-void update(const Model& model, const Environment& environment, State& state, double h);
-// the seed's tremble (§3.4), added to positions at the end of update; delta per segment out
-void tremble(const Model& model, const Settings& settings, State& state, double h,
-             std::vector<Vector3d>& delta);
-// stage 2: pins, joints and limits from the anchor
-void adjust(const Model& model, const Settings& settings, const Environment& environment,
-            const ModelTables& tables, int anchor, const PinTargets& targets, State& state,
-            Workspace& workspace, double h);
+// --- one_sided_pass.cpp
 // which pins a one-sided pass closes: none (a re-pass after contacts), all, or the rigid ones
 // (relaxed's final pass: its sweeps pulled the compliant ones)
 enum class PinClosure { kNone, kAll, kRigidOnly };
-// one-sided pass of `rule` over `order`
+// one-sided pass of `rule` over `order`: the anchor to its pin, then every joint from the
+// anchor, each moving its far side alone (rule subtree: the far side's whole subtree)
 void one_sided_pass(const Model& model, std::span<const JointTerms> joints, Rule rule,
                     const AnchorOrder& order, PinClosure closure, const PinTargets& targets,
                     State& state, Workspace& workspace);
-// two-sided corrections (two_sided.cpp) of a pin, a joint's point, a joint's limit: α̃ = α/h² is
-// the compliance (0: rigid, and then `lambda` is not read), lambda the multiplier accumulated
-// over the substep (world)
+// a compliant pin's target moved back toward its point by what its compliance holds over h (the
+// one-sided rules close the softened target exactly)
+void soften_compliant_targets(const Model& model, const State& state, double h,
+                              PinTargets& targets);
+// the joint point in a's frame and in b's frame, for a link of an anchor order
+struct LinkAnchors {
+  const Vector3d& local_a;
+  const Vector3d& local_b;
+};
+inline LinkAnchors link_anchors(const Joint& joint, const AnchorOrder::Link& link) {
+  if (link.b_is_child) return {joint.anchor_in_parent, joint.anchor_in_child};
+  return {joint.anchor_in_child, joint.anchor_in_parent};
+}
+
+// --- two_sided.cpp
+// two-sided corrections of a pin, a joint's point, a joint's limit: α̃ = α/h² is the compliance
+// (0: rigid, and then `lambda` is not read), lambda the multiplier accumulated over the substep
+// (world)
 void share_pin_correction(const Model& model, const Pin& pin, const Vector3d& target,
                           double alpha_tilde, Vector3d* lambda, State& state);
 void share_joint_correction(const Model& model, const JointTerms& terms, const Joint& joint,
                             double alpha_tilde, Vector3d* lambda, State& state);
 void share_limit_correction(const Model& model, const JointTerms& terms, const Joint& joint,
                             double alpha_tilde, Vector3d* lambda, State& state);
-// rule xpbd's position solve of one substep (xpbd.cpp)
-void xpbd_sweeps(const Model& model, std::span<const JointTerms> joints, const Settings& settings,
-                 const Environment& environment, const AnchorOrder& order,
-                 const PinTargets& targets, State& state, Workspace& workspace, double h);
-// rule tree's position solve of one substep (tree_projection.cpp)
-void tree_projection(const Model& model, std::span<const JointTerms> joints,
-                     const Settings& settings, const Environment& environment,
-                     const AnchorOrder& order, const PinTargets& targets, State& state,
-                     Workspace& workspace, double h);
-// stage 3 as each rule has it: the one-sided rules push out of the ground and re-run their pass
-// from the segment that hit deepest; relaxed pushes out only; xpbd's contacts are in its sweeps
-void contacts_after_adjust(const Model& model, const Settings& settings,
-                           const Environment& environment, const ModelTables& tables,
-                           const PinTargets& targets, State& state, Workspace& workspace);
-// xpbd's velocity pass at the ground: a contact point's approaching normal velocity removed (no
-// restitution), Coulomb friction bounded by μ times that impulse
-void ground_velocity_pass(const Model& model, const Environment& environment, State& state);
-// stage 3: push shape points out of the ground with friction; returns the deepest-penetrating
-// segment before correction, or -1 without contact
+
+// --- stage 3, contacts.cpp
+// What the contact stage does after a rule's adjust (the rule's contact policy):
+enum class ContactPolicy {
+  kInAdjust,          // xpbd, tree: the ground is a constraint of their sweeps or iterations
+  kPushOut,           // relaxed: push out of the ground; what it reopens is reported as gap
+  kPushOutAndRepass,  // the one-sided rules: push out, then re-run the pass from the deepest
+};
+ContactPolicy contact_policy(Rule rule);
+// the stage: the ground as the rule's policy says
+void contacts(const Model& model, const Settings& settings, const Environment& environment,
+              const ModelTables& tables, const PinTargets& targets, State& state,
+              Workspace& workspace);
+// push shape points out of the ground with friction; returns the deepest-penetrating segment
+// before correction, or -1 without contact
 int resolve_contacts(const Model& model, const Environment& environment, State& state);
-// push one segment out of the ground (shared by resolve_contacts and relaxed sweeps); returns
-// the deepest penetration (m) found before the correction
+// push one segment out of the ground (shared by resolve_contacts and the sweeps); returns the
+// deepest penetration (m) found before the correction
 double push_out_of_ground(const Model& model, const Environment& environment, int segment,
                           State& state);
-// stage 4: velocities from the corrected poses and the previous ones
+// whether the rule's velocity stage runs the ground's velocity pass (xpbd and tree: their
+// positions cannot say that a contact stopped a point)
+bool needs_ground_velocity_pass(Rule rule);
+// the ground's velocity pass: a contact point's approaching normal velocity removed (no
+// restitution), Coulomb friction bounded by μ times that impulse
+void ground_velocity_pass(const Model& model, const Environment& environment, State& state);
+
+// --- stage 4, velocities.cpp: velocities from the corrected poses and the previous ones
 void derive_velocities(const Model& model, State& state, const std::vector<Vector3d>& tremble_delta,
                        double h);
 

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <new>
 
+#include "model_tables.h"
 #include "puppet/compare/scenario.h"
 #include "puppet/procedural/crowd.h"
 #include "puppet/procedural/solver.h"

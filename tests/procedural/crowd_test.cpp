@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "model_tables.h"
 #include "puppet/compare/scenario.h"
 
 namespace puppet::procedural {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <malloc.h>
 
+#include "model_tables.h"
 #include "puppet/model/environment.h"
 #include "puppet/procedural/solver.h"
 #include "support/state_hash.h"

@@ -2,6 +2,7 @@
 // Lagrangian double pendulum integrated here, conservation of momentum, and its own invariants
 // (joints closed, limits held, finite, deterministic).
 #include "puppet/procedural/solver.h"
+#include "model_tables.h"
 
 #include <gtest/gtest.h>
 
@@ -266,7 +267,9 @@ TEST(Determinism, DragAfterThousandSteps) {
 TEST(Divergence, NonFiniteStateIsFlaggedNotThrown) {
   const Model model = rods(2);
   Solver solver(model, Settings{}, Environment{});
-  solver.mutable_state().bodies[1].v.x() = NAN;
+  std::vector<BodyState> bodies = solver.state().bodies;
+  bodies[1].v.x() = NAN;
+  solver.place(bodies);
   EXPECT_NO_THROW(solver.step(kDt));
   EXPECT_TRUE(solver.state().diverged);
   EXPECT_NEAR(solver.state().diverged_time, kDt, 1e-15);

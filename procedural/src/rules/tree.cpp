@@ -33,7 +33,7 @@
 #include <cmath>
 
 #include "puppet/model/rotation.h"
-#include "stages.h"
+#include "rules.h"
 
 namespace puppet::procedural {
 namespace {
@@ -428,10 +428,9 @@ void solve_once(const Model& model, std::span<const JointTerms> joints, const Se
 
 }  // namespace
 
-void tree_projection(const Model& model, std::span<const JointTerms> joints,
-                     const Settings& settings, const Environment& environment,
-                     const AnchorOrder& order, const PinTargets& targets, State& state,
-                     Workspace& ws, double h) {
+void tree_adjust(const Model& model, std::span<const JointTerms> joints, const Settings& settings,
+                 const Environment& environment, const AnchorOrder& order,
+                 const PinTargets& targets, State& state, Workspace& ws, double h) {
   const int count = build_topology(order, state, ws);
   for (int i = 0; i < count; ++i) ws.tree_nodes[i].lambda.setZero();
   for (TreeLoop& loop : ws.tree_loops) loop.lambda.setZero();

@@ -16,11 +16,11 @@
 // residual the sweeps leave (joint_gap_m reports it); with many short substeps that residual
 // shrinks as h², and nothing moves a child as if its parent were infinitely heavy. The model
 // has no joint damping, so the velocity pass has none.
-#include "stages.h"
+#include "rules.h"
 
 namespace puppet::procedural {
 
-void xpbd_sweeps(const Model& model, std::span<const JointTerms> joints, const Settings& settings,
+void xpbd_adjust(const Model& model, std::span<const JointTerms> joints, const Settings& settings,
                  const Environment& environment, const AnchorOrder& order,
                  const PinTargets& targets, State& state, Workspace& ws, double h) {
   const double inv_h2 = 1.0 / (h * h);

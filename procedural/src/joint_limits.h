@@ -1,0 +1,31 @@
+// Joint limits (seed eq. 4): the swing–twist clamp of a joint's relative rotation, as the
+// orientation of the moved side, as a rotation, or as a shared correction's error. Private to
+// procedural/; joint_limits.cpp.
+#pragma once
+
+#include "model_tables.h"
+#include "puppet/model/model.h"
+
+namespace puppet::procedural {
+
+// The orientation of b that brings the joint back inside its limits with a fixed (eq. 4),
+// evaluated on q_rel = (parent frame)⁻¹(child frame) whichever side b is: false when the joint
+// is inside, and *q_b_limited is left alone; else a product of unit quaternions (unit but for
+// rounding: renormalized() is enough; q_b_limited may point at q_b). Reads the joint's
+// limit_free_w and frame_shift from `terms`.
+bool limited_orientation(const Joint& joint, const JointTerms& terms, bool b_is_child,
+                         const Quaterniond& q_a, const Quaterniond& q_b, Quaterniond* q_b_limited);
+// the same as the rotation that takes b there (world; identity when inside), for the callers that
+// move more than b about the joint point
+Quaterniond limit_correction(const Joint& joint, const JointTerms& terms, bool b_is_child,
+                             const Quaterniond& q_a, const Quaterniond& q_b);
+// the same for rule relaxed's shared correction, seen from the child: the rotation vector (child's
+// frame) that turns the child inside the limits with the parent fixed, from
+// child_to_parent = q_c⁻¹ q_p (the parent's frame seen from the child's); false when inside
+bool limit_error(const Joint& joint, const JointTerms& terms, const Quaterniond& child_to_parent,
+                 Vector3d* error);
+// cos(ρ/2) for the largest angle ρ that no limit of the joint can reach in any direction (> 1
+// when there is none): a relative rotation by less than ρ needs no swing–twist decomposition
+double limit_free_w(const Joint& joint);
+
+}  // namespace puppet::procedural
