@@ -35,7 +35,7 @@ void scaling_benchmark(benchmark::State& state, const SolverConfig& config) {
 // puppet's state) is not timed
 constexpr int kCrowdBatchSteps = 8;
 
-void crowd_benchmark(benchmark::State& state, const std::string& rule) {
+void crowd_benchmark(benchmark::State& state, procedural::Rule rule) {
   const int puppets = static_cast<int>(state.range(0));
   const int threads = static_cast<int>(state.range(1));
   const Workload workload = make_workload(pinocchio(), "drag", kCrowdBatchSteps);
@@ -93,7 +93,7 @@ int main(int argc, char** argv) {
     const std::vector<int64_t> puppets =
         substepped ? std::vector<int64_t>{1000} : std::vector<int64_t>{1000, 20000};
     benchmark::RegisterBenchmark(("crowd/" + name).c_str(),
-                                 [name](benchmark::State& state) { crowd_benchmark(state, name); })
+                                 [rule](benchmark::State& state) { crowd_benchmark(state, rule); })
         ->ArgNames({"puppets", "threads"})
         ->ArgsProduct({puppets, {1, 2}})
         ->UseManualTime()

@@ -17,7 +17,7 @@ using namespace puppet::bench;
 
 namespace {
 
-void stage_benchmark(benchmark::State& state, const std::string& scenario, const std::string& rule,
+void stage_benchmark(benchmark::State& state, const std::string& scenario, procedural::Rule rule,
                      procedural::Stage stage) {
   const Workload workload = make_workload(pinocchio(), scenario, 1);
   const auto solver = warmed_up_solver(state, workload, rule);
@@ -35,7 +35,7 @@ void stage_benchmark(benchmark::State& state, const std::string& scenario, const
 
 void floor_benchmark(benchmark::State& state, const std::string& scenario) {
   const Workload workload = make_workload(pinocchio(), scenario, kBatchSteps);
-  const auto solver = warmed_up_solver(state, workload, "literal");
+  const auto solver = warmed_up_solver(state, workload, procedural::Rule::kLiteral);
   const procedural::State start = solver->state();
   for (auto _ : state) {
     solver->restore(start);
@@ -64,8 +64,8 @@ int main(int argc, char** argv) {
         const std::string name =
             "stage/" + scenario + "/" + rule_name + "/" + std::string(procedural::kStageNames[s]);
         benchmark::RegisterBenchmark(name.c_str(),
-                                     [scenario, rule_name, stage](benchmark::State& state) {
-                                       stage_benchmark(state, scenario, rule_name, stage);
+                                     [scenario, rule, stage](benchmark::State& state) {
+                                       stage_benchmark(state, scenario, rule, stage);
                                      })
             ->UseManualTime()
             ->Unit(benchmark::kNanosecond);

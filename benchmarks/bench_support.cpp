@@ -12,8 +12,8 @@ std::vector<SolverConfig> solver_configs() {
   std::vector<SolverConfig> configs;
   for (procedural::Rule rule : procedural::kAllRules) {
     compare::SolverOptions options;
-    options.rule = std::string(procedural::rule_name(rule));
-    configs.push_back({options.rule, "procedural", options});
+    options.rule = rule;
+    configs.push_back({std::string(procedural::rule_name(rule)), "procedural", options});
   }
   configs.push_back({"bullet-multibody", "bullet-multibody", {}});
   configs.push_back({"bullet-rigid", "bullet-rigid", {}});
@@ -91,7 +91,7 @@ bool warm_up(benchmark::State& state, compare::Simulator& simulator, const Workl
   return true;
 }
 
-procedural::Settings procedural_settings(const Workload& workload, const std::string& rule) {
+procedural::Settings procedural_settings(const Workload& workload, procedural::Rule rule) {
   compare::SolverOptions options;
   options.rule = rule;
   return compare::procedural_settings(options, workload.scenario);
@@ -99,7 +99,7 @@ procedural::Settings procedural_settings(const Workload& workload, const std::st
 
 std::unique_ptr<procedural::Solver> warmed_up_solver(benchmark::State& state,
                                                      const Workload& workload,
-                                                     const std::string& rule) {
+                                                     procedural::Rule rule) {
   const compare::Scenario& scenario = workload.scenario;
   auto solver = std::make_unique<procedural::Solver>(
       *workload.model, procedural_settings(workload, rule), scenario.environment);

@@ -57,10 +57,10 @@ bool warm_up(benchmark::State& state, compare::Simulator& simulator, const Workl
 
 // The settings compare/ gives the procedural solver with this rule in the workload's scenario,
 // and such a solver stepped through the warm-up (the benchmark skipped if it diverged).
-procedural::Settings procedural_settings(const Workload& workload, const std::string& rule);
+procedural::Settings procedural_settings(const Workload& workload, procedural::Rule rule);
 std::unique_ptr<procedural::Solver> warmed_up_solver(benchmark::State& state,
                                                      const Workload& workload,
-                                                     const std::string& rule);
+                                                     procedural::Rule rule);
 
 // the time of `body` in seconds, for UseManualTime()
 template <typename Body>

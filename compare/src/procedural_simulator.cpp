@@ -2,6 +2,7 @@
 #include <optional>
 
 #include "puppet/compare/simulator.h"
+#include "puppet/model/text.h"
 #include "puppet/procedural/solver.h"
 #include "puppet/reference/mujoco.h"
 
@@ -65,15 +66,13 @@ class ProceduralSimulator : public Simulator {
 };
 
 procedural::Settings settings_without_scenario(const SolverOptions& options) {
-  const auto rule = procedural::parse_rule(options.rule);
-  if (!rule) throw ScenarioError("--rule: unknown rule \"" + options.rule + "\"");
   procedural::Settings settings;
-  settings.rule = *rule;
+  settings.rule = options.rule;
   settings.iterations = options.iterations;
   settings.substeps = options.substeps;
   settings.derive_velocities = options.derive_velocities;
   const std::string problem = procedural::validate(settings);
-  if (!problem.empty()) throw ScenarioError(problem);
+  if (!problem.empty()) throw ScenarioError(problem, "settings");
   return procedural::rule_defaults(settings);
 }
 
@@ -108,7 +107,7 @@ std::unique_ptr<Simulator> make_simulator(const std::string& solver, const Solve
   if (solver == "bullet-multibody" || solver == "bullet-rigid" ||
       (solver == "mujoco" && reference::have_mujoco()))
     return make_reference_simulator(solver, options);
-  throw ScenarioError("--solver: unknown solver \"" + solver + "\"");
+  throw ScenarioError("unknown solver " + shown(solver), "solver");
 }
 
 }  // namespace puppet::compare

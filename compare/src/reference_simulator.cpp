@@ -67,7 +67,7 @@ std::unique_ptr<Simulator> make_reference_simulator(const std::string& solver,
   settings.iterations = options.bullet_iterations;
   settings.euler_ball_limits = options.bullet_euler_limits;
   const std::string problem = reference::validate(settings);
-  if (!problem.empty()) throw ScenarioError("--bullet-iterations: " + problem);
+  if (!problem.empty()) throw ScenarioError(problem, "bullet_iterations");
   reference::MujocoSettings mujoco;
   mujoco.integrator = options.mujoco_integrator;
   mujoco.constraint_time_constant = options.mujoco_time_constant;

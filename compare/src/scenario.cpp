@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "puppet/model/text.h"
+
 namespace puppet::compare {
 namespace {
 
@@ -34,14 +36,14 @@ double rest_lowest_z(const Segment& segment) {
 }
 
 Pin choose_point(const Model& model, const std::optional<PointChoice>& choice, int default_segment,
-                 const Vector3d& extreme_direction, const char* flag) {
+                 const Vector3d& extreme_direction, const char* option) {
   Pin pin;
   pin.segment = default_segment;
   if (choice) {
     pin.segment = model.find_segment(choice->segment);
     if (pin.segment < 0) {
-      throw ScenarioError(std::string(flag) + ": unknown segment \"" + choice->segment +
-                          "\" in model \"" + model.name + "\"");
+      throw ScenarioError(
+          "unknown segment " + shown(choice->segment) + " in model " + shown(model.name), option);
     }
   }
   const Segment& segment = model.segments[pin.segment];
@@ -121,7 +123,7 @@ bool Scenario::conserves_momentum() const {
 Scenario make_scenario(const std::string& name, const Model& model,
                        const ScenarioOptions& options) {
   if (std::find(scenario_names().begin(), scenario_names().end(), name) == scenario_names().end()) {
-    throw ScenarioError("--scenario: unknown scenario \"" + name + "\"");
+    throw ScenarioError("unknown scenario " + shown(name), "scenario");
   }
   Scenario s;
   s.name = name;
@@ -134,7 +136,7 @@ Scenario make_scenario(const std::string& name, const Model& model,
   if (hanging) {
     // a marionette: the pin point fixed, the figure tilted about world x through it
     const Pin head =
-        choose_point(model, options.pin, default_pin_segment(model), Vector3d::UnitZ(), "--pin");
+        choose_point(model, options.pin, default_pin_segment(model), Vector3d::UnitZ(), "pin");
     const Vector3d pivot = world_of(s.initial, head);
     rotate_about(s.initial,
                  Quaterniond(Eigen::AngleAxisd(options.tilt_deg * M_PI / 180.0, Vector3d::UnitX())),
@@ -147,7 +149,7 @@ Scenario make_scenario(const std::string& name, const Model& model,
   }
   if (circling || name == "shake") {
     const Pin hand = choose_point(model, options.grab, default_grab_segment(model, name),
-                                  -Vector3d::UnitZ(), "--grab");
+                                  -Vector3d::UnitZ(), "grab");
     PinPath grab;
     grab.pin = hand;
     grab.pin.target = world_of(s.initial, hand);

@@ -320,7 +320,7 @@ std::vector<SolverConfig> parse_solver_configs(const RunFlags& f) {
     if (solver == "procedural") {
       for (const auto& rule : rules) {
         SolverOptions o = options;
-        o.rule = rule;
+        o.rule = *procedural::parse_rule(rule);  // expand() accepted only rule names
         configs.push_back({solver, o});
       }
     } else {
@@ -396,7 +396,7 @@ void check_run_size(const SweepSpec& spec, const Model& model) {
         RunResult r;
         r.scenario = scenario.name;
         r.solver = config.solver;
-        r.rule = config.solver == "procedural" ? config.options.rule : "";
+        r.rule = config.solver == "procedural" ? procedural::rule_name(config.options.rule) : "";
         r.dt = dt;
         const std::string name = trace_stem(model.name, r) + "__poses.csv";
         if (name.size() > 255) {
@@ -713,7 +713,11 @@ int main(int argc, char** argv) {
   } catch (const ModelError& e) {
     std::cerr << "testbed: " << one_line(e.what(), kMessageLength) << '\n';
   } catch (const ScenarioError& e) {
-    std::cerr << "testbed: " << one_line(e.what(), kMessageLength) << '\n';
+    // the library names the option; the command line adds its flag
+    std::string flag = e.option;
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    const std::string prefix = flag.empty() || flag == "settings" ? "" : "--" + flag + ": ";
+    std::cerr << "testbed: " << one_line(prefix + e.what(), kMessageLength) << '\n';
   } catch (const GateError& e) {
     std::cerr << "testbed gate: " << one_line(e.what(), kMessageLength) << '\n';
   } catch (const std::exception& e) {

@@ -24,7 +24,7 @@ TEST(Frontier, BisectionBracketsTheBoundaryToItsResolution) {
   FrontierSpec spec;
   spec.model = &model;
   SolverOptions literal;
-  literal.rule = "literal";
+  literal.rule = procedural::Rule::kLiteral;
   spec.configs = {{"procedural", literal}};
   spec.hz_low = 2.0;
   spec.hz_high = 16.0;

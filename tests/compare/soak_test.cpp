@@ -45,7 +45,7 @@ struct SoakCount {
 SoakCount soak(const Model& model, const std::string& solver, const std::string& rule, long steps,
                uint64_t seed) {
   SolverOptions options;
-  options.rule = rule;
+  if (!rule.empty()) options.rule = *procedural::parse_rule(rule);
   auto simulator = make_simulator(solver, options);
   const Scenario scenario = make_scenario("drop", model);  // ground, gravity, air drag
   simulator->reset(model, scenario);

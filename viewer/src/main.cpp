@@ -264,7 +264,14 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--solver", config.solver, "procedural, bullet-multibody, bullet-rigid or mujoco")
       ->capture_default_str();
-  app.add_option("--rule", config.options.rule, "the procedural solver's adjust rule")
+  // the rule's name is read here, at the edge; the session holds a procedural::Rule
+  std::vector<std::string> rule_names;
+  for (const procedural::Rule rule : procedural::kAllRules) {
+    rule_names.emplace_back(procedural::rule_name(rule));
+  }
+  std::string rule_text(procedural::rule_name(config.options.rule));
+  app.add_option("--rule", rule_text, "the procedural solver's adjust rule")
+      ->check(CLI::IsMember(rule_names))
       ->capture_default_str();
   app.add_option("--ghost", config.ghost, "a second solver, drawn as a translucent ghost");
   app.add_option("--anchor", config.anchor,
@@ -294,6 +301,7 @@ int main(int argc, char** argv) {
     std::cerr << "viewer: " << one_line(e.what(), 400) << '\n';
     return kBadInput;
   }
+  config.options.rule = *procedural::parse_rule(rule_text);  // --rule checked it
 
   auto bad = [](const std::string& message) {
     std::cerr << "viewer: " << one_line(message, 400) << '\n';
@@ -320,6 +328,11 @@ int main(int argc, char** argv) {
   std::optional<App> state;
   try {
     state.emplace(config);
+  } catch (const compare::ScenarioError& e) {
+    // the session names the option; the command line adds its flag
+    std::string flag = e.option;
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    return bad(flag.empty() || flag == "settings" ? e.what() : "--" + flag + ": " + e.what());
   } catch (const std::exception& e) {
     return bad(e.what());
   }

@@ -44,9 +44,8 @@ void configure(Session& session, const SessionConfig& config, PanelState& state)
 
 // a slider over a count that may still be the rule's default: it shows the value in force
 bool rule_count_slider(const char* label, const SessionConfig& config, int* count, int lo, int hi) {
-  const auto rule = procedural::parse_rule(config.options.rule);
   procedural::Settings settings;
-  if (rule) settings.rule = *rule;
+  settings.rule = config.options.rule;
   settings.iterations = config.options.iterations;
   settings.substeps = config.options.substeps;
   settings = procedural::rule_defaults(settings);
@@ -64,15 +63,18 @@ void solver_section(Session& session, PanelState& state) {
     for (const procedural::Rule r : procedural::kAllRules) {
       rules.emplace_back(procedural::rule_name(r));
     }
-    if (combo("rule", config.options.rule, rules)) {
+    std::string rule(procedural::rule_name(config.options.rule));
+    if (combo("rule", rule, rules)) {
+      config.options.rule = *procedural::parse_rule(rule);  // one of the combo's names
       // a new rule starts from its own sweeps and substeps
       config.options.iterations = procedural::kRuleDefault;
       config.options.substeps = procedural::kRuleDefault;
       changed = true;
     }
-    if (config.options.rule == "relaxed" || config.options.rule == "xpbd") {
+    using procedural::Rule;
+    if (config.options.rule == Rule::kRelaxed || config.options.rule == Rule::kXpbd) {
       changed |= rule_count_slider("sweeps", config, &config.options.iterations, 1, 16);
-    } else if (config.options.rule == "tree") {
+    } else if (config.options.rule == Rule::kTree) {
       changed |= rule_count_slider("Newton", config, &config.options.iterations, 1, 8);
     }
   }

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "puppet/compare/metrics.h"
+#include "puppet/model/text.h"
 
 namespace puppet::viewer {
 namespace {
@@ -38,36 +39,35 @@ float History::latest() const {
 
 float History::max() const { return *std::max_element(values_.begin(), values_.end()); }
 
-std::string validate(const SessionConfig& config) {
+std::optional<compare::ScenarioError> validate(const SessionConfig& config) {
+  using compare::ScenarioError;
   if (!std::isfinite(config.dt) || config.dt <= 0.0) {
-    return "--dt: must be a positive number of seconds";
+    return ScenarioError("must be a positive number of seconds", "dt");
   }
   if (!is_one_of(compare::scenario_names(), config.scenario)) {
-    return "--scenario: unknown scenario \"" + config.scenario + "\"";
+    return ScenarioError("unknown scenario " + shown(config.scenario), "scenario");
   }
   if (!is_one_of(compare::solver_names(), config.solver)) {
-    return "--solver: unknown solver \"" + config.solver + "\"";
+    return ScenarioError("unknown solver " + shown(config.solver), "solver");
   }
   if (!(config.grab_compliance >= 0.0 && config.grab_compliance <= 1.0)) {
-    return "--grab-compliance: expected a compliance in [0, 1] m/N";
+    return ScenarioError("expected a compliance in [0, 1] m/N", "grab_compliance");
   }
   if (config.anchor != "auto" && config.anchor != "grab" && config.anchor != "scenario") {
-    return "--anchor: expected auto, grab or scenario, got \"" + config.anchor + "\"";
+    return ScenarioError("expected auto, grab or scenario, got " + shown(config.anchor), "anchor");
   }
   if (!config.ghost.empty() && !is_one_of(compare::solver_names(), config.ghost)) {
-    return "--ghost: unknown solver \"" + config.ghost + "\"";
+    return ScenarioError("unknown solver " + shown(config.ghost), "ghost");
   }
   if (!std::isfinite(config.shake_amplitude) || config.shake_amplitude < 0.0 ||
       !std::isfinite(config.shake_hz) || config.shake_hz <= 0.0) {
-    return "shake: the amplitude must be ≥ 0 and the frequency > 0";
+    return ScenarioError("the amplitude must be at least 0 and the frequency above 0", "shake");
   }
-  return {};
+  return std::nullopt;
 }
 
 Session::Session(const SessionConfig& config) : config_(config) {
-  if (const std::string problem = validate(config); !problem.empty()) {
-    throw compare::ScenarioError(problem);
-  }
+  if (auto problem = validate(config)) throw *problem;
   model_ = std::make_unique<Model>(compare::load_named_model(config.model));
   scenario_ = compare::make_scenario(config.scenario, *model_);
   start_over();
@@ -88,9 +88,7 @@ void Session::start_over() {
 }
 
 void Session::configure(const SessionConfig& config) {
-  if (const std::string problem = validate(config); !problem.empty()) {
-    throw compare::ScenarioError(problem);
-  }
+  if (auto problem = validate(config)) throw *problem;
   if (config.model != config_.model || config.scenario != config_.scenario) {
     auto model = std::make_unique<Model>(compare::load_named_model(config.model));
     compare::Scenario scenario = compare::make_scenario(config.scenario, *model);
@@ -208,7 +206,7 @@ void Session::observe(Run& run, int steps, double seconds) {
 
 bool Session::grab_anchors() const {
   return config_.anchor == "grab" ||
-         (config_.anchor == "auto" && config_.options.rule == "literal");
+         (config_.anchor == "auto" && config_.options.rule == procedural::Rule::kLiteral);
 }
 
 int Session::grab_index() const {

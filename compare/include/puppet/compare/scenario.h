@@ -13,9 +13,14 @@
 namespace puppet::compare {
 
 // bad scenario input (unknown name, unknown segment): one message naming the problem
+// What is wrong with a scenario's or a solver's options, and which option: `option` names the
+// ScenarioOptions or SolverOptions field ("pin", "grab", "scenario", "solver",
+// "bullet_iterations"), empty when it is none of them. A command line adds its flag.
 class ScenarioError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit ScenarioError(const std::string& message, std::string option_name = {})
+      : std::runtime_error(message), option(std::move(option_name)) {}
+  std::string option;
 };
 
 // a segment, and optionally a point on it (segment frame); without one the scenario picks the

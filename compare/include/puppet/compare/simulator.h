@@ -58,7 +58,7 @@ class Simulator {
 const std::vector<std::string>& solver_names();
 // options a solver may use: the procedural rule and its settings, the references' sweeps
 struct SolverOptions {
-  std::string rule = "relaxed";
+  procedural::Rule rule = procedural::Rule::kRelaxed;
   int iterations = procedural::kRuleDefault;  // relaxed, xpbd: sweeps per substep; tree: Newton
   int bullet_iterations = 10;        // Bullet: sequential-impulse sweeps (Bullet's default)
   bool bullet_euler_limits = false;  // bullet-multibody: Bullet's Euler-box ball limits
@@ -68,7 +68,7 @@ struct SolverOptions {
   bool derive_velocities = true;
   bool tremble = true;  // honoured only where the scenario asks for it
 };
-// throws ScenarioError for an unknown solver or rule
+// throws ScenarioError for an unknown solver or invalid settings
 std::unique_ptr<Simulator> make_simulator(const std::string& solver, const SolverOptions& options);
 // the settings make_simulator("procedural", options) gives its solver in this scenario, for code
 // that drives procedural::Solver directly (benchmarks of its stages, crowds); throws ScenarioError

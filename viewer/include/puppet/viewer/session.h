@@ -4,6 +4,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -50,7 +51,9 @@ struct SessionConfig {
 };
 
 // "bad input: one message naming it" for a config (dt, names), empty when valid
-std::string validate(const SessionConfig& config);
+// nullopt when valid, else what is wrong and with which field ("dt", "scenario", "solver",
+// "grab_compliance", "anchor", "ghost", "shake"); the viewer's command line adds its flag
+std::optional<compare::ScenarioError> validate(const SessionConfig& config);
 
 // one solver of the session and what the viewer shows of it
 struct Run {
