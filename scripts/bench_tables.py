@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Print the README's speed tables (markdown) from one machine's full benchmark run.
+"""Print docs/performance.md's speed tables (markdown) from one machine's full benchmark run.
 
     scripts/bench_tables.py results/bench/<machine>.csv
 

@@ -1,0 +1,79 @@
+#!/usr/bin/env python3
+"""The README's headline table, from the committed results/main/summary.csv and nothing else.
+
+  scripts/readme_headline.py [--check] [README.md] [results/main/summary.csv]
+
+Rewrites the block between `<!-- headline:begin -->` and `<!-- headline:end -->` in the README;
+with --check, exits 1 (and says so) when the block differs from what the CSV gives, so a stale
+figure fails the test suite instead of being read.
+"""
+import math
+import os
+import sys
+
+from plot import SCENARIOS, Summary, fmt
+
+BEGIN, END = "<!-- headline:begin -->", "<!-- headline:end -->"
+
+
+def headline(summary_path):
+    s = Summary(summary_path)
+    dt = s.table_dt()
+    scenarios = [x for x in SCENARIOS if x in s.scenarios]
+
+    def step_us(config):
+        times = [s.get(x, config, dt, "step_us", "median") for x in scenarios]
+        times = [t for t in times if not math.isnan(t) and t > 0]
+        return math.exp(sum(math.log(t) for t in times) / len(times)) if times else math.nan
+
+    base = step_us(("bullet-multibody", ""))
+    limit = s.truth_limit("drag")
+    lines = [
+        f"| solver | µs per step (geometric mean of the {len(scenarios)} scenarios) "
+        f"| × bullet-multibody's speed | scenarios diverged (of {len(scenarios)}) "
+        "| re-seeded pose error in `drag`, m |",
+        "|---|---|---|---|---|",
+    ]
+    for config in s.configs:
+        t = step_us(config)
+        diverged = sum(1 for x in scenarios if s.diverged(x, config, dt))
+        err = s.get("drag", config, dt, "pose_err_m", "reseeded_mean", "truth")
+        err_text = f"≤ {fmt(limit)}" if err < limit else fmt(err)
+        name = config[0] + (" " + config[1] if config[1] else "")
+        lines.append(f"| {name} | {fmt(t)} | {fmt(base / t)} | {diverged} | {err_text} |")
+    return (f"At dt = 1/{round(1 / dt)} s on {s.model}, from `results/main/summary.csv` (commit "
+            f"`{s.git_sha}`, {s.machine}), printed by `scripts/readme_headline.py`. The error is "
+            "against the fine-step truth (bullet-multibody at 1/3840 s), the mean over the "
+            "re-seeded half-second runs; the truth judges only errors above ten times its own "
+            f"(`≤ {fmt(limit)}`). The full tables are in results/REPORT.md.\n\n"
+            + "\n".join(lines) + "\n")
+
+
+def main(argv):
+    check = "--check" in argv
+    args = [a for a in argv if a != "--check"]
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+    readme = args[0] if args else os.path.join(root, "README.md")
+    summary = args[1] if len(args) > 1 else os.path.join(root, "results", "main", "summary.csv")
+    text = open(readme, encoding="utf-8").read()
+    if BEGIN not in text or END not in text:
+        print(f"readme_headline: {readme}: no {BEGIN} … {END} block", file=sys.stderr)
+        return 2
+    head, rest = text.split(BEGIN, 1)
+    _, tail = rest.split(END, 1)
+    new = head + BEGIN + "\n" + headline(summary) + END + tail
+    if check:
+        if new != text:
+            print(f"readme_headline: {readme}'s headline is not what {summary} gives; "
+                  "run scripts/readme_headline.py", file=sys.stderr)
+            return 1
+        return 0
+    if new != text:
+        tmp = readme + ".tmp"
+        open(tmp, "w", encoding="utf-8").write(new)
+        os.replace(tmp, readme)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
