@@ -20,6 +20,7 @@ packages=(
   libgl1-mesa-dri libglx-mesa0 # Mesa: its software renderer where there is no GPU
   xvfb xauth         # the viewer's headless tests (xvfb-run)
   clang-14 libclang-rt-14-dev # the clang build and the loader's fuzzer (scripts/fuzz.sh)
+  doxygen            # the API reference (scripts/api_docs.sh)
 )
 
 missing=()

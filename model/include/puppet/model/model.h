@@ -1,9 +1,10 @@
-// The articulated body: segments, their shapes and inertia, the joints that tie them into a
-// tree, and the joints' limits. Immutable once built; every solver reads the same Model.
-//
-// Conventions (shared/DESIGN.md, "The model"): SI units, right-handed, z up. Quaternions are
-// Eigen's (w, x, y, z). Everything in the file is given in world coordinates at rest; the loader
-// derives every local quantity stored here.
+/// \file
+/// The articulated body: segments, their shapes and inertia, the joints that tie them into a
+/// tree, and the joints' limits. Immutable once built; every solver reads the same Model.
+///
+/// Conventions (shared/DESIGN.md, "The model"): SI units, right-handed, z up. Quaternions are
+/// Eigen's (w, x, y, z). Everything in the file is given in world coordinates at rest; the loader
+/// derives every local quantity stored here.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -19,35 +20,35 @@ using Eigen::Vector3d;
 
 enum class ShapeType { kSphere, kCapsule, kBox, kCylinder };
 
-// a collision/visual shape in its segment's frame, centred on the segment's COM
+/// a collision/visual shape in its segment's frame, centred on the segment's COM
 struct Shape {
   ShapeType type = ShapeType::kSphere;
-  double radius = 0.0;             // sphere, capsule, cylinder
-  double half_length = 0.0;        // capsule: half the cylinder part; cylinder: half its height;
-                                   // both along local z
-  Vector3d half_extents{0, 0, 0};  // box
+  double radius = 0.0;             ///< sphere, capsule, cylinder
+  double half_length = 0.0;        ///< capsule: half the cylinder part; cylinder: half its height;
+                                   /// both along local z
+  Vector3d half_extents{0, 0, 0};  ///< box
 };
 
 double shape_volume(const Shape& shape);
-// solid-body inertia of the shape with the given mass, diagonal in the segment frame
+/// solid-body inertia of the shape with the given mass, diagonal in the segment frame
 Vector3d solid_inertia(const Shape& shape, double mass);
-// the shape's point furthest along `direction` (segment frame); ties resolve to the middle
+/// the shape's point furthest along `direction` (segment frame); ties resolve to the middle
 Vector3d support_point(const Shape& shape, const Vector3d& direction);
-// signed distance from a point (segment frame) to the shape's surface, negative inside
+/// signed distance from a point (segment frame) to the shape's surface, negative inside
 double signed_distance(const Shape& shape, const Vector3d& point);
 
 struct Segment {
   std::string name;
   double mass = 0.0;
-  Vector3d inertia{0, 0, 0};  // diagonal, segment frame, about the COM
-  // 1/mass and 1/inertia, derived by derive_mass_terms(): the solvers multiply, never divide
+  Vector3d inertia{0, 0, 0};  ///< diagonal, segment frame, about the COM
+  /// 1/mass and 1/inertia, derived by derive_mass_terms(): the solvers multiply, never divide
   double inv_mass = 0.0;
   Vector3d inv_inertia{0, 0, 0};
   Shape shape;
-  Vector3d rest_position{0, 0, 0};                         // COM in world at rest
-  Quaterniond rest_orientation = Quaterniond::Identity();  // segment frame in world at rest
-  int parent_joint = -1;  // joint whose child this segment is; -1 for the root
-  int parent = -1;        // parent segment; -1 for the root
+  Vector3d rest_position{0, 0, 0};                         ///< COM in world at rest
+  Quaterniond rest_orientation = Quaterniond::Identity();  ///< segment frame in world at rest
+  int parent_joint = -1;  ///< joint whose child this segment is; -1 for the root
+  int parent = -1;        ///< parent segment; -1 for the root
 };
 
 enum class JointType { kBall, kHinge, kFixed };
@@ -55,37 +56,37 @@ enum class JointType { kBall, kHinge, kFixed };
 struct Joint {
   std::string name;
   JointType type = JointType::kBall;
-  int parent = -1;  // segment indices
+  int parent = -1;  ///< segment indices
   int child = -1;
-  Vector3d anchor_world{0, 0, 0};      // rest
-  Vector3d anchor_in_parent{0, 0, 0};  // the joint point in each segment's frame
+  Vector3d anchor_world{0, 0, 0};      ///< rest
+  Vector3d anchor_in_parent{0, 0, 0};  ///< the joint point in each segment's frame
   Vector3d anchor_in_child{0, 0, 0};
-  // joint frame seen from each segment: q_rel = (q_p·frame_in_parent)⁻¹ (q_c·frame_in_child)
+  /// joint frame seen from each segment: q_rel = (q_p·frame_in_parent)⁻¹ (q_c·frame_in_child)
   Quaterniond frame_in_parent = Quaterniond::Identity();
   Quaterniond frame_in_child = Quaterniond::Identity();
-  Quaterniond frame_world = Quaterniond::Identity();  // rest
-  // ball: swing ellipse half-angles about the frame's x and y, |twist| about its z (rad)
+  Quaterniond frame_world = Quaterniond::Identity();  ///< rest
+  /// ball: swing ellipse half-angles about the frame's x and y, |twist| about its z (rad)
   double swing_x = 0.0, swing_y = 0.0, twist = 0.0;
-  // hinge: unit axis in the joint frame and the range of the right-handed angle about it (rad)
+  /// hinge: unit axis in the joint frame and the range of the right-handed angle about it (rad)
   Vector3d hinge_axis{0, 0, 1};
   double lower = 0.0, upper = 0.0;
-  // sine and cosine of each half-limit (the twist's, the hinge's lower and upper), derived by
-  // derive_limit_terms() so that limits are tested and clamped without trigonometry
+  /// sine and cosine of each half-limit (the twist's, the hinge's lower and upper), derived by
+  /// derive_limit_terms() so that limits are tested and clamped without trigonometry
   double twist_half_sin = 0.0, twist_half_cos = 1.0;
   double lower_half_sin = 0.0, lower_half_cos = 1.0;
   double upper_half_sin = 0.0, upper_half_cos = 1.0;
 };
 
-// fills the segment's inverse mass and inertia; call after setting mass and inertia
+/// fills the segment's inverse mass and inertia; call after setting mass and inertia
 void derive_mass_terms(Segment& segment);
-// whether `frame` (a rotation in the segment's frame) is a principal frame of the segment: its
-// inertia, seen in that frame, is diagonal to 1e-9 of its largest moment. Segment frames always
-// are; joint frames need not be (a solver whose link frames must be principal checks this)
+/// whether `frame` (a rotation in the segment's frame) is a principal frame of the segment: its
+/// inertia, seen in that frame, is diagonal to 1e-9 of its largest moment. Segment frames always
+/// are; joint frames need not be (a solver whose link frames must be principal checks this)
 bool is_principal_frame(const Segment& segment, const Quaterniond& frame);
-// fills the joint's half-limit terms from twist, lower and upper; call after setting them
+/// fills the joint's half-limit terms from twist, lower and upper; call after setting them
 void derive_limit_terms(Joint& joint);
 
-// the error raised by every model-building function: one line naming source, element, problem
+/// the error raised by every model-building function: one line naming source, element, problem
 class ModelError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
@@ -93,24 +94,24 @@ class ModelError : public std::runtime_error {
 
 struct Model {
   std::string name;
-  std::vector<Segment> segments;  // parent before child: segments[i].parent < i
-  std::vector<Joint> joints;      // joints[j].child == j + 1 (the root is segment 0)
+  std::vector<Segment> segments;  ///< parent before child: segments[i].parent < i
+  std::vector<Joint> joints;      ///< joints[j].child == j + 1 (the root is segment 0)
   double total_mass = 0.0;
-  double rest_height = 0.0;  // top minus bottom of every shape at rest
-  // the file's gravity (m/s²; JSON "gravity", MJCF <option gravity>), the scenarios' default
+  double rest_height = 0.0;  ///< top minus bottom of every shape at rest
+  /// the file's gravity (m/s²; JSON "gravity", MJCF `<option gravity>`), the scenarios' default
   Vector3d gravity{0.0, 0.0, -9.81};
 
   int segment_count() const { return static_cast<int>(segments.size()); }
   int joint_count() const { return static_cast<int>(joints.size()); }
-  // index of the named segment or -1
+  /// index of the named segment or -1
   int find_segment(const std::string& segment_name) const;
 };
 
-// Parses the JSON text of a model file. `source` names the file in error messages.
+/// Parses the JSON text of a model file. `source` names the file in error messages.
 Model parse_model(const std::string& json_text, const std::string& source);
-// Loads a model file, or a built-in generated model `chain:N`.
+/// Loads a model file, or a built-in generated model `chain:N`.
 Model load_model(const std::string& path_or_builtin);
-// N capsules (0.25 m tip to tip, 1 kg) hanging in a chain of free ball joints from z = 0.
+/// N capsules (0.25 m tip to tip, 1 kg) hanging in a chain of free ball joints from z = 0.
 Model make_chain(int n);
 
 }  // namespace puppet

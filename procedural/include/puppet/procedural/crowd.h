@@ -1,7 +1,8 @@
-// Many independent puppets of one model, stepped together on a fixed set of threads: the
-// batched path for crowds. Each puppet is a Solver and keeps the single-puppet API; a puppet in a
-// crowd reaches bit for bit the state a lone Solver reaches from the same inputs, whatever the
-// number of threads (each puppet is stepped by exactly one thread, in the same arithmetic).
+/// \file
+/// Many independent puppets of one model, stepped together on a fixed set of threads: the
+/// batched path for crowds. Each puppet is a Solver and keeps the single-puppet API; a puppet in a
+/// crowd reaches bit for bit the state a lone Solver reaches from the same inputs, whatever the
+/// number of threads (each puppet is stepped by exactly one thread, in the same arithmetic).
 #pragma once
 
 #include <atomic>
@@ -19,8 +20,8 @@ namespace puppet::procedural {
 
 class Crowd {
  public:
-  // `threads` ≥ 1 counts the calling thread: threads − 1 workers are started here and wait
-  // between steps. Throws std::invalid_argument on invalid settings or counts.
+  /// `threads` ≥ 1 counts the calling thread: threads − 1 workers are started here and wait
+  /// between steps. Throws std::invalid_argument on invalid settings or counts.
   Crowd(const Model& model, const Settings& settings, const Environment& environment, int puppets,
         int threads);
   ~Crowd();
@@ -32,20 +33,20 @@ class Crowd {
   Solver& puppet(int k) { return *puppets_[k]; }
   const Solver& puppet(int k) const { return *puppets_[k]; }
 
-  // what the user does to puppet k just before it steps (move its pins' targets, set its
-  // forces), called on the thread that steps it: the puppet is in that core's cache then, and
-  // the work is shared between the threads instead of being a serial pass over every puppet
+  /// what the user does to puppet k just before it steps (move its pins' targets, set its
+  /// forces), called on the thread that steps it: the puppet is in that core's cache then, and
+  /// the work is shared between the threads instead of being a serial pass over every puppet
   using Control = std::function<void(int k, Solver& puppet)>;
 
-  // steps every puppet by dt (each with its own pins and targets), calling `control` (when not
-  // empty) for each just before; returns when all are done. Puppets are split into one
-  // contiguous range per thread; a thread done with its own takes chunks from the back of the
-  // others'. Nothing is allocated (build `control` once, outside the loop).
+  /// steps every puppet by dt (each with its own pins and targets), calling `control` (when not
+  /// empty) for each just before; returns when all are done. Puppets are split into one
+  /// contiguous range per thread; a thread done with its own takes chunks from the back of the
+  /// others'. Nothing is allocated (build `control` once, outside the loop).
   void step(double dt, const Control& control = {});
 
  private:
   void step_range(int thread, double dt, const Control& control);
-  // the next chunk of `owner`'s range, from its front for the owner, else from its back
+  /// the next chunk of `owner`'s range, from its front for the owner, else from its back
   bool take(int owner, bool own, int* begin, int* end);
   void work(int thread);
 
@@ -53,13 +54,13 @@ class Crowd {
   std::vector<std::thread> workers_;
   std::mutex mutex_;
   std::condition_variable start_, done_;
-  long generation_ = 0;  // one per step, guarded by mutex_
-  int pending_ = 0;      // workers still stepping the current generation
+  long generation_ = 0;  ///< one per step, guarded by mutex_
+  int pending_ = 0;      ///< workers still stepping the current generation
   double dt_ = 0.0;
-  const Control* control_ = nullptr;  // the current step's, guarded like dt_
+  const Control* control_ = nullptr;  ///< the current step's, guarded like dt_
   bool stop_ = false;
-  // each thread's range of puppets this step, (front, back) in one word; written before the
-  // workers are woken (under mutex_), then moved only by compare-and-swap
+  /// each thread's range of puppets this step, (front, back) in one word; written before the
+  /// workers are woken (under mutex_), then moved only by compare-and-swap
   struct alignas(64) Range {
     std::atomic<uint64_t> span{0};
   };

@@ -1,5 +1,6 @@
-// What a procedural solver is told once, at construction (Jolt's settings structs): the rule and
-// its iteration counts, compliances and switches.
+/// \file
+/// What a procedural solver is told once, at construction (Jolt's settings structs): the rule and
+/// its iteration counts, compliances and switches.
 #pragma once
 
 #include <cstdint>
@@ -9,37 +10,37 @@
 
 namespace puppet::procedural {
 
-// iterations or substeps left at this value take the rule's own (rule_defaults())
+/// iterations or substeps left at this value take the rule's own (rule_defaults())
 constexpr int kRuleDefault = -1;
-// xpbd's substeps per step unless told (chosen by measurement: docs/solver.md, the substep sweep)
+/// xpbd's substeps per step unless told (chosen by measurement: docs/solver.md, the substep sweep)
 constexpr int kXpbdSubsteps = 8;
-// tree's substeps and Newton iterations per substep unless told (chosen by measurement)
+/// tree's substeps and Newton iterations per substep unless told (chosen by measurement)
 constexpr int kTreeSubsteps = 8;
 constexpr int kTreeIterations = 1;
-// the ranges validate() accepts
+/// the ranges validate() accepts
 constexpr int kMaxIterations = 1000;
 constexpr int kMaxSubsteps = 1000;
 constexpr double kMaxCompliance = 1e6;
 
 struct Settings {
   Rule rule = Rule::kRelaxed;
-  // two-sided sweeps per substep (relaxed: 4, xpbd: 1); tree: Newton iterations per substep
+  /// two-sided sweeps per substep (relaxed: 4, xpbd: 1); tree: Newton iterations per substep
   int iterations = kRuleDefault;
-  int substeps = kRuleDefault;  // each step(dt) runs this many stages of dt/substeps (xpbd: 8)
-  // xpbd and tree: compliance of the joints' point constraints (m/N) and of their limits
-  // (rad/(N·m)); 0 is rigid, as every model joint is. A pin's compliance is the pin's own
-  // (Pin::compliance).
+  int substeps = kRuleDefault;  ///< each step(dt) runs this many stages of dt/substeps (xpbd: 8)
+  /// xpbd and tree: compliance of the joints' point constraints (m/N) and of their limits
+  /// (rad/(N·m)); 0 is rigid, as every model joint is. A pin's compliance is the pin's own
+  /// (Pin::compliance).
   double joint_compliance = 0.0;
   double limit_compliance = 0.0;
-  bool derive_velocities = true;  // v, ω from the corrected poses (the seed is silent)
-  bool tremble = false;           // the seed's active response (§3.4)
-  bool time_stages = false;       // measure each stage's wall time (costs a few clock reads)
+  bool derive_velocities = true;  ///< v, ω from the corrected poses (the seed is silent)
+  bool tremble = false;           ///< the seed's active response (§3.4)
+  bool time_stages = false;       ///< measure each stage's wall time (costs a few clock reads)
   uint64_t tremble_seed = 2001;
 };
 
-// empty when valid, else what is wrong ("iterations must be in [0, 1000]")
+/// empty when valid, else what is wrong ("iterations must be in [0, 1000]")
 std::string validate(const Settings& settings);
-// the settings with every kRuleDefault replaced by the rule's own value
+/// the settings with every kRuleDefault replaced by the rule's own value
 Settings rule_defaults(Settings settings);
 
 }  // namespace puppet::procedural

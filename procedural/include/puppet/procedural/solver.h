@@ -1,10 +1,11 @@
-// The seed paper's procedural solver (Bae, Baek, Lee & Ryu 2001): each segment moves alone
-// under its forces (update), then one geometric pass over the tree rotates and translates
-// segments so that joints meet again and limits hold (adjust). No linear system is solved.
-//
-//   step(dt) = for each substep: update → adjust → contacts → velocities
-//
-// docs/design.md, "The procedural solver", defines each stage; docs/solver.md the rules.
+/// \file
+/// The seed paper's procedural solver (Bae, Baek, Lee & Ryu 2001): each segment moves alone
+/// under its forces (update), then one geometric pass over the tree rotates and translates
+/// segments so that joints meet again and limits hold (adjust). No linear system is solved.
+///
+///   step(dt) = for each substep: update → adjust → contacts → velocities
+///
+/// docs/design.md, "The procedural solver", defines each stage; docs/solver.md the rules.
 #pragma once
 
 #include <array>
@@ -22,21 +23,21 @@ namespace puppet::procedural {
 
 constexpr int kMaxPins = 4;
 
-// everything that changes during a run; allocated once, plain contiguous data
+/// everything that changes during a run; allocated once, plain contiguous data
 struct State {
-  std::vector<BodyState> bodies;  // per segment
-  std::vector<Vector3d> x_prev;   // poses at the start of the (sub)step
+  std::vector<BodyState> bodies;  ///< per segment
+  std::vector<Vector3d> x_prev;   ///< poses at the start of the (sub)step
   std::vector<Quaterniond> q_prev;
-  std::vector<Vector3d> user_force;  // world, at the COM; left in place between steps
+  std::vector<Vector3d> user_force;  ///< world, at the COM; left in place between steps
   std::vector<Vector3d> user_torque;
-  std::vector<Vector3d> tremble_offset;  // current tremble displacement per segment
+  std::vector<Vector3d> tremble_offset;  ///< current tremble displacement per segment
   std::array<Pin, kMaxPins> pins{};
   std::array<Vector3d, kMaxPins> pin_previous_target{};
-  std::array<double, kMaxPins> pin_force{};  // last correction expressed as a force (N)
+  std::array<double, kMaxPins> pin_force{};  ///< last correction expressed as a force (N)
   int pin_count = 0;
   double tremble_phase = 0.0;
   double time = 0.0;
-  bool diverged = false;  // a non-finite value appeared; the state is no longer advanced
+  bool diverged = false;  ///< a non-finite value appeared; the state is no longer advanced
   double diverged_time = 0.0;
 };
 
@@ -44,19 +45,19 @@ enum Stage { kUpdate, kAdjust, kContacts, kVelocities, kStageCount };
 inline constexpr std::array<std::string_view, kStageCount> kStageNames = {"update", "adjust",
                                                                           "contacts", "velocities"};
 
-// Everything a solver reads that depends on the model alone (the tree's orders from each anchor,
-// the joints' constant terms), built once. Solvers of one model (a crowd's puppets) may share
-// one instead of each building its own.
+/// Everything a solver reads that depends on the model alone (the tree's orders from each anchor,
+/// the joints' constant terms), built once. Solvers of one model (a crowd's puppets) may share
+/// one instead of each building its own.
 struct ModelTables;
 std::shared_ptr<const ModelTables> make_model_tables(const Model& model);
 
-struct Workspace;  // a solver's scratch (private)
+struct Workspace;  ///< a solver's scratch (private)
 
 class Solver {
  public:
-  // the model must outlive the solver; throws std::invalid_argument on invalid settings.
-  // `tables`: make_model_tables(model), to share them with other solvers of the model (built
-  // here when null; tables of another model throw std::invalid_argument)
+  /// the model must outlive the solver; throws std::invalid_argument on invalid settings.
+  /// `tables`: make_model_tables(model), to share them with other solvers of the model (built
+  /// here when null; tables of another model throw std::invalid_argument)
   Solver(const Model& model, const Settings& settings, const Environment& environment,
          std::shared_ptr<const ModelTables> tables = nullptr);
   ~Solver();
@@ -65,35 +66,35 @@ class Solver {
   Solver& operator=(const Solver&) = delete;
   Solver& operator=(Solver&&) = delete;
 
-  // place every segment (poses and velocities in world); clears pins, forces and time
+  /// place every segment (poses and velocities in world); clears pins, forces and time
   void reset(std::span<const BodyState> bodies);
-  // Move every segment to `bodies` (poses and velocities in world) in the middle of a run: pins,
-  // user forces, tremble and time are kept, the next step starts from these poses (its previous
-  // poses are these), the pins' motion restarts from their current targets, and a diverged flag
-  // is cleared. Throws std::invalid_argument unless there is one state per segment.
+  /// Move every segment to `bodies` (poses and velocities in world) in the middle of a run: pins,
+  /// user forces, tremble and time are kept, the next step starts from these poses (its previous
+  /// poses are these), the pins' motion restarts from their current targets, and a diverged flag
+  /// is cleared. Throws std::invalid_argument unless there is one state per segment.
   void place(std::span<const BodyState> bodies);
-  // Put back a whole state that state() returned, of this solver or of another solver of the same
-  // model (a snapshot, or a benchmark's fixed start): the run continues from it bit for bit as it
-  // did. Throws std::invalid_argument for a state of another size.
+  /// Put back a whole state that state() returned, of this solver or of another solver of the same
+  /// model (a snapshot, or a benchmark's fixed start): the run continues from it bit for bit as it
+  /// did. Throws std::invalid_argument for a state of another size.
   void restore(const State& state);
-  // pins change rarely (a user grabs or lets go). At most kMaxPins; the first pin is the adjust
-  // pass's anchor.
+  /// pins change rarely (a user grabs or lets go). At most kMaxPins; the first pin is the adjust
+  /// pass's anchor.
   void set_pins(std::span<const Pin> pins);
-  // move the pins' targets (world) for the end of the next step
+  /// move the pins' targets (world) for the end of the next step
   void set_pin_targets(std::span<const Vector3d> targets);
   void step(double dt);
-  // One stage of a substep of length h on the current state, with the pins' targets of the last
-  // substep: step() runs kUpdate … kVelocities in order; benchmarks time them one at a time.
+  /// One stage of a substep of length h on the current state, with the pins' targets of the last
+  /// substep: step() runs kUpdate … kVelocities in order; benchmarks time them one at a time.
   void run_stage(Stage stage, double h);
-  // asks the cache for everything step() reads, without waiting for it: a crowd issues this for
-  // the next puppet while it steps the current one
+  /// asks the cache for everything step() reads, without waiting for it: a crowd issues this for
+  /// the next puppet while it steps the current one
   void prefetch() const;
 
   const Model& model() const { return model_; }
   const Settings& settings() const { return settings_; }
   const Environment& environment() const { return environment_; }
   const State& state() const { return state_; }
-  // wall time (s) of each stage in the last step; zeros unless settings.time_stages
+  /// wall time (s) of each stage in the last step; zeros unless settings.time_stages
   const std::array<double, kStageCount>& stage_seconds() const { return stage_seconds_; }
 
  private:
@@ -104,10 +105,10 @@ class Solver {
   Settings settings_;
   Environment environment_;
   State state_;
-  std::unique_ptr<Workspace> workspace_;  // never null but in a moved-from solver
+  std::unique_ptr<Workspace> workspace_;  ///< never null but in a moved-from solver
   std::shared_ptr<const ModelTables> tables_;
   std::array<double, kStageCount> stage_seconds_{};
-  std::array<Vector3d, kMaxPins> substep_targets_{};  // pins' targets at the end of the substep
+  std::array<Vector3d, kMaxPins> substep_targets_{};  ///< pins' targets at the end of the substep
 };
 
 }  // namespace puppet::procedural
