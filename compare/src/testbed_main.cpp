@@ -199,8 +199,11 @@ struct RunFlags {
   std::string dt = "1/30,1/60,1/120,1/240,1/480", duration, out = "results", pin, grab, gravity,
               air_drag, ground;
   // iterations and substeps empty: the rule's own (relaxed 4 × 1, xpbd 1 × 8)
-  std::string tilt = "30", hz = "0.5", sample_hz = "30", iterations, substeps, grab_compliance;
-  std::string bullet_iterations = "10", jobs = std::to_string(default_jobs());
+  // numbers that may be fractions (1/240) are read by parse_finite (CLI11 reads no fractions, and
+  // its doubles take hex and leading blanks); counts and choices are CLI11's, typed and checked
+  std::string tilt = "30", hz = "0.5", sample_hz = "30", grab_compliance;
+  int iterations = procedural::kRuleDefault, substeps = procedural::kRuleDefault;
+  int bullet_iterations = 10, jobs = default_jobs();
   std::string mujoco_integrator = "euler";
   bool no_velocities = false, no_tremble = false, no_timing = false, bullet_euler_limits = false;
   bool no_accuracy = false;
@@ -238,16 +241,6 @@ class Progress {
   int last_tenth_ = -1;
 };
 
-int parse_count(const std::string& flag, const std::string& text, int minimum, int maximum) {
-  double value = 0.0;
-  if (!parse_finite(text, &value) || value < minimum || value != std::floor(value) ||
-      value > maximum) {
-    throw UsageError(flag + ": expected an integer from " + std::to_string(minimum) + " to " +
-                     std::to_string(maximum) + ", got " + shown(text));
-  }
-  return static_cast<int>(value);
-}
-
 // the steps a run may take, from 10 µs to 0.1 s each
 constexpr double kMinDt = 1e-5, kMaxDt = 0.1;
 
@@ -283,34 +276,21 @@ ScenarioOptions parse_scenario_options(const RunFlags& f) {
   if (!f.gravity.empty()) options.gravity = parse_vector("--gravity", f.gravity, 1e3);
   // drag decays exactly over a step (step_drag_rate): any rate is stable
   if (!f.air_drag.empty()) options.air_drag = parse_in("--air-drag", f.air_drag, 0.0, 1e9, " 1/s");
-  if (!f.ground.empty()) {
-    if (f.ground != "on" && f.ground != "off") {
-      throw UsageError("--ground: expected on or off, got " + shown(f.ground));
-    }
-    options.ground = f.ground == "on";
-  }
+  if (!f.ground.empty()) options.ground = f.ground == "on";  // CLI11 checked it
   return options;
 }
 
 // every solver of --solver, and for procedural every rule of --rule
 std::vector<SolverConfig> parse_solver_configs(const RunFlags& f) {
   SolverOptions options;
-  options.iterations = f.iterations.empty() ? procedural::kRuleDefault
-                                            : parse_count("--iterations", f.iterations, 0, 1000);
-  options.substeps = f.substeps.empty() ? procedural::kRuleDefault
-                                        : parse_count("--substeps", f.substeps, 1, 1000);
-  options.bullet_iterations = parse_count("--bullet-iterations", f.bullet_iterations, 1, 1000);
+  options.iterations = f.iterations;  // CLI11 checked the ranges
+  options.substeps = f.substeps;
+  options.bullet_iterations = f.bullet_iterations;
   options.bullet_euler_limits = f.bullet_euler_limits;
-  if (f.mujoco_integrator == "euler") {
-    options.mujoco_integrator = reference::MujocoIntegrator::kEuler;
-  } else if (f.mujoco_integrator == "implicit") {
-    options.mujoco_integrator = reference::MujocoIntegrator::kImplicit;
-  } else if (f.mujoco_integrator == "rk4") {
-    options.mujoco_integrator = reference::MujocoIntegrator::kRk4;
-  } else {
-    throw UsageError("--mujoco-integrator: expected euler, implicit or rk4, got " +
-                     shown(f.mujoco_integrator));
-  }
+  options.mujoco_integrator = f.mujoco_integrator == "rk4" ? reference::MujocoIntegrator::kRk4
+                              : f.mujoco_integrator == "implicit"
+                                  ? reference::MujocoIntegrator::kImplicit
+                                  : reference::MujocoIntegrator::kEuler;
   options.derive_velocities = !f.no_velocities;
   options.tremble = !f.no_tremble;
   const auto solvers = expand("--solver", f.solver, solver_names());
@@ -465,7 +445,7 @@ int command_run(const RunFlags& f) {
   spec.run.sample_hz = parse_in("--sample-hz", f.sample_hz, 0.0, 1e4, " Hz");
   spec.run.timing = !f.no_timing;
   spec.accuracy = !f.no_accuracy;
-  spec.jobs = parse_count("--jobs", f.jobs, 1, 256);
+  spec.jobs = f.jobs;
   const ScenarioOptions scenario_options = parse_scenario_options(f);
   spec.configs = parse_solver_configs(f);
   const auto scenarios = expand("--scenario", f.scenario, scenario_names());
@@ -513,7 +493,7 @@ int command_frontier(const RunFlags& f) {
   FrontierSpec spec;
   spec.scenario = parse_scenario_options(f);
   spec.configs = parse_solver_configs(f);
-  spec.jobs = parse_count("--jobs", f.jobs, 1, 256);
+  spec.jobs = f.jobs;
   const Model model = parse_model(f);
   spec.model = &model;
   check_solvers_build(spec.configs, model);
@@ -550,6 +530,16 @@ int command_frontier(const RunFlags& f) {
   return 0;
 }
 
+// a count as plain decimal digits: CLI11's integers would also take 0x10, " 3" and 010 (as 8)
+const CLI::Validator kWholeNumber(
+    [](std::string& text) {
+      const bool digits =
+          !text.empty() && text.size() <= 9 && (text.size() == 1 || text[0] != '0') &&
+          std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+      return digits ? std::string() : "expected a whole number, got " + shown(text);
+    },
+    "N");
+
 void add_solver_flags(CLI::App* command, RunFlags& f) {
   command->add_option("--model", f.model, "model file, pinocchio, or chain:N")
       ->capture_default_str();
@@ -558,28 +548,40 @@ void add_solver_flags(CLI::App* command, RunFlags& f) {
   command->add_option("--rule", f.rule, "adjust rule (procedural), comma list, or all")
       ->capture_default_str();
   command->add_option("--out", f.out, "output folder")->capture_default_str();
-  command->add_option("--jobs", f.jobs, "worker threads")->capture_default_str();
+  command->add_option("--jobs", f.jobs, "worker threads")
+      ->check(kWholeNumber)
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
   command->add_option("--grab", f.grab, "dragged point SEGMENT[:x,y,z] (segment frame)");
   command->add_option("--gravity", f.gravity, "gravity X,Y,Z (m/s^2)");
-  command->add_option("--iterations", f.iterations,
-                      "relaxed, xpbd: two-sided sweeps per substep; tree: Newton iterations "
-                      "(default: the rule's, 4, 1, 1)");
+  command
+      ->add_option("--iterations", f.iterations,
+                   "relaxed, xpbd: two-sided sweeps per substep; tree: Newton iterations "
+                   "(default: the rule's, 4, 1, 1)")
+      ->check(kWholeNumber)
+      ->check(CLI::Range(0, procedural::kMaxIterations));
   command->add_option("--grab-compliance", f.grab_compliance,
                       "the grab's compliance C (m/N): 0 holds the hand on its target (default), "
                       "C > 0 pulls it with a spring of stiffness 1/C");
   command
       ->add_option("--bullet-iterations", f.bullet_iterations,
                    "Bullet: sequential-impulse sweeps per step")
+      ->check(kWholeNumber)
+      ->check(CLI::Range(1, 1000))
       ->capture_default_str();
   command->add_flag("--bullet-euler-limits", f.bullet_euler_limits,
                     "bullet-multibody: Bullet's own ball limits (a box of Euler angles)");
   command
       ->add_option("--mujoco-integrator", f.mujoco_integrator,
                    "mujoco: euler (MuJoCo's semi-implicit Euler), implicit or rk4")
+      ->check(CLI::IsMember({"euler", "implicit", "rk4"}))
       ->capture_default_str();
-  command->add_option(
-      "--substeps", f.substeps,
-      "procedural substeps per step (default: the rule's, 8 for xpbd and tree, else 1)");
+  command
+      ->add_option(
+          "--substeps", f.substeps,
+          "procedural substeps per step (default: the rule's, 8 for xpbd and tree, else 1)")
+      ->check(kWholeNumber)
+      ->check(CLI::Range(1, procedural::kMaxSubsteps));
   command->add_flag("--no-velocities", f.no_velocities,
                     "procedural: do not derive velocities from poses");
 }
@@ -634,7 +636,7 @@ int main(int argc, char** argv) {
   run->add_option("--duration", f.duration, "seconds to simulate (default: the scenario's)");
   run->add_option("--pin", f.pin, "hanging point SEGMENT[:x,y,z] (segment frame)");
   run->add_option("--air-drag", f.air_drag, "air drag k_air (1/s)");
-  run->add_option("--ground", f.ground, "ground plane on|off");
+  run->add_option("--ground", f.ground, "ground plane on|off")->check(CLI::IsMember({"on", "off"}));
   run->add_option("--tilt", f.tilt, "initial tilt of hang and the scenarios built on it (deg)")
       ->capture_default_str();
   run->add_option("--hz", f.hz, "circle frequency of drag and yank (Hz)")->capture_default_str();

@@ -119,6 +119,10 @@ TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
   expect_bad("run --dt 1/60,abc" + o, "--dt");
   expect_bad("run --jobs 0" + o, "--jobs");
   expect_bad("frontier --jobs x" + o, "--jobs");
+  // counts are plain decimal digits: CLI11 alone would read 0x10 as 16 and 010 as 8
+  expect_bad("run --jobs 0x10" + o, "--jobs");
+  expect_bad("run --jobs 010" + o, "--jobs");
+  expect_bad("run --substeps -1" + o, "--substeps");
   expect_bad("frontier --solver ode" + o, "--solver");
   expect_bad("frontier --grab tail" + o, "--grab");
   EXPECT_FALSE(fs::exists(out));
