@@ -17,10 +17,10 @@ constexpr double kDt = 1.0 / 240.0;
 // a 0.2 m cube of half the water's density, its faces axis-aligned
 Model cube() {
   const double mass = 0.5 * 1000.0 * std::pow(2 * kHalf, 3);
-  return parse_model(R"({"name":"cube","segments":[{"name":"cube","mass":)" +
-                         std::to_string(mass) +
-                         R"(,"position":[0,0,0],"shape":{"type":"box","half_extents":[0.1,0.1,0.1]}}]})",
-                     "cube");
+  return parse_model(
+      R"({"name":"cube","segments":[{"name":"cube","mass":)" + std::to_string(mass) +
+          R"(,"position":[0,0,0],"shape":{"type":"box","half_extents":[0.1,0.1,0.1]}}]})",
+      "cube");
 }
 
 Environment water(double drag) {
