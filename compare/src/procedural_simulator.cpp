@@ -72,7 +72,7 @@ procedural::Settings settings_without_scenario(const SolverOptions& options) {
   settings.substeps = options.substeps;
   settings.derive_velocities = options.derive_velocities;
   const std::string problem = procedural::validate(settings);
-  if (!problem.empty()) throw ScenarioError(problem, "settings");
+  if (!problem.empty()) throw ScenarioError(problem);
   return procedural::rule_defaults(settings);
 }
 

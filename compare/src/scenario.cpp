@@ -120,6 +120,13 @@ bool Scenario::conserves_momentum() const {
   return conserves_energy() && pins.empty() && environment.gravity.isZero();
 }
 
+std::string with_flag(const ScenarioError& error) {
+  if (error.option.empty()) return error.what();
+  std::string flag = "--" + error.option;
+  std::replace(flag.begin(), flag.end(), '_', '-');
+  return flag + ": " + error.what();
+}
+
 Scenario make_scenario(const std::string& name, const Model& model,
                        const ScenarioOptions& options) {
   if (std::find(scenario_names().begin(), scenario_names().end(), name) == scenario_names().end()) {

@@ -82,7 +82,7 @@ PointChoice parse_point(const std::string& flag, const std::string& text) {
   return choice;
 }
 
-// a number within [lo, hi] (the flag's stated range, docs in --help and the README)
+// a number within [lo, hi] (the flag's stated range, docs in --help and docs/testbed.md)
 double parse_in(const std::string& flag, const std::string& text, double lo, double hi,
                 const char* unit = "") {
   double value = 0.0;
@@ -716,10 +716,7 @@ int main(int argc, char** argv) {
     std::cerr << "testbed: " << one_line(e.what(), kMessageLength) << '\n';
   } catch (const ScenarioError& e) {
     // the library names the option; the command line adds its flag
-    std::string flag = e.option;
-    std::replace(flag.begin(), flag.end(), '_', '-');
-    const std::string prefix = flag.empty() || flag == "settings" ? "" : "--" + flag + ": ";
-    std::cerr << "testbed: " << one_line(prefix + e.what(), kMessageLength) << '\n';
+    std::cerr << "testbed: " << one_line(with_flag(e), kMessageLength) << '\n';
   } catch (const GateError& e) {
     std::cerr << "testbed gate: " << one_line(e.what(), kMessageLength) << '\n';
   } catch (const std::exception& e) {

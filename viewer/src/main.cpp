@@ -330,9 +330,7 @@ int main(int argc, char** argv) {
     state.emplace(config);
   } catch (const compare::ScenarioError& e) {
     // the session names the option; the command line adds its flag
-    std::string flag = e.option;
-    std::replace(flag.begin(), flag.end(), '_', '-');
-    return bad(flag.empty() || flag == "settings" ? e.what() : "--" + flag + ": " + e.what());
+    return bad(compare::with_flag(e));
   } catch (const std::exception& e) {
     return bad(e.what());
   }

@@ -23,7 +23,7 @@ void relaxed_sweeps(const Model& model, std::span<const JointTerms> joints,
     }
     // every joint, then every limit: a limit corrected right after its own joint is partly undone
     // by the next joint's correction, and what a sweep leaves past a limit the final one-sided
-    // pass clamps at the cost of the pins (measured: twice as many runs diverged, see README)
+    // pass clamps at the cost of the pins (measured: twice as many runs diverged, docs/solver.md)
     for (const AnchorOrder::Link& link : order.links) {
       share_joint_correction(model, joints[link.joint], model.joints[link.joint], 0.0, nullptr,
                              state);

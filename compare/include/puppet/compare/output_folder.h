@@ -1,4 +1,4 @@
-// A command's --out folder, replaced whole or not at all (README, "Reliability"). The command
+// A command's --out folder, replaced whole or not at all (docs/reliability.md). The command
 // writes into a staging folder beside it; commit() swaps the two in one rename (Linux's
 // RENAME_EXCHANGE), so that whatever stops the command first (an error, a full disk, SIGINT,
 // SIGTERM, a crash) leaves the folder as it was. A lock beside the folder refuses a second

@@ -12,7 +12,6 @@
 
 namespace puppet::compare {
 
-// bad scenario input (unknown name, unknown segment): one message naming the problem
 // What is wrong with a scenario's or a solver's options, and which option: `option` names the
 // ScenarioOptions or SolverOptions field ("pin", "grab", "scenario", "solver",
 // "bullet_iterations"), empty when it is none of them. A command line adds its flag.
@@ -22,6 +21,9 @@ class ScenarioError : public std::runtime_error {
       : std::runtime_error(message), option(std::move(option_name)) {}
   std::string option;
 };
+// the message a command line prints: "--<option with - for _>: <message>", or the message alone
+// when no option is named
+std::string with_flag(const ScenarioError& error);
 
 // a segment, and optionally a point on it (segment frame); without one the scenario picks the
 // segment's highest point at rest (for a hanging pin) or its lowest (for a grab)
