@@ -1,11 +1,17 @@
 #!/usr/bin/python3
 """Print docs/performance.md's speed tables (markdown) from one machine's full benchmark run.
 
-    scripts/bench_tables.py results/bench/<machine>.csv
+    scripts/bench_tables.py results/bench/<machine>.csv [--only step|scaling|crowd]
+    scripts/bench_tables.py results/bench/<machine>.csv --floors results/gate.json
 
 The CSV is what scripts/bench.sh writes (`testbed gate --csv`): the median seconds per item of
-every benchmark. A benchmark that is missing was skipped because its run diverged.
+every benchmark. A benchmark that is missing was skipped because its run diverged. --floors
+prints every gate's floor (the project's commitments, scripts/gate_thresholds.py) against this
+machine's ratio. docs/performance.md holds the output as generated blocks
+(scripts/docs_tables.py rewrites them).
 """
+import json
+import os
 import sys
 
 from gate_thresholds import medians  # the same reading of a machine's CSV
@@ -14,11 +20,59 @@ RULES = ["literal", "smoothed", "weighted", "subtree", "relaxed", "xpbd", "tree"
 SCENARIOS = ["hang", "drag", "drop"]
 
 
-def main():
-    if len(sys.argv) != 2:
-        sys.exit("usage: bench_tables.py MACHINE.csv")
-    t = medians(sys.argv[1])
+def floors(t, gates_path, machine):
+    """Every gate's floor against this machine's ratio: reached, not reached, or no time."""
+    print(f"| gate | floor | {machine} | reached |")
+    print("|---|---|---|---|")
+    for g in json.load(open(gates_path))["gates"]:
+        bound = ("≥ " if "min" in g else "≤ ") + f"{g['floor']:g}"
+        num, den = t.get(g["numerator"]), t.get(g["denominator"])
+        if not all(in_run(t, part) for name in (g["numerator"], g["denominator"])
+                   for part in name.split("/")[2:3]):
+            print(f"| {g['name']} | {bound} | not in this run | - |")
+            continue
+        if num is None or den is None:
+            print(f"| {g['name']} | {bound} | diverged | ✗ |")
+            continue
+        ratio = (num / g.get("numerator_per", 1)) / (den / g.get("denominator_per", 1))
+        reached = ratio >= g["floor"] if "min" in g else ratio <= g["floor"]
+        print(f"| {g['name']} | {bound} | {ratio:.2f} | {'✓' if reached else '✗'} |")
 
+
+def main():
+    args = sys.argv[1:]
+    usage = ("usage: bench_tables.py MACHINE.csv [--only step|scaling|crowd] "
+             "| MACHINE.csv --floors gate.json")
+    if len(args) not in (1, 3) or (len(args) == 3 and args[1] not in ("--only", "--floors")) \
+            or (len(args) == 3 and args[1] == "--only" and args[2] not in SECTIONS):
+        sys.exit(usage)
+    t = medians(args[0])
+    if len(args) == 3 and args[1] == "--floors":
+        floors(t, args[2], os.path.splitext(os.path.basename(args[0]))[0])
+        return
+    only = args[2] if len(args) == 3 else None
+    printers = {"step": step_tables, "scaling": scaling_table, "crowd": crowd_table}
+    for i, name in enumerate(n for n in SECTIONS if only in (None, n)):
+        if i:
+            print()
+        printers[name](t)
+
+
+SECTIONS = ("step", "scaling", "crowd")
+
+
+def in_run(t, solver):
+    """whether this machine's run had the solver at all (a run that diverges in every scenario
+    still times its short chain): an older run predates the newer rules"""
+    return any(solver in key.split("/") for key in t)
+
+
+def rules(t):
+    return [rule for rule in RULES if in_run(t, rule)]
+
+
+def step_tables(t):
+    RULES = rules(t)
     others = ["bullet-rigid"] + (["mujoco"] if any(k.endswith("/mujoco") for k in t) else [])
     print("| scenario | " + " | ".join(RULES) + " | bullet-multibody | " + " | ".join(others)
           + " | floor |")
@@ -44,8 +98,11 @@ def main():
         time = t.get(f"step/hang/{rule}")
         parts.append(f"{rule} " + ("diverged" if time is None else f"{time / floor:.2f}"))
     print("Procedural step ÷ floor in hang: " + ", ".join(parts) + ".")
-    print()
 
+
+def scaling_table(t):
+    RULES = rules(t)
+    others = ["bullet-rigid"] + (["mujoco"] if any(k.endswith("/mujoco") for k in t) else [])
     sizes = [4, 16, 64, 256, 1024]
     print("| solver | " + " | ".join(f"N={n}" for n in sizes) + " | 1024 ÷ 16 |")
     print("|---" * (len(sizes) + 2) + "|")
@@ -59,8 +116,10 @@ def main():
         growth = (f"{per_segment[1024] / per_segment[16]:.2f}"
                   if 16 in per_segment and 1024 in per_segment else "-")
         print(f"| {solver} | " + " | ".join(cells) + f" | {growth} |")
-    print()
 
+
+def crowd_table(t):
+    RULES = rules(t)
     print("| rule | K=1000, 1 thread | K=1000, 2 threads | K=20000, 1 thread | K=20000, 2 threads "
           "| 2 ÷ 1 thread at 1000 / 20000 |")
     print("|---" * 6 + "|")

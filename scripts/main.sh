@@ -18,4 +18,4 @@ cmake --build --preset release
   --out results/humanoid
 scripts/ablation.sh results/ablation
 /usr/bin/python3 scripts/plot.py results
-/usr/bin/python3 scripts/readme_headline.py  # the README's headline table from results/main/summary.csv
+/usr/bin/python3 scripts/docs_tables.py  # the generated blocks of README.md and docs/ from the committed CSVs

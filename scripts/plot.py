@@ -2,6 +2,7 @@
 """Plots and REPORT.md from the testbed's CSV files, and nothing else.
 
     scripts/plot.py [RESULTS]            (default: results/)
+    scripts/plot.py --section TITLE [RESULTS]   (one section of the report, to stdout)
 
 reads RESULTS/main/summary.csv and RESULTS/main/traces/*.csv (testbed run --out RESULTS/main),
 RESULTS/frontier/frontier.csv (testbed frontier, optional) and the optional folders beside them
@@ -458,6 +459,22 @@ def humanoid_section(folder):
 
 
 def report(s, frontier, plots, folder):
+    text = "\n".join(report_lines(s, frontier, plots, folder))
+    write_atomically(os.path.join(folder, "REPORT.md"), text)
+
+
+def section(s, frontier, folder, title):
+    """One `## title` section of the report, without its heading: docs pages hold it as a
+    generated block (scripts/docs_tables.py), the same figures as REPORT.md's"""
+    lines = report_lines(s, frontier, [], folder)
+    if "## " + title not in lines:
+        raise ReportError(f"the report has no section `{title}`")
+    body = lines[lines.index("## " + title) + 1:]
+    end = next((i for i, line in enumerate(body) if line.startswith("## ")), len(body))
+    return "\n".join(body[:end]).strip("\n") + "\n"
+
+
+def report_lines(s, frontier, plots, folder):
     dt = s.table_dt()
     check_dt = s.truth_check_dt()
     now = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
@@ -669,8 +686,7 @@ def report(s, frontier, plots, folder):
     for title, path in plots:
         if path:
             out += [f"### {title}", "", f"![{title}](plots/{os.path.basename(path)})", ""]
-    text = "\n".join(out)
-    write_atomically(os.path.join(folder, "REPORT.md"), text)
+    return out
 
 
 ABLATION_SCENARIOS = ["hang", "drag", "yank"]
@@ -872,7 +888,7 @@ def findings(s, frontier, dt):
                 f"{fmt(mean_at(best, fine))} m at dt = {dt_text(fine)} s and "
                 f"{fmt(mean_at(best, coarse))} m at {dt_text(coarse)} s, while bullet-multibody "
                 f"goes from {fmt(mean_at(multibody, fine))} m to {fmt(mean_at(multibody, coarse))} "
-                "m (the ablation below finds where the floor comes from).")
+                "m (\"What made the difference\" finds where the floor comes from).")
     limits = {sc: s.truth_limit(sc) for sc in s.scenarios}
     loose = [sc for sc in s.scenarios if limits[sc] > 0.05]
     if loose:
@@ -950,6 +966,10 @@ def write_atomically(path, text):
 
 
 def main(argv):
+    title = None
+    if len(argv) >= 3 and argv[1] == "--section":
+        title = argv[2]
+        argv = argv[:1] + argv[3:]
     if len(argv) > 2 or (len(argv) == 2 and argv[1].startswith("-")):
         print(__doc__.strip(), file=sys.stderr)
         return 2
@@ -964,6 +984,13 @@ def main(argv):
     except (ReportError, ValueError, KeyError) as error:
         print(f"plot.py: {error}", file=sys.stderr)
         return 2
+    if title is not None:
+        try:
+            sys.stdout.write(section(s, frontier, folder, title))
+        except ReportError as error:
+            print(f"plot.py: {error}", file=sys.stderr)
+            return 2
+        return 0
     out = os.path.join(folder, "plots")
     os.makedirs(out, exist_ok=True)
     plots = [

@@ -1,20 +1,15 @@
 #!/usr/bin/env python3
-"""The README's headline table, from the committed results/main/summary.csv and nothing else.
+"""Prints the README's headline table from results/main/summary.csv and nothing else.
 
-  scripts/readme_headline.py [--check] [README.md] [results/main/summary.csv]
+  scripts/readme_headline.py [results/main/summary.csv]
 
-Rewrites the block between `<!-- headline:begin -->` and `<!-- headline:end -->` in the README;
-with --check, exits 1 (and says so) when the block differs from what the CSV gives, so a stale
-figure fails the test suite instead of being read.
+The README holds it as a generated block that scripts/docs_tables.py rewrites (and checks).
 """
 import math
 import os
 import sys
 
 from plot import SCENARIOS, Summary, fmt
-
-BEGIN, END = "<!-- headline:begin -->", "<!-- headline:end -->"
-
 
 def headline(summary_path):
     s = Summary(summary_path)
@@ -50,28 +45,12 @@ def headline(summary_path):
 
 
 def main(argv):
-    check = "--check" in argv
-    args = [a for a in argv if a != "--check"]
-    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
-    readme = args[0] if args else os.path.join(root, "README.md")
-    summary = args[1] if len(args) > 1 else os.path.join(root, "results", "main", "summary.csv")
-    text = open(readme, encoding="utf-8").read()
-    if BEGIN not in text or END not in text:
-        print(f"readme_headline: {readme}: no {BEGIN} … {END} block", file=sys.stderr)
+    if len(argv) > 1 or (argv and argv[0].startswith("-")):
+        print(__doc__.strip(), file=sys.stderr)
         return 2
-    head, rest = text.split(BEGIN, 1)
-    _, tail = rest.split(END, 1)
-    new = head + BEGIN + "\n" + headline(summary) + END + tail
-    if check:
-        if new != text:
-            print(f"readme_headline: {readme}'s headline is not what {summary} gives; "
-                  "run scripts/readme_headline.py", file=sys.stderr)
-            return 1
-        return 0
-    if new != text:
-        tmp = readme + ".tmp"
-        open(tmp, "w", encoding="utf-8").write(new)
-        os.replace(tmp, readme)
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+    summary = argv[0] if argv else os.path.join(root, "results", "main", "summary.csv")
+    sys.stdout.write(headline(summary))
     return 0
 
 

@@ -35,6 +35,17 @@ fi
 grep -q "| drop | " "$out/REPORT.md" || fail "REPORT.md has no row for drop"
 grep -q "tracks the truth best" "$out/REPORT.md" || fail "REPORT.md names no best rule"
 
+# one section alone (what docs/ holds as a generated block) is the report's own text
+$plot --section Findings "$out" >"$out/findings.md" || fail "plot.py --section Findings failed"
+[ -s "$out/findings.md" ] || fail "plot.py --section Findings printed nothing"
+if grep -vxFf "$out/REPORT.md" "$out/findings.md"; then
+  fail "plot.py --section Findings printed lines REPORT.md does not have"
+fi
+set +e
+message=$($plot --section "No such section" "$out" 2>&1); status=$?
+set -e
+[ "$status" -eq 2 ] && [[ "$message" == *"no section"* ]] || fail "an unknown section: status $status, $message"
+
 # bad input: one message, status 2, nothing written
 empty=$(mktemp -d "$out/empty.XXXX")
 set +e
