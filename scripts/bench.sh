@@ -42,6 +42,13 @@ else
   for b in bench_step bench_stages bench_scaling; do
     "$bin/$b" "${common[@]}" --benchmark_min_time=0.2 --benchmark_out="$out/$b.json"
   done
+  status=0
   ./build/release/testbed gate "$out"/bench_step.json "$out"/bench_stages.json \
-    "$out"/bench_scaling.json --thresholds results/gate.json --csv "$out/$machine.csv"
+    "$out"/bench_scaling.json --thresholds results/gate.json --csv "$out/$machine.csv" || status=$?
+  # docs/performance.md's tables are generated blocks that name a machine's CSV
+  /usr/bin/python3 scripts/docs_tables.py
+  grep -q "results/bench/$machine.csv" docs/performance.md ||
+    echo "bench.sh: docs/performance.md has no block for results/bench/$machine.csv yet:" \
+      "add one naming it (see the blocks there; scripts/bench_tables.py prints them)"
+  exit "$status"
 fi
