@@ -155,7 +155,7 @@ class Writer {
   }
 
  private:
-  // Segments collide with the ground only (DESIGN.md: no self-collision): a segment's contype
+  // Segments collide with the ground only (docs/design.md: no self-collision): a segment's contype
   // meets only the plane's conaffinity. Stiff: MuJoCo's refsafe raises a time constant below
   // 2·timestep to 2·timestep, so 1e-6 asks for the stiffest spring it allows at any timestep;
   // 0.9999 is the largest impedance it accepts (the least constraint force given up as softness)

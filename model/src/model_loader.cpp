@@ -1,4 +1,4 @@
-// Model files (shared/DESIGN.md, "The model"): JSON in world coordinates at rest. Everything is
+// Model files (docs/design.md, "The model"): JSON in world coordinates at rest. Everything is
 // validated here, once; a bad file raises one ModelError naming the file, the element and the
 // problem, and nothing half-built escapes.
 #include <algorithm>

@@ -23,8 +23,8 @@ inline btTransform to_bt(const Quaterniond& q, const Vector3d& x) {
   return btTransform(to_bt(q), to_bt(x));
 }
 
-// segments collide with the ground only, never with each other (DESIGN.md: self-collision off);
-// a group of our own, beyond Bullet's predefined filter bits
+// segments collide with the ground only, never with each other (docs/design.md: self-collision
+// off); a group of our own, beyond Bullet's predefined filter bits
 constexpr int kSegmentGroup = 1 << 8;
 constexpr int kGroundGroup = btBroadphaseProxy::StaticFilter;
 inline int segment_mask(const Environment& environment) {

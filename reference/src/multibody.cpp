@@ -121,7 +121,7 @@ MultibodySolver::MultibodySolver(const Model& model, const Environment& environm
   body_->setMaxAppliedImpulse(kMaxImpulse);
   // the gyroscopic (velocity-product) term belongs to rigid-body dynamics
   body_->setUseGyroTerm(true);
-  // no self-collision (DESIGN.md); segments touch the ground only
+  // no self-collision (docs/design.md); segments touch the ground only
   body_->setHasSelfCollision(false);
   body_->finalizeMultiDof();  // after every setup* call, or the dof buffers are wrong
 

@@ -1,5 +1,5 @@
 // How wrong a solver is: its states against a truth trajectory at the same times, along a whole
-// run and re-seeded from the truth (Erez, Tassa & Todorov 2015; shared/DESIGN.md, "Metrics").
+// run and re-seeded from the truth (Erez, Tassa & Todorov 2015; docs/design.md, "Metrics").
 #pragma once
 
 #include <string>
@@ -39,7 +39,8 @@ ErrorSeries trajectory_errors(const Model& model, const Trajectory& run, const T
 // Re-seeded error: from `seeds` states evenly spread along the truth (the first at t = 0, the
 // last `horizon` before its end), the simulator is set to the truth's state, runs `horizon`
 // seconds under the scenario's pin targets, and its error against the truth is taken at the end.
-// A re-seeded run that meets a divergence criterion of DESIGN.md ("status") counts as diverged.
+// A re-seeded run that meets a divergence criterion of docs/design.md ("status") counts as
+// diverged.
 struct ReseededError {
   std::vector<double> seed_times;
   std::vector<double> pose_m, joint_angle_deg;           // per seed; NaN when that run diverged
@@ -49,7 +50,7 @@ ReseededError reseeded_error(Simulator& simulator, const Model& model, const Sce
                              const Trajectory& truth, double dt, int seeds = 8,
                              double horizon = 0.5);
 
-// the largest violation of the model's limits over a trajectory's samples (deg; DESIGN.md's
+// the largest violation of the model's limits over a trajectory's samples (deg; docs/design.md's
 // swing ellipse and twist, the metrics' measure)
 double max_limit_violation_deg(const Model& model, const Trajectory& trajectory);
 // the largest and the RMS distance of a pin point from its target over a trajectory's samples

@@ -1,6 +1,6 @@
 // The stability frontier: how hard a user can yank a free puppet before a solver breaks. Per
 // solver configuration, the largest circle frequency and the largest dt at which `yank` stays
-// `ok` (DESIGN.md, "status"), found by bisection, with no air drag to hide an instability.
+// `ok` (docs/design.md, "status"), found by bisection, with no air drag to hide an instability.
 #pragma once
 
 #include <functional>

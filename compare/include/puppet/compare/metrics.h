@@ -1,4 +1,4 @@
-// Metrics that need one solver (shared/DESIGN.md, "Metrics"); their definitions are part of the
+// Metrics that need one solver (docs/design.md, "Metrics"); their definitions are part of the
 // contract. All take per-segment states in the model's segment frames, so they need no
 // solver-specific code.
 #pragma once
@@ -42,7 +42,7 @@ inline constexpr double kStandardGravity = 9.81;
 double energy_reference(const Model& model, const Environment& environment,
                         std::span<const BodyState> initial);
 
-// Accuracy: a state against the truth's state at the same time (DESIGN.md, "Metrics").
+// Accuracy: a state against the truth's state at the same time (docs/design.md, "Metrics").
 // pose_err_m: RMS over segments of the COM distance (m)
 double pose_error(std::span<const BodyState> bodies, std::span<const BodyState> truth);
 // joint_angle_err_deg: RMS over joints of the geodesic angle between the two relative
@@ -64,7 +64,7 @@ struct StepMetrics {
   bool finite = true;
 };
 
-// the divergence criteria of DESIGN.md ("status")
+// the divergence criteria of docs/design.md ("status")
 constexpr double kDivergedJointGap = 0.5;    // m
 constexpr double kDivergedEnergyDrift = 10;  // × E_ref
 // why a state counts as diverged, or nullptr when it does not
@@ -80,7 +80,7 @@ inline const char* divergence_reason(const StepMetrics& m) {
   return nullptr;
 }
 
-// one observation of summary.csv (DESIGN.md, "Outputs"); reference is "truth", "pairwise" or
+// one observation of summary.csv (docs/design.md, "Outputs"); reference is "truth", "pairwise" or
 // empty
 struct SummaryRow {
   std::string metric, stat;

@@ -1,4 +1,4 @@
-// Files the testbed writes (shared/DESIGN.md, "Outputs"): the tidy summary.csv, per-run traces
+// Files the testbed writes (docs/design.md, "Outputs"): the tidy summary.csv, per-run traces
 // and poses. Every file is written whole to a temporary name and renamed, so a failure never
 // leaves half a file behind.
 #pragma once

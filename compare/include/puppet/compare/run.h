@@ -1,5 +1,5 @@
 // Runs one scenario in one solver and turns it into measurements: a trace per step, sampled
-// poses, and the tidy summary rows of shared/DESIGN.md ("Outputs").
+// poses, and the tidy summary rows of docs/design.md ("Outputs").
 #pragma once
 
 #include <string>

@@ -1,4 +1,4 @@
-// The scenarios of shared/DESIGN.md, defined once and used by the CLI, the tests, the benchmarks
+// The scenarios of docs/design.md, defined once and used by the CLI, the tests, the benchmarks
 // and any viewer. Each is deterministic and runs on any model.
 #pragma once
 
@@ -80,7 +80,7 @@ const std::vector<std::string>& scenario_names();
 Scenario make_scenario(const std::string& name, const Model& model,
                        const ScenarioOptions& options = {});
 
-// the default segment choices (DESIGN.md): the pinocchio names, else the root for the pin and
+// the default segment choices (docs/design.md): the pinocchio names, else the root for the pin and
 // the segment reaching lowest at rest for the grab
 int default_pin_segment(const Model& model);
 int default_grab_segment(const Model& model, const std::string& scenario);

@@ -1,4 +1,4 @@
-// The one interface every solver sits behind (shared/DESIGN.md, "The references"). Coarse
+// The one interface every solver sits behind (docs/design.md, "The references"). Coarse
 // grained: one virtual call per step, never per joint.
 #pragma once
 

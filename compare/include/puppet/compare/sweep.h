@@ -1,6 +1,6 @@
 // Sweeps: every scenario × solver configuration × dt, the runs in parallel, each judged against
 // the truth and against bullet-multibody at the same dt, and timed afterwards one at a time
-// (shared/DESIGN.md, "Metrics": accuracy, step_us).
+// (docs/design.md, "Metrics": accuracy, step_us).
 #pragma once
 
 #include <functional>

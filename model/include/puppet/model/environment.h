@@ -1,6 +1,6 @@
 /// \file
 /// The world a model moves in, and the forces it exerts, with the same formulas in every solver
-/// (shared/DESIGN.md, "Environment"), so that differences between solvers are the solvers'.
+/// (docs/design.md, "Environment"), so that differences between solvers are the solvers'.
 #pragma once
 
 #include <cmath>

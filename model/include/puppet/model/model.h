@@ -2,7 +2,7 @@
 /// The articulated body: segments, their shapes and inertia, the joints that tie them into a
 /// tree, and the joints' limits. Immutable once built; every solver reads the same Model.
 ///
-/// Conventions (shared/DESIGN.md, "The model"): SI units, right-handed, z up. Quaternions are
+/// Conventions (docs/design.md, "The model"): SI units, right-handed, z up. Quaternions are
 /// Eigen's (w, x, y, z). Everything in the file is given in world coordinates at rest; the loader
 /// derives every local quantity stored here.
 #pragma once

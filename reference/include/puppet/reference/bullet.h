@@ -1,6 +1,6 @@
 // The same humanoid in Bullet 3 (double precision), built from the same Model and driven by the
 // same environment forces and pins as the procedural solver, so that every difference the
-// testbed reports is a difference between solvers (shared/DESIGN.md, "The references").
+// testbed reports is a difference between solvers (docs/design.md, "The references").
 //
 //   multibody: btMultiBody (Featherstone, reduced coordinates): a floating base at the root and
 //              one spherical / revolute / fixed link per joint. Joints cannot open; limits and

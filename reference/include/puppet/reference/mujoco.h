@@ -1,6 +1,6 @@
 // The same humanoid in MuJoCo 2.2 (reduced coordinates, soft constraints solved as a convex
 // problem), built from the same Model through the MJCF document write_mjcf gives it, driven by
-// the same environment forces and pins (shared/DESIGN.md, "The references"):
+// the same environment forces and pins (docs/design.md, "The references"):
 //   - bodies are the segments in their principal frames at their COMs, the inertia the model's;
 //   - gravity, drag and buoyancy are applied as external wrenches (xfrc_applied) from the shared
 //     formulas, evaluated at the start of each step, and MuJoCo's own gravity is off; joints
