@@ -82,6 +82,7 @@ void Session::start_over() {
   time_ = 0.0;
   leftover_ = 0.0;
   grab_segment_ = -1;
+  released_pin_ = -1;
   compute_targets(0.0);
   collect_pins();
   for (Run& run : runs_) rebuild(run, scenario_.initial);
@@ -211,12 +212,14 @@ bool Session::grab_anchors() const {
 
 int Session::grab_index() const {
   if (!grabbing()) return -1;
-  return grab_anchors() ? 0 : static_cast<int>(scenario_.pins.size());
+  const int kept = static_cast<int>(scenario_.pins.size()) - (released_pin_ >= 0 ? 1 : 0);
+  return grab_anchors() ? 0 : kept;
 }
 
 void Session::compute_targets(double t) {
   scenario_.targets_at(t, targets_);
   if (!grabbing()) return;
+  if (released_pin_ >= 0) targets_.erase(targets_.begin() + released_pin_);
   Vector3d target = grab_target_;
   if (shake_) {
     const double phase = 2.0 * M_PI * config_.shake_hz * (t - shake_start_);
@@ -228,6 +231,7 @@ void Session::compute_targets(double t) {
 void Session::collect_pins() {
   pins_ = scenario_.initial_pins();
   if (grabbing()) {
+    if (released_pin_ >= 0) pins_.erase(pins_.begin() + released_pin_);
     pins_.insert(pins_.begin() + grab_index(),
                  Pin{grab_segment_, grab_local_, grab_target_, config_.grab_compliance});
   }
@@ -243,6 +247,10 @@ void Session::pins_changed() {
 
 void Session::grab(int segment, const Vector3d& local_point, const Vector3d& target) {
   grab_segment_ = segment;
+  released_pin_ = -1;
+  for (size_t i = 0; i < scenario_.pins.size(); ++i) {
+    if (scenario_.pins[i].pin.segment == segment) released_pin_ = static_cast<int>(i);
+  }
   grab_local_ = local_point;
   grab_target_ = target;
   shake_start_ = time_;
@@ -255,6 +263,7 @@ void Session::move_grab(const Vector3d& target) { grab_target_ = target; }
 void Session::release() {
   if (!grabbing()) return;
   grab_segment_ = -1;
+  released_pin_ = -1;
   compute_targets(time_);
   pins_changed();
 }

@@ -96,7 +96,9 @@ class Session {
   // exactly one step
   void step() { step_frame(1); }
 
-  // the user's grab: a point of a segment (segment frame) held at a target (world)
+  // the user's grab: a point of a segment (segment frame) held at a target (world). A segment
+  // the scenario pins (drag's hand on its circle) is taken from that pin while it is held, as a
+  // user takes the hand from the string: two pins on one segment at two targets would fight.
   void grab(int segment, const Vector3d& local_point, const Vector3d& target);
   void move_grab(const Vector3d& target);
   void release();
@@ -114,6 +116,8 @@ class Session {
   // whether the grab is the first pin, and where it is among the pins (-1: nothing held)
   bool grab_anchors() const;
   int grab_index() const;
+  // the scenario's pin the grab took over (its index among the scenario's pins), or -1
+  int released_pin() const { return released_pin_; }
 
   // the solver first, then the ghost when there is one
   int run_count() const { return static_cast<int>(runs_.size()); }
@@ -139,6 +143,7 @@ class Session {
   double leftover_ = 0.0;
 
   int grab_segment_ = -1;
+  int released_pin_ = -1;
   Vector3d grab_local_{0, 0, 0}, grab_target_{0, 0, 0};
   bool shake_ = false;
   Vector3d shake_axis_{1, 0, 0};
