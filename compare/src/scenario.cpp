@@ -86,17 +86,18 @@ void Scenario::targets_at(double t, std::vector<Vector3d>& out) const {
   const double ramp = u * u * (3.0 - 2.0 * u);
   for (size_t i = 0; i < pins.size(); ++i) {
     const PinPath& p = pins[i];
-    const double phase = 2.0 * M_PI * p.hz * t;
+    const double angle = p.phase + 2.0 * M_PI * p.hz * t;
     Vector3d offset{0, 0, 0};
     switch (p.path) {
       case TargetPath::kFixed:
         break;
       case TargetPath::kCircle:
-        // starts at its lowest point and goes forward (+x) first
-        offset = p.radius * Vector3d(std::sin(phase), 0.0, 1.0 - std::cos(phase));
+        // a circle whose lowest point is the initial point, going forward (+x) first from
+        // there; a phase starts the target further round the same circle (the ramp brings it in)
+        offset = p.radius * Vector3d(std::sin(angle), 0.0, 1.0 - std::cos(angle));
         break;
       case TargetPath::kShakeX:
-        offset = p.radius * Vector3d(std::sin(phase), 0.0, 0.0);
+        offset = p.radius * Vector3d(std::sin(angle), 0.0, 0.0);
         break;
     }
     out[i] = p.pin.target + ramp * offset;
@@ -134,20 +135,34 @@ Scenario make_scenario(const std::string& name, const Model& model,
   }
   Scenario s;
   s.name = name;
-  s.initial = rest_pose(model);
   s.environment.gravity = model.gravity;
   const bool hanging =
       name == "hang" || name == "drag" || name == "shake" || name == "water" || name == "tremble";
   const bool circling = name == "drag" || name == "water" || name == "tremble" || name == "yank";
+  const std::optional<StartInputs>& start = options.start;
+  // the pins, chosen on the rest pose
+  Pin head, hand;
+  if (hanging) {
+    head = choose_point(model, options.pin, default_pin_segment(model), Vector3d::UnitZ(), "pin");
+  }
+  if (circling || name == "shake") {
+    hand = choose_point(model, options.grab, default_grab_segment(model, name), -Vector3d::UnitZ(),
+                        "grab");
+    if (start && !(options.grab && options.grab->local_point)) {
+      hand.local_point = support_point(model.segments[hand.segment].shape, start->grab_direction);
+    }
+  }
+  // a random start poses the figure from the segment held first (it stays at rest, so a held
+  // point starts still), else from the root
+  const int anchor = hanging ? head.segment : circling ? hand.segment : 0;
+  s.initial = start ? posed_start(model, *start, anchor) : rest_pose(model);
 
   if (hanging) {
     // a marionette: the pin point fixed, the figure tilted about world x through it
-    const Pin head =
-        choose_point(model, options.pin, default_pin_segment(model), Vector3d::UnitZ(), "pin");
     const Vector3d pivot = world_of(s.initial, head);
+    const double tilt_deg = start ? start->tilt_deg : options.tilt_deg;
     rotate_about(s.initial,
-                 Quaterniond(Eigen::AngleAxisd(options.tilt_deg * M_PI / 180.0, Vector3d::UnitX())),
-                 pivot);
+                 Quaterniond(Eigen::AngleAxisd(tilt_deg * M_PI / 180.0, Vector3d::UnitX())), pivot);
     PinPath fixed;
     fixed.pin = head;
     fixed.pin.target = pivot;
@@ -155,8 +170,6 @@ Scenario make_scenario(const std::string& name, const Model& model,
     s.environment.air_drag = name == "hang" ? 0.0 : 0.1;
   }
   if (circling || name == "shake") {
-    const Pin hand = choose_point(model, options.grab, default_grab_segment(model, name),
-                                  -Vector3d::UnitZ(), "grab");
     PinPath grab;
     grab.pin = hand;
     grab.pin.target = world_of(s.initial, hand);
@@ -164,12 +177,14 @@ Scenario make_scenario(const std::string& name, const Model& model,
     if (name == "shake") {
       grab.path = TargetPath::kShakeX;
       grab.radius = kShakeAmplitude;
-      grab.hz = kShakeHz;
+      // a start's frequency scaled from the circle's default (0.5 Hz) to the shake's (3 Hz)
+      grab.hz = start ? kShakeHz * start->hz / 0.5 : kShakeHz;
     } else {
       grab.path = TargetPath::kCircle;
       grab.radius = kCircleRadius;
-      grab.hz = options.hz;
+      grab.hz = start ? start->hz : options.hz;
     }
+    if (start) grab.phase = start->phase;
     s.pins.push_back(grab);
   }
   if (name == "water") {
@@ -189,8 +204,8 @@ Scenario make_scenario(const std::string& name, const Model& model,
     com /= model.total_mass;
     const Vector3d omega(0.3, 0.0, 2.0);
     for (BodyState& body : s.initial) {
-      body.w = omega;
-      body.v = omega.cross(body.x - com);
+      body.w += omega;
+      body.v += omega.cross(body.x - com);
     }
   }
   if (name == "drop") {

@@ -11,10 +11,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <thread>
 
@@ -24,10 +26,13 @@
 #include "puppet/compare/number.h"
 #include "puppet/compare/output.h"
 #include "puppet/compare/output_folder.h"
+#include "puppet/compare/robustness.h"
 #include "puppet/compare/run.h"
 #include "puppet/compare/scenario.h"
 #include "puppet/compare/simulator.h"
+#include "puppet/compare/start.h"
 #include "puppet/compare/sweep.h"
+#include "puppet/model/file.h"
 #include "puppet/model/mjcf.h"
 #include "puppet/model/model.h"
 #include "puppet/model/text.h"
@@ -207,6 +212,9 @@ struct RunFlags {
   std::string mujoco_integrator = "euler";
   bool no_velocities = false, no_tremble = false, no_timing = false, bullet_euler_limits = false;
   bool no_accuracy = false;
+  std::string start;  // run: SEED:INDEX, a random start (start.h)
+  // robustness
+  std::string starts = "100", seed = "1", shard;
 
   static int default_jobs() {
     return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
@@ -451,8 +459,19 @@ int command_run(const RunFlags& f) {
   const auto scenarios = expand("--scenario", f.scenario, scenario_names());
   const Model model = parse_model(f);
   spec.model = &model;
+  ScenarioOptions options = scenario_options;
+  if (!f.start.empty()) {
+    uint64_t seed = 0;
+    int64_t index = 0;
+    try {
+      parse_start(f.start, &seed, &index);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--start: ") + e.what());
+    }
+    options.start = random_start(model, seed, index);
+  }
   for (const auto& name : scenarios) {
-    spec.scenarios.push_back(make_scenario(name, model, scenario_options));
+    spec.scenarios.push_back(make_scenario(name, model, options));
   }
   check_run_size(spec, model);
   check_solvers_build(spec.configs, model);
@@ -527,6 +546,285 @@ int command_frontier(const RunFlags& f) {
                 r.reason.c_str());
   }
   std::printf("\nwrote %s/frontier.csv\n", folder.path().c_str());
+  return 0;
+}
+
+// a word as a shell reads it back: as it is when it is plain, else in single quotes
+std::string shell_word(const std::string& text) {
+  const bool plain = !text.empty() && std::all_of(text.begin(), text.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || std::strchr("_./:=,+-", c) != nullptr;
+  });
+  if (plain) return text;
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+// the flags a replay of one robustness run repeats: every one given that changes the run
+std::string replay_flags(const RunFlags& f) {
+  std::string out;
+  auto add = [&](const char* flag, const std::string& value) {
+    if (!value.empty()) out += std::string(" ") + flag + " " + shell_word(value);
+  };
+  add("--duration", f.duration);
+  if (f.iterations != procedural::kRuleDefault) add("--iterations", std::to_string(f.iterations));
+  if (f.substeps != procedural::kRuleDefault) add("--substeps", std::to_string(f.substeps));
+  if (f.bullet_iterations != 10) add("--bullet-iterations", std::to_string(f.bullet_iterations));
+  if (f.mujoco_integrator != "euler") add("--mujoco-integrator", f.mujoco_integrator);
+  add("--grab-compliance", f.grab_compliance);
+  add("--pin", f.pin);
+  add("--grab", f.grab);
+  add("--gravity", f.gravity);
+  add("--air-drag", f.air_drag);
+  add("--ground", f.ground);
+  if (f.bullet_euler_limits) out += " --bullet-euler-limits";
+  if (f.no_velocities) out += " --no-velocities";
+  if (f.no_tremble) out += " --no-tremble";
+  return out;
+}
+
+// the three files of a run or a merge, from its rows in job order: the summary and the worst
+// starts are read from the rows as written, so that a merge of shards, which reads them back,
+// writes the same bytes
+void write_robustness(const OutputFolder& folder, const std::vector<RobustnessRow>& rows,
+                      const RobustnessSpec& spec) {
+  const std::string csv = robustness_csv(rows);
+  const std::vector<RobustnessRow> written = parse_robustness_csv(csv, "robustness.csv");
+  write_file_atomically((folder.staging() / "robustness.csv").string(), csv);
+  write_file_atomically((folder.staging() / "robustness_summary.csv").string(),
+                        robustness_summary_csv(written));
+  write_file_atomically((folder.staging() / "worst.csv").string(), worst_csv(written, spec));
+}
+
+void print_rates(const std::vector<RobustnessRow>& rows) {
+  const std::vector<RobustnessRow> written =
+      parse_robustness_csv(robustness_csv(rows), "robustness.csv");
+  std::istringstream summary(robustness_summary_csv(written));
+  std::string line;
+  std::getline(summary, line);
+  std::printf("\n%-8s %-16s %-9s %-12s %6s %9s %8s %s\n", "scenario", "solver", "rule", "dt",
+              "runs", "diverged", "rate", "95 % interval");
+  while (std::getline(summary, line)) {
+    std::vector<std::string> f;
+    std::stringstream in(line);
+    std::string field;
+    while (std::getline(in, field, ',')) f.push_back(field);
+    if (f.size() != 9) continue;
+    std::printf("%-8s %-16s %-9s %-12s %6s %9s %8.3f [%.3f, %.3f]\n", f[0].c_str(), f[1].c_str(),
+                f[2].empty() ? "-" : f[2].c_str(), f[3].c_str(), f[4].c_str(), f[5].c_str(),
+                std::stod(f[6]), std::stod(f[7]), std::stod(f[8]));
+  }
+}
+
+int command_robustness(const RunFlags& f) {
+  RobustnessSpec spec;
+  spec.dts = parse_dts(f.dt);
+  if (!f.duration.empty()) spec.duration = parse_in("--duration", f.duration, 0.0, 3600.0, " s");
+  spec.scenario = parse_scenario_options(f);
+  spec.configs = parse_solver_configs(f);
+  spec.scenarios = expand("--scenario", f.scenario, scenario_names());
+  spec.starts = std::llround(parse_in("--starts", f.starts, 1.0, 1e6, ""));
+  if (std::to_string(spec.starts) != f.starts) {
+    throw UsageError("--starts: expected a whole number, got " + shown(f.starts));
+  }
+  try {
+    uint64_t seed = 0;
+    int64_t unused = 0;
+    parse_start(f.seed + ":0", &seed, &unused);
+    spec.seed = seed;
+  } catch (const std::invalid_argument&) {
+    throw UsageError("--seed: expected a whole number of at most 18 digits, got " + shown(f.seed));
+  }
+  if (!f.shard.empty()) {
+    uint64_t i = 0;
+    int64_t n = 0;
+    const size_t slash = f.shard.find('/');
+    std::string as_pair = f.shard;
+    if (slash != std::string::npos) as_pair[slash] = ':';
+    try {
+      if (slash == std::string::npos) throw std::invalid_argument("");
+      parse_start(as_pair, &i, &n);
+    } catch (const std::invalid_argument&) {
+      throw UsageError("--shard: expected I/N, got " + shown(f.shard));
+    }
+    if (n < 1 || n > 100000 || static_cast<int64_t>(i) >= n) {
+      throw UsageError("--shard: expected I/N with 0 <= I < N <= 100000, got " + shown(f.shard));
+    }
+    spec.shard = static_cast<int>(i);
+    spec.shards = static_cast<int>(n);
+  }
+  spec.jobs = f.jobs;
+  const Model model = parse_model(f);
+  spec.model = &model;
+  spec.model_name = f.model;
+  check_solvers_build(spec.configs, model);
+  const int64_t jobs = robustness_job_count(spec);
+  if (jobs > 10000000) {
+    throw UsageError("--starts: " + std::to_string(jobs) + " runs in all (at most 10000000)");
+  }
+  // every scenario builds with a start, and no run is longer than a sweep's
+  double longest = 0.0;
+  for (const std::string& name : spec.scenarios) {
+    ScenarioOptions options = spec.scenario;
+    options.start = random_start(model, spec.seed, 0);
+    const Scenario scenario = make_scenario(name, model, options);
+    longest = std::max(longest, spec.duration >= 0.0 ? spec.duration : scenario.duration);
+  }
+  const double smallest_dt = *std::min_element(spec.dts.begin(), spec.dts.end());
+  if (longest / smallest_dt > kMaxSteps) {
+    throw UsageError("--dt: " + format_dt(longest) + " s at dt " + format_dt(smallest_dt) +
+                     " s is more than 1e7 steps per run");
+  }
+  if (std::llround(longest / *std::max_element(spec.dts.begin(), spec.dts.end())) < 1) {
+    throw UsageError("--duration: a run takes no step");
+  }
+  spec.replay_flags = replay_flags(f);
+  spec.code = current_git_sha();
+  OutputFolder folder("--out", f.out,
+                      {"robustness.csv", "robustness_summary.csv", "worst.csv", "shard.txt"});
+  spec.on_progress = Progress("robustness");
+  const auto begin = std::chrono::steady_clock::now();
+  const std::vector<RobustnessRow> rows = run_robustness(spec);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  write_robustness(folder, rows, spec);
+  if (spec.shards > 1) {
+    write_file_atomically((folder.staging() / "shard.txt").string(),
+                          shard_manifest(spec, static_cast<int64_t>(rows.size())));
+  }
+  folder.commit();
+  print_rates(rows);
+  std::printf("\n%zu runs in %.1f s on %d threads: %.1f runs/s, %.1f per thread\n", rows.size(),
+              seconds, spec.jobs, rows.size() / seconds, rows.size() / seconds / spec.jobs);
+  std::printf("wrote %s: robustness.csv, robustness_summary.csv, worst.csv%s\n",
+              folder.path().c_str(), spec.shards > 1 ? ", shard.txt" : "");
+  return 0;
+}
+
+struct Shard {
+  std::string folder, identity, model, replay;
+  int64_t index = 0, count = 0, jobs = 0, rows = 0;
+};
+
+Shard read_shard(const std::string& folder) {
+  Shard shard;
+  shard.folder = folder;
+  std::string text, problem;
+  const std::string path = folder + "/shard.txt";
+  if (!read_regular_file(path, 1 << 16, &text, &problem)) {
+    throw UsageError("merge: " + path + ": " + problem);
+  }
+  std::istringstream in(text);
+  std::string line;
+  std::getline(in, line);
+  if (line != "puppet robustness shard") {
+    throw UsageError("merge: " + path + ": not a robustness shard's manifest");
+  }
+  std::map<std::string, std::string> fields;
+  while (std::getline(in, line)) {
+    const size_t colon = line.find(": ");
+    if (colon != std::string::npos) fields[line.substr(0, colon)] = line.substr(colon + 2);
+  }
+  for (const char* key : {"identity", "model", "replay", "shard", "jobs", "rows"}) {
+    if (!fields.count(key)) throw UsageError("merge: " + path + ": no " + key + " line");
+  }
+  shard.identity = fields["identity"];
+  shard.model = fields["model"];
+  shard.replay = fields["replay"];
+  uint64_t index = 0;
+  int64_t count = 0;
+  std::string pair = fields["shard"];
+  const size_t slash = pair.find('/');
+  if (slash != std::string::npos) pair[slash] = ':';
+  try {
+    parse_start(pair, &index, &count);
+    uint64_t jobs = 0, rows = 0;
+    int64_t unused = 0;
+    parse_start(fields["jobs"] + ":0", &jobs, &unused);
+    parse_start(fields["rows"] + ":0", &rows, &unused);
+    shard.jobs = static_cast<int64_t>(jobs);
+    shard.rows = static_cast<int64_t>(rows);
+  } catch (const std::invalid_argument&) {
+    throw UsageError("merge: " + path + ": malformed shard, jobs or rows line");
+  }
+  if (count < 1 || static_cast<int64_t>(index) >= count) {
+    throw UsageError("merge: " + path + ": shard " + fields["shard"] + " is not I/N with I < N");
+  }
+  shard.index = static_cast<int64_t>(index);
+  shard.count = count;
+  return shard;
+}
+
+int command_merge(const std::vector<std::string>& folders, const std::string& out) {
+  std::vector<Shard> shards;
+  for (const std::string& folder : folders) shards.push_back(read_shard(folder));
+  const Shard& first = shards.front();
+  std::map<int64_t, const Shard*> by_index;
+  for (const Shard& shard : shards) {
+    if (shard.identity != first.identity || shard.count != first.count) {
+      throw UsageError("merge: " + shard.folder + " is a shard of another sweep than " +
+                       first.folder + " (their shard.txt identities differ)");
+    }
+    if (!by_index.emplace(shard.index, &shard).second) {
+      throw UsageError("merge: " + shard.folder + " and " + by_index[shard.index]->folder +
+                       " are both shard " + std::to_string(shard.index) + "/" +
+                       std::to_string(shard.count));
+    }
+  }
+  std::string missing;
+  int64_t missing_count = 0;
+  for (int64_t i = 0; i < first.count; ++i) {
+    if (by_index.count(i)) continue;
+    if (++missing_count <= 10) missing += (missing.empty() ? "" : ", ") + std::to_string(i);
+  }
+  if (missing_count > 0) {
+    throw UsageError("merge: " + std::to_string(missing_count) + " of " +
+                     std::to_string(first.count) + " shards missing: " + missing +
+                     (missing_count > 10 ? ", ..." : ""));
+  }
+  std::vector<RobustnessRow> rows;
+  for (const auto& [index, shard] : by_index) {
+    const std::string path = shard->folder + "/robustness.csv";
+    std::string text, problem;
+    if (!read_regular_file(path, size_t(4) << 30, &text, &problem)) {
+      throw UsageError("merge: " + path + ": " + problem);
+    }
+    std::vector<RobustnessRow> part;
+    try {
+      part = parse_robustness_csv(text, path);
+    } catch (const std::runtime_error& e) {
+      throw UsageError(std::string("merge: ") + e.what());
+    }
+    const int64_t expected = (first.jobs - index + first.count - 1) / first.count;
+    if (static_cast<int64_t>(part.size()) != shard->rows || shard->rows != expected) {
+      throw UsageError("merge: " + path + ": " + std::to_string(part.size()) + " rows, shard " +
+                       std::to_string(index) + "/" + std::to_string(first.count) + " has " +
+                       std::to_string(expected));
+    }
+    for (const RobustnessRow& r : part) {
+      if (r.job % first.count != index) {
+        throw UsageError("merge: " + path + ": job " + std::to_string(r.job) + " is not shard " +
+                         std::to_string(index) + "'s");
+      }
+    }
+    rows.insert(rows.end(), part.begin(), part.end());
+  }
+  std::sort(rows.begin(), rows.end(),
+            [](const RobustnessRow& a, const RobustnessRow& b) { return a.job < b.job; });
+  for (size_t k = 0; k < rows.size(); ++k) {
+    if (rows[k].job != static_cast<int64_t>(k)) {
+      throw UsageError("merge: job " + std::to_string(k) + " is missing or repeated");
+    }
+  }
+  RobustnessSpec spec;
+  spec.model_name = first.model;
+  spec.replay_flags = first.replay;
+  OutputFolder folder("--out", out, {"robustness.csv", "robustness_summary.csv", "worst.csv"});
+  write_robustness(folder, rows, spec);
+  folder.commit();
+  print_rates(rows);
+  std::printf("\nmerged %zu shards, %zu runs into %s\n", shards.size(), rows.size(),
+              folder.path().c_str());
   return 0;
 }
 
@@ -646,6 +944,9 @@ int main(int argc, char** argv) {
   run->add_flag("--no-tremble", f.no_tremble,
                 "procedural: no tremble even in the tremble scenario");
   run->add_flag("--no-timing", f.no_timing, "skip the separate timing pass");
+  run->add_option("--start", f.start,
+                  "SEED:INDEX: the random start of testbed robustness (pose, velocities, tilt, "
+                  "grab point, circle frequency and phase)");
   run->add_flag("--no-accuracy", f.no_accuracy,
                 "skip the truths (bullet-multibody at 1/3840 s, mujoco RK4 at 1/7680 s) and the "
                 "accuracy rows");
@@ -657,6 +958,41 @@ int main(int argc, char** argv) {
   add_solver_flags(frontier, f);
   frontier->add_option("--hz", f.hz, "circle frequency held during the dt search (Hz)")
       ->capture_default_str();
+
+  RunFlags rf;
+  rf.dt = "1/240";
+  rf.out = "results/robustness";
+  rf.solver = "procedural";
+  auto* robustness = app.add_subcommand(
+      "robustness",
+      "run every scenario x solver x rule x dt from N random starts (--seed); write "
+      "robustness.csv, "
+      "the divergence rates with 95 % Wilson intervals and the worst starts as replay commands");
+  add_solver_flags(robustness, rf);
+  robustness->add_option("--scenario", rf.scenario, "scenario name, comma list, or all")
+      ->capture_default_str();
+  robustness->add_option("--dt", rf.dt, "time steps in seconds, comma list")->capture_default_str();
+  robustness->add_option("--duration", rf.duration,
+                         "seconds to simulate (default: the scenario's)");
+  robustness->add_option("--starts", rf.starts, "random starts per scenario, solver, rule and dt")
+      ->capture_default_str();
+  robustness->add_option("--seed", rf.seed, "the starts' seed")->capture_default_str();
+  robustness->add_option("--shard", rf.shard,
+                         "run only shard I of N (jobs j with j mod N = I); merge the shards with "
+                         "testbed merge");
+  robustness->add_option("--pin", rf.pin, "hanging point SEGMENT[:x,y,z] (segment frame)");
+  robustness->add_option("--air-drag", rf.air_drag, "air drag k_air (1/s)");
+  robustness->add_option("--ground", rf.ground, "ground plane on|off")
+      ->check(CLI::IsMember({"on", "off"}));
+  robustness->add_flag("--no-tremble", rf.no_tremble, "procedural: no tremble");
+
+  std::vector<std::string> merge_folders;
+  std::string merge_out = "results/robustness";
+  auto* merge = app.add_subcommand(
+      "merge",
+      "merge the shards of one testbed robustness sweep into what one unsharded run writes");
+  merge->add_option("DIR", merge_folders, "the shards' output folders")->required();
+  merge->add_option("--out", merge_out, "output folder")->capture_default_str();
 
   std::vector<std::string> gate_files;
   std::string gate_thresholds = "results/gate.json", gate_csv;
@@ -702,6 +1038,8 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("export-mjcf")) return command_export_mjcf(export_path, export_out);
     if (app.got_subcommand("frontier")) return command_frontier(f);
     if (app.got_subcommand("gate")) return command_gate(gate_files, gate_thresholds, gate_csv);
+    if (app.got_subcommand("robustness")) return command_robustness(rf);
+    if (app.got_subcommand("merge")) return command_merge(merge_folders, merge_out);
     return command_run(f);
   } catch (const Cancelled&) {
     const int signal = cancel_signal();

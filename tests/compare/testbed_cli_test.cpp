@@ -96,6 +96,79 @@ TEST(TestbedCli, ExportMjcf) {
   expect_bad("run --solver mujoco --mujoco-integrator rk5", "--mujoco-integrator");
 }
 
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// "s" + the shard's index, built without operator+ (GCC 12's -Wrestrict misreads it)
+std::string shard_name(const char* index) {
+  std::string name = "s";
+  name += index;
+  return name;
+}
+
+// a small sweep: two scenarios, two solver configurations, two dts, 4 starts (32 runs)
+const std::string kSweep =
+    "robustness --model chain:4 --scenario hang,yank --solver procedural,bullet-rigid "
+    "--rule xpbd --dt 1/60,1/120 --starts 4 --duration 0.5 --jobs 2";
+
+TEST(TestbedCli, RobustnessShardsMergeIntoTheUnshardedBytes) {
+  const fs::path root = fresh_folder("shards");
+  ASSERT_EQ(testbed(kSweep + " --out " + (root / "all").string()).status, 0);
+  // shards run out of order, merged in another
+  for (const char* shard : {"2", "0", "1"}) {
+    std::string arguments = kSweep;
+    arguments += " --shard ";
+    arguments += shard;
+    arguments += "/3 --out " + (root / shard_name(shard)).string();
+    const Outcome o = testbed(arguments);
+    ASSERT_EQ(o.status, 0) << o.output;
+  }
+  const std::string shards =
+      " " + (root / "s1").string() + " " + (root / "s2").string() + " " + (root / "s0").string();
+  const Outcome merged = testbed("merge" + shards + " --out " + (root / "merged").string());
+  ASSERT_EQ(merged.status, 0) << merged.output;
+  for (const char* file : {"robustness.csv", "robustness_summary.csv", "worst.csv"}) {
+    const std::string expected = slurp(root / "all" / file);
+    EXPECT_FALSE(expected.empty()) << file;
+    EXPECT_EQ(slurp(root / "merged" / file), expected) << file;
+  }
+  EXPECT_FALSE(fs::exists(root / "merged" / "shard.txt"));
+  // the rows count every run once, and each worst start replays as a command
+  const std::string rows = slurp(root / "all" / "robustness.csv");
+  EXPECT_EQ(std::count(rows.begin(), rows.end(), '\n'), 33);
+  EXPECT_NE(slurp(root / "all" / "worst.csv").find("testbed run --model chain:4 --scenario"),
+            std::string::npos);
+}
+
+TEST(TestbedCli, MergeNamesAMissingForeignOrDamagedShard) {
+  const fs::path root = fresh_folder("merge_bad");
+  for (const char* shard : {"0", "1", "2"}) {
+    std::string arguments = kSweep;
+    arguments += " --shard ";
+    arguments += shard;
+    arguments += "/3 --out " + (root / shard_name(shard)).string();
+    ASSERT_EQ(testbed(arguments).status, 0);
+  }
+  const std::string s0 = (root / "s0").string(), s1 = (root / "s1").string(),
+                    s2 = (root / "s2").string(), out = " --out " + (root / "m").string();
+  expect_bad("merge " + s0 + " " + s2 + out, "1 of 3 shards missing: 1");
+  expect_bad("merge " + s0 + " " + s0 + " " + s1 + " " + s2 + out, "are both shard 0/3");
+  // a shard of another sweep (another seed)
+  ASSERT_EQ(testbed(kSweep + " --seed 2 --shard 1/3 --out " + (root / "other").string()).status, 0);
+  expect_bad("merge " + s0 + " " + (root / "other").string() + " " + s2 + out, "another sweep");
+  // a shard whose rows were cut short
+  {
+    std::string rows = slurp(root / "s2" / "robustness.csv");
+    rows.resize(rows.rfind('\n', rows.size() - 2) + 1);
+    std::ofstream(root / "s2" / "robustness.csv", std::ios::binary) << rows;
+  }
+  expect_bad("merge " + s0 + " " + s1 + " " + s2 + out, "rows, shard 2/3 has");
+  expect_bad("merge " + (root / "none").string() + out, "shard.txt");
+  EXPECT_FALSE(fs::exists(root / "m"));
+}
+
 TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
   const fs::path out = fresh_folder("bad");
   const std::string o = " --out " + out.string();
@@ -125,6 +198,19 @@ TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
   expect_bad("run --substeps -1" + o, "--substeps");
   expect_bad("frontier --solver ode" + o, "--solver");
   expect_bad("frontier --grab tail" + o, "--grab");
+  expect_bad("robustness --shard 3/3" + o, "--shard");
+  expect_bad("robustness --shard 1" + o, "--shard");
+  expect_bad("robustness --shard a/b" + o, "--shard");
+  expect_bad("robustness --shard 0/0" + o, "--shard");
+  expect_bad("robustness --starts 0" + o, "--starts");
+  expect_bad("robustness --starts 1.5" + o, "--starts");
+  expect_bad("robustness --starts 1e3" + o, "--starts");
+  expect_bad("robustness --seed -1" + o, "--seed");
+  expect_bad("robustness --seed 0x10" + o, "--seed");
+  expect_bad("robustness --scenario swim" + o, "--scenario");
+  expect_bad("run --start 1" + o, "--start");
+  expect_bad("run --start x:2" + o, "--start");
+  expect_bad("run --start 1:-2" + o, "--start");
   EXPECT_FALSE(fs::exists(out));
   expect_bad("run --scenario hang --duration 0.1 --out /proc/forbidden", "--out");
   // what a flag implies, and its ranges: each of these ran (or crashed) before it was checked

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "puppet/compare/start.h"
 #include "puppet/model/environment.h"
 #include "puppet/model/model.h"
 
@@ -42,6 +43,9 @@ struct ScenarioOptions {
   std::optional<Vector3d> gravity;
   std::optional<double> air_drag;
   std::optional<bool> ground;
+  // a random start (start.h): the pose and joint velocities, and for the scenarios that use them
+  // the tilt, the grab's point, frequency and phase (a point given by `grab` stays)
+  std::optional<StartInputs> start;
 };
 
 enum class TargetPath {
@@ -55,6 +59,7 @@ struct PinPath {
   TargetPath path = TargetPath::kFixed;
   double radius = 0.0;  // circle radius or shake amplitude (m)
   double hz = 0.0;
+  double phase = 0.0;  // rad: where on its circle or shake the target starts (0: the lowest point)
 };
 
 struct Scenario {

@@ -1,0 +1,316 @@
+#include "puppet/compare/robustness.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <tuple>
+
+#include "puppet/compare/output.h"
+#include "puppet/compare/run.h"
+#include "puppet/model/text.h"
+
+namespace puppet::compare {
+namespace {
+
+constexpr const char* kRowsHeader =
+    "job,scenario,solver,rule,dt,seed,start,tilt_deg,hz,phase_deg,grab_segment,grab_x,grab_y,"
+    "grab_z,joint_angle_rms_deg,joint_speed_rms,status,reason,diverged_at_s,peak_speed_mps,"
+    "joint_gap_max_m,pin_gap_max_m,steps";
+constexpr const char* kRatesHeader =
+    "scenario,solver,rule,dt,runs,diverged,rate,ci95_low,ci95_high";
+constexpr const char* kWorstHeader =
+    "scenario,solver,rule,dt,seed,start,status,diverged_at_s,joint_gap_max_m,peak_speed_mps,"
+    "testbed,viewer";
+
+std::string rule_of(const SolverConfig& config) {
+  return config.solver == "procedural" ? std::string(procedural::rule_name(config.options.rule))
+                                       : std::string();
+}
+
+// dt as a command line reads it: 1/N when it is one, else the decimal
+std::string dt_flag(double dt) {
+  const double n = std::round(1.0 / dt);
+  if (n >= 1 && std::abs(1.0 / n - dt) <= 1e-8 * dt) return "1/" + std::to_string(int64_t(n));
+  return format_dt(dt);
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::string field;
+  std::istringstream in(line);
+  while (std::getline(in, field, ',')) out.push_back(field);
+  if (!line.empty() && line.back() == ',') out.emplace_back();
+  return out;
+}
+
+double number(const std::string& text, const std::string& where) {
+  if (text.empty()) return std::nan("");
+  size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size()) throw std::runtime_error(where + ": not a number: " + shown(text));
+  return value;
+}
+
+using ConfigKey = std::tuple<std::string, std::string, std::string, std::string>;
+ConfigKey key_of(const RobustnessRow& r) { return {r.scenario, r.solver, r.rule, format_dt(r.dt)}; }
+
+}  // namespace
+
+int64_t robustness_job_count(const RobustnessSpec& spec) {
+  return static_cast<int64_t>(spec.scenarios.size() * spec.configs.size() * spec.dts.size()) *
+         spec.starts;
+}
+
+std::vector<RobustnessRow> run_robustness(const RobustnessSpec& spec) {
+  const Model& model = *spec.model;
+  const int64_t total = robustness_job_count(spec);
+  std::vector<int64_t> jobs;
+  for (int64_t j = spec.shard; j < total; j += spec.shards) jobs.push_back(j);
+  std::vector<RobustnessRow> rows(jobs.size());
+  const int64_t per_dt = spec.starts;
+  const int64_t per_config = per_dt * static_cast<int64_t>(spec.dts.size());
+  const int64_t per_scenario = per_config * static_cast<int64_t>(spec.configs.size());
+  size_t done = 0;
+  parallel_for(
+      jobs.size(), spec.jobs,
+      [&](size_t i) {
+        const int64_t job = jobs[i];
+        const std::string& name = spec.scenarios[job / per_scenario];
+        const SolverConfig& config = spec.configs[(job % per_scenario) / per_config];
+        const double dt = spec.dts[(job % per_config) / per_dt];
+        const int64_t start_index = job % per_dt;
+        ScenarioOptions options = spec.scenario;
+        options.start = random_start(model, spec.seed, start_index);
+        const Scenario scenario = make_scenario(name, model, options);
+        auto simulator = make_simulator(config.solver, config.options);
+        RunOptions run;
+        run.dt = dt;
+        run.duration = spec.duration;
+        run.timing = false;
+        run.sample_hz = 1e-3;  // the first and last poses only: the rows are all it keeps
+        const RunResult result = run_scenario(*simulator, model, scenario, run);
+
+        RobustnessRow& r = rows[i];
+        r.job = job;
+        r.scenario = name;
+        r.solver = config.solver;
+        r.rule = rule_of(config);
+        r.dt = dt;
+        r.seed = spec.seed;
+        r.start = start_index;
+        const StartInputs& start = *options.start;
+        const bool hanging = name == "hang" || name == "drag" || name == "shake" ||
+                             name == "water" || name == "tremble";
+        r.tilt_deg = hanging ? start.tilt_deg : std::nan("");
+        const PinPath* grab = nullptr;
+        for (const PinPath& p : scenario.pins) {
+          if (p.path != TargetPath::kFixed) grab = &p;
+        }
+        r.hz = grab ? grab->hz : std::nan("");
+        r.phase_deg = grab ? grab->phase * 180.0 / M_PI : std::nan("");
+        if (grab) {
+          r.grab_segment = model.segments[grab->pin.segment].name;
+          r.grab_point = grab->pin.local_point;
+        } else {
+          r.grab_point.setConstant(std::nan(""));
+        }
+        r.joint_angle_rms_deg = start.joint_angle_rms_deg();
+        r.joint_speed_rms = start.joint_speed_rms();
+        r.diverged = result.diverged;
+        r.reason = result.diverged_reason;
+        r.diverged_at = result.diverged ? result.diverged_at : std::nan("");
+        r.peak_speed = result.value("peak_speed_mps", "max");
+        r.joint_gap_max = result.value("joint_gap_m", "max");
+        r.pin_gap_max = result.value("pin_gap_m", "max");
+        r.steps = result.steps;
+      },
+      [&] {
+        ++done;
+        if (spec.on_progress) spec.on_progress(done, jobs.size());
+      });
+  return rows;
+}
+
+Interval wilson_interval(int64_t k, int64_t n, double z) {
+  if (n <= 0) return {0.0, 1.0};
+  const double p = static_cast<double>(k) / n, z2 = z * z;
+  const double centre = (p + z2 / (2 * n)) / (1 + z2 / n);
+  const double half = z / (1 + z2 / n) * std::sqrt(p * (1 - p) / n + z2 / (4.0 * n * n));
+  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
+}
+
+std::string robustness_csv(const std::vector<RobustnessRow>& rows) {
+  std::ostringstream out;
+  out << kRowsHeader << '\n';
+  for (const RobustnessRow& r : rows) {
+    out << r.job << ',' << r.scenario << ',' << r.solver << ',' << r.rule << ',' << format_dt(r.dt)
+        << ',' << r.seed << ',' << r.start << ',' << csv_number(r.tilt_deg) << ','
+        << csv_number(r.hz) << ',' << csv_number(r.phase_deg) << ',' << r.grab_segment << ','
+        << csv_number(r.grab_point.x()) << ',' << csv_number(r.grab_point.y()) << ','
+        << csv_number(r.grab_point.z()) << ',' << csv_number(r.joint_angle_rms_deg) << ','
+        << csv_number(r.joint_speed_rms) << ',' << (r.diverged ? "diverged" : "ok") << ','
+        << r.reason << ',' << csv_number(r.diverged_at) << ',' << csv_number(r.peak_speed) << ','
+        << csv_number(r.joint_gap_max) << ',' << csv_number(r.pin_gap_max) << ',' << r.steps
+        << '\n';
+  }
+  return out.str();
+}
+
+std::vector<RobustnessRow> parse_robustness_csv(const std::string& text,
+                                                const std::string& source) {
+  std::istringstream in(text);
+  std::string line;
+  if (!std::getline(in, line) || line != kRowsHeader) {
+    throw std::runtime_error(source + ": not a robustness.csv (unexpected header)");
+  }
+  std::vector<RobustnessRow> rows;
+  int line_number = 1;
+  while (std::getline(in, line)) {
+    ++line_number;
+    const std::string where = source + ":" + std::to_string(line_number);
+    const std::vector<std::string> f = split(line);
+    if (f.size() != 23) {
+      throw std::runtime_error(where + ": expected 23 fields, got " + std::to_string(f.size()));
+    }
+    RobustnessRow r;
+    // plain decimal digits, as robustness_csv writes them
+    const auto whole = [&](const std::string& t) -> uint64_t {
+      const bool digits =
+          !t.empty() && t.size() <= 19 &&
+          std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; });
+      if (!digits) throw std::runtime_error(where + ": not a count: " + shown(t));
+      return std::stoull(t);
+    };
+    r.job = static_cast<int64_t>(whole(f[0]));
+    r.scenario = f[1];
+    r.solver = f[2];
+    r.rule = f[3];
+    r.dt = number(f[4], where);
+    r.seed = whole(f[5]);
+    r.start = static_cast<int64_t>(whole(f[6]));
+    r.tilt_deg = number(f[7], where);
+    r.hz = number(f[8], where);
+    r.phase_deg = number(f[9], where);
+    r.grab_segment = f[10];
+    r.grab_point = Vector3d(number(f[11], where), number(f[12], where), number(f[13], where));
+    r.joint_angle_rms_deg = number(f[14], where);
+    r.joint_speed_rms = number(f[15], where);
+    if (f[16] != "ok" && f[16] != "diverged") {
+      throw std::runtime_error(where + ": status " + shown(f[16]) + " is neither ok nor diverged");
+    }
+    r.diverged = f[16] == "diverged";
+    r.reason = f[17];
+    r.diverged_at = number(f[18], where);
+    r.peak_speed = number(f[19], where);
+    r.joint_gap_max = number(f[20], where);
+    r.pin_gap_max = number(f[21], where);
+    r.steps = static_cast<int>(whole(f[22]));
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+std::string robustness_summary_csv(const std::vector<RobustnessRow>& rows) {
+  // in the order of the rows' first appearance (the job order)
+  std::vector<ConfigKey> order;
+  std::map<ConfigKey, std::pair<int64_t, int64_t>> counts;  // runs, diverged
+  for (const RobustnessRow& r : rows) {
+    const ConfigKey key = key_of(r);
+    auto [it, fresh] = counts.try_emplace(key, 0, 0);
+    if (fresh) order.push_back(key);
+    ++it->second.first;
+    it->second.second += r.diverged ? 1 : 0;
+  }
+  std::ostringstream out;
+  out << kRatesHeader << '\n';
+  for (const ConfigKey& key : order) {
+    const auto [runs, diverged] = counts[key];
+    const Interval ci = wilson_interval(diverged, runs);
+    out << std::get<0>(key) << ',' << std::get<1>(key) << ',' << std::get<2>(key) << ','
+        << std::get<3>(key) << ',' << runs << ',' << diverged << ','
+        << csv_number(static_cast<double>(diverged) / runs) << ',' << csv_number(ci.low) << ','
+        << csv_number(ci.high) << '\n';
+  }
+  return out.str();
+}
+
+std::string worst_csv(const std::vector<RobustnessRow>& rows, const RobustnessSpec& spec,
+                      int worst) {
+  std::vector<ConfigKey> order;
+  std::map<ConfigKey, std::vector<const RobustnessRow*>> by_config;
+  for (const RobustnessRow& r : rows) {
+    auto [it, fresh] = by_config.try_emplace(key_of(r));
+    if (fresh) order.push_back(key_of(r));
+    it->second.push_back(&r);
+  }
+  // diverged first, earliest first; then the widest joint gap, the fastest segment; then the job
+  const auto worse = [](const RobustnessRow* a, const RobustnessRow* b) {
+    if (a->diverged != b->diverged) return a->diverged;
+    if (a->diverged && a->diverged_at != b->diverged_at) return a->diverged_at < b->diverged_at;
+    if (!a->diverged && a->joint_gap_max != b->joint_gap_max) {
+      return a->joint_gap_max > b->joint_gap_max;
+    }
+    if (!a->diverged && a->peak_speed != b->peak_speed) return a->peak_speed > b->peak_speed;
+    return a->job < b->job;
+  };
+  std::ostringstream out;
+  out << kWorstHeader << '\n';
+  for (const ConfigKey& key : order) {
+    std::vector<const RobustnessRow*>& list = by_config[key];
+    std::sort(list.begin(), list.end(), worse);
+    for (int k = 0; k < worst && k < static_cast<int>(list.size()); ++k) {
+      const RobustnessRow& r = *list[k];
+      const std::string start = std::to_string(r.seed) + ":" + std::to_string(r.start);
+      const std::string which = "--scenario " + r.scenario + " --solver " + r.solver +
+                                (r.rule.empty() ? "" : " --rule " + r.rule) + " --dt " +
+                                dt_flag(r.dt) + " --start " + start;
+      const std::string testbed = "build/release/testbed run --model " + spec.model_name + " " +
+                                  which + spec.replay_flags + " --no-accuracy --out results/replay";
+      const std::string viewer =
+          "build/release/viewer/viewer --model " + spec.model_name + " " + which;
+      out << r.scenario << ',' << r.solver << ',' << r.rule << ',' << format_dt(r.dt) << ','
+          << r.seed << ',' << r.start << ',' << (r.diverged ? "diverged" : "ok") << ','
+          << csv_number(r.diverged_at) << ',' << csv_number(r.joint_gap_max) << ','
+          << csv_number(r.peak_speed) << ',' << csv_field(testbed) << ',' << csv_field(viewer)
+          << '\n';
+    }
+  }
+  return out.str();
+}
+
+std::string spec_identity(const RobustnessSpec& spec) {
+  std::ostringstream out;
+  out << "model=" << spec.model_name << " scenarios=";
+  for (size_t i = 0; i < spec.scenarios.size(); ++i) out << (i ? "," : "") << spec.scenarios[i];
+  out << " configs=";
+  for (size_t i = 0; i < spec.configs.size(); ++i) {
+    out << (i ? "," : "") << spec.configs[i].solver;
+    if (spec.configs[i].solver == "procedural") out << ":" << rule_of(spec.configs[i]);
+  }
+  out << " dts=";
+  for (size_t i = 0; i < spec.dts.size(); ++i) out << (i ? "," : "") << format_dt(spec.dts[i]);
+  out << " starts=" << spec.starts << " seed=" << spec.seed << " flags=" << spec.replay_flags
+      << " code=" << spec.code;
+  return out.str();
+}
+
+std::string shard_manifest(const RobustnessSpec& spec, int64_t rows) {
+  std::ostringstream out;
+  out << "puppet robustness shard\n"
+      << "identity: " << spec_identity(spec) << "\n"
+      << "model: " << spec.model_name << "\n"
+      << "replay: " << spec.replay_flags << "\n"
+      << "shard: " << spec.shard << "/" << spec.shards << "\n"
+      << "jobs: " << robustness_job_count(spec) << "\n"
+      << "rows: " << rows << "\n";
+  return out.str();
+}
+
+}  // namespace puppet::compare
