@@ -6,7 +6,7 @@
 
 reads RESULTS/main/summary.csv and RESULTS/main/traces/*.csv (testbed run --out RESULTS/main),
 RESULTS/frontier/frontier.csv (testbed frontier, optional) and the optional folders beside them
-(truths-open-limits, humanoid, ablation), and writes RESULTS/plots/*.png and RESULTS/REPORT.md. It runs on the distribution's python3 and
+(truths-open-limits, humanoid, robustness, ablation), and writes RESULTS/plots/*.png and RESULTS/REPORT.md. It runs on the distribution's python3 and
 python3-matplotlib (hence /usr/bin/python3, not whatever python3 comes first on PATH).
 """
 
@@ -458,6 +458,89 @@ def humanoid_section(folder):
     return out
 
 
+ROBUSTNESS = "robustness"  # testbed robustness: robustness_summary.csv, worst.csv
+
+
+def read_robustness(folder):
+    """RESULTS/robustness/robustness_summary.csv (testbed robustness), or None"""
+    path = os.path.join(folder, ROBUSTNESS, "robustness_summary.csv")
+    if not os.path.exists(path):
+        return None
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    expected = ["scenario", "solver", "rule", "dt", "runs", "diverged", "rate", "ci95_low",
+                "ci95_high"]
+    if not rows or list(rows[0].keys()) != expected:
+        raise ReportError(f"{path}: unexpected header (expected {','.join(expected)})")
+    for r in rows:
+        for key in ("dt", "rate", "ci95_low", "ci95_high"):
+            r[key] = float(r[key])
+        for key in ("runs", "diverged"):
+            r[key] = int(r[key])
+    return rows
+
+
+def robustness_section(rows):
+    if not rows:
+        return []
+    scenarios = [sc for sc in SCENARIOS if any(r["scenario"] == sc for r in rows)]
+    configs = [c for c in CONFIGS if any((r["solver"], r["rule"]) == c for r in rows)]
+    dts = sorted({r["dt"] for r in rows})
+    by_key = {(r["scenario"], (r["solver"], r["rule"]), r["dt"]): r for r in rows}
+    runs = sorted({r["runs"] for r in rows})
+    out = ["## Robustness over random starts", "",
+           f"`{ROBUSTNESS}/`: `testbed robustness`, each scenario from "
+           f"{' or '.join(str(n) for n in runs)} random starts (a pose and joint velocities "
+           "inside the limits, the tilt, the grab's point, frequency and phase; "
+           "docs/robustness.md). Each cell: the share of runs that diverged (the testbed's "
+           "criteria) and its 95 % Wilson interval. `worst.csv` has the worst starts of each "
+           "configuration as `testbed run` and viewer command lines.", ""]
+    for d in dts:
+        def cell(sc, c):
+            r = by_key.get((sc, c, d))
+            if r is None:
+                return "–"
+            return f"{r['rate']:.2f} [{r['ci95_low']:.2f}, {r['ci95_high']:.2f}]"
+        out += [f"dt = {dt_text(d)} s:", "",
+                md_table(["solver"] + scenarios,
+                         [[label(c)] + [cell(sc, c) for sc in scenarios] for c in configs]), ""]
+    return out
+
+
+def plot_robustness(rows, out):
+    if not rows:
+        return None
+    scenarios = [sc for sc in SCENARIOS if any(r["scenario"] == sc for r in rows)]
+    configs = [c for c in CONFIGS if any((r["solver"], r["rule"]) == c for r in rows)]
+    dts = sorted({r["dt"] for r in rows})
+    by_key = {(r["scenario"], (r["solver"], r["rule"]), r["dt"]): r for r in rows}
+    fig, axes = plt.subplots(len(dts), 1, figsize=(11, 3.6 * len(dts)), squeeze=False)
+    width = 0.8 / max(len(configs), 1)
+    for row, d in enumerate(dts):
+        ax = axes[row][0]
+        for k, c in enumerate(configs):
+            colour, marker = STYLE[c]
+            xs, ys, lo, hi = [], [], [], []
+            for i, sc in enumerate(scenarios):
+                r = by_key.get((sc, c, d))
+                if r is None:
+                    continue
+                xs.append(i - 0.4 + (k + 0.5) * width)
+                ys.append(r["rate"])
+                lo.append(max(0.0, r["rate"] - r["ci95_low"]))  # 9 digits: -1e-10 is 0
+                hi.append(max(0.0, r["ci95_high"] - r["rate"]))
+            ax.errorbar(xs, ys, yerr=[lo, hi], fmt=marker, color=colour, ecolor=colour,
+                        markersize=5, capsize=2, linewidth=1, label=label(c))
+        ax.set_xticks(range(len(scenarios)))
+        ax.set_xticklabels(scenarios)
+        ax.set_ylim(-0.03, 1.03)
+        ax.set_ylabel("share diverged")
+        ax.set_title(f"Random starts, dt = {dt_text(d)} s (bars: 95 % Wilson interval)")
+        ax.grid(axis="y", alpha=0.3)
+    legend_below(fig, configs)
+    return save(fig, out, "robustness.png", bottom=0.12)
+
+
 def report(s, frontier, plots, folder):
     text = "\n".join(report_lines(s, frontier, plots, folder))
     write_atomically(os.path.join(folder, "REPORT.md"), text)
@@ -684,6 +767,7 @@ def report_lines(s, frontier, plots, folder):
                           "pin gap at largest ok (m)"], rows), ""]
 
     out += humanoid_section(folder)
+    out += robustness_section(read_robustness(folder))
     out += ablation_section(folder, frontier)
     out += ["## Findings", ""] + [f"- {f}" for f in findings(s, frontier, dt)] + [""]
     out += ["## Plots", ""]
@@ -985,6 +1069,7 @@ def main(argv):
     try:
         s = Summary(summary_path)
         frontier = read_frontier(os.path.join(folder, FRONTIER, "frontier.csv"))
+        read_robustness(folder)  # checked here; the report reads it again
     except (ReportError, ValueError, KeyError) as error:
         print(f"plot.py: {error}", file=sys.stderr)
         return 2
@@ -1006,6 +1091,7 @@ def main(argv):
         ("Speed against accuracy", plot_speed_accuracy(s, out)),
         ("Procedural stages", plot_stage_time(s, out)),
         ("Stability frontier", plot_frontier(frontier, out)),
+        ("Robustness over random starts", plot_robustness(read_robustness(folder), out)),
     ]
     report(s, frontier, plots, folder)
     written = [p for _, p in plots if p]

@@ -658,9 +658,13 @@ int command_robustness(const RunFlags& f) {
   spec.model = &model;
   spec.model_name = f.model;
   check_solvers_build(spec.configs, model);
+  // a row is about 300 bytes held and 250 written: a shard holds at most 2 million
   const int64_t jobs = robustness_job_count(spec);
-  if (jobs > 10000000) {
-    throw UsageError("--starts: " + std::to_string(jobs) + " runs in all (at most 10000000)");
+  const int64_t per_shard = (jobs + spec.shards - 1) / spec.shards;
+  if (jobs > 1000000000 || per_shard > 2000000) {
+    throw UsageError("--starts: " + std::to_string(jobs) + " runs in all, " +
+                     std::to_string(per_shard) +
+                     " in this shard (at most 2000000 per shard, 1e9 in all): use more shards");
   }
   // every scenario builds with a start, and no run is longer than a sweep's
   double longest = 0.0;

@@ -205,6 +205,7 @@ TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
   expect_bad("robustness --starts 0" + o, "--starts");
   expect_bad("robustness --starts 1.5" + o, "--starts");
   expect_bad("robustness --starts 1e3" + o, "--starts");
+  expect_bad("robustness --starts 1000000 --solver all --rule all" + o, "use more shards");
   expect_bad("robustness --seed -1" + o, "--seed");
   expect_bad("robustness --seed 0x10" + o, "--seed");
   expect_bad("robustness --scenario swim" + o, "--scenario");

@@ -50,7 +50,8 @@ TEST(Environment, ASubmergedBodyFeelsArchimedes) {
   const EnvironmentForce f = environment_force(segment, water, body, 1.0 / 240.0);
   const double volume = shape_volume(segment.shape);
   EXPECT_NEAR(volume, M_PI * 0.01 * 0.6 + 4.0 / 3.0 * M_PI * 0.001, 1e-15);
-  const Vector3d expected = segment.mass * water.gravity - water.water_density * volume * water.gravity;
+  const Vector3d expected =
+      segment.mass * water.gravity - water.water_density * volume * water.gravity;
   EXPECT_LT((f.force - expected).norm(), 1e-12 * expected.norm());
   // half out: half the buoyancy
   water.water_level = 0.0;

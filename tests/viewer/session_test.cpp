@@ -76,7 +76,35 @@ TEST(Session, BadInputNamesTheProblem) {
               c.model = "/nonexistent/puppet.json";
             }).find("/nonexistent/puppet.json"),
             npos);
+  EXPECT_EQ(message([](SessionConfig& c) { c.start = "7"; }).find("start: expected SEED:INDEX"),
+            0u);
+  EXPECT_EQ(message([](SessionConfig& c) { c.start = "7:-1"; }).find("start: "), 0u);
   EXPECT_EQ(message([](SessionConfig&) {}), "no error");
+}
+
+// --start replays testbed robustness's start: the same initial state, the same pins
+TEST(Session, AStartIsTheTestbedsRandomStart) {
+  SessionConfig c;
+  c.scenario = "drag";
+  c.start = "1:4";
+  Session session(c);
+  compare::ScenarioOptions options;
+  options.start = compare::random_start(session.model(), 1, 4);
+  const compare::Scenario expected = compare::make_scenario("drag", session.model(), options);
+  for (int s = 0; s < session.model().segment_count(); ++s) {
+    EXPECT_EQ(session.run(0).bodies[s].x, expected.initial[s].x);
+    EXPECT_EQ(session.run(0).bodies[s].w, expected.initial[s].w);
+  }
+  ASSERT_EQ(session.pins().size(), expected.pins.size());
+  EXPECT_EQ(session.pins()[1].local_point, expected.pins[1].pin.local_point);
+  // another start is another state; no start, the scenario's own
+  c.start = "1:5";
+  session.configure(c);
+  EXPECT_NE(session.run(0).bodies[3].x, expected.initial[3].x);
+  c.start.clear();
+  session.configure(c);
+  EXPECT_EQ(session.run(0).bodies[3].x,
+            compare::make_scenario("drag", session.model()).initial[3].x);
 }
 
 TEST(Session, AdvanceTakesWholeStepsAndCarriesTheRest) {

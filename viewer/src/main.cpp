@@ -282,6 +282,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--substeps", config.options.substeps,
                  "procedural substeps (default: the rule's, 8 for xpbd and tree, else 1)");
+  app.add_option("--start", config.start,
+                 "SEED:INDEX: a random start of testbed robustness (its worst.csv lists them)");
   app.add_option("--grab-compliance", config.grab_compliance,
                  "the mouse's grab: 0 holds the point (default), C > 0 (m/N) pulls it with a "
                  "spring of stiffness 1/C")

@@ -56,6 +56,15 @@ std::optional<compare::ScenarioError> validate(const SessionConfig& config) {
   if (config.anchor != "auto" && config.anchor != "grab" && config.anchor != "scenario") {
     return ScenarioError("expected auto, grab or scenario, got " + shown(config.anchor), "anchor");
   }
+  if (!config.start.empty()) {
+    try {
+      uint64_t seed = 0;
+      int64_t index = 0;
+      compare::parse_start(config.start, &seed, &index);
+    } catch (const std::invalid_argument& e) {
+      return ScenarioError(e.what(), "start");
+    }
+  }
   if (!config.ghost.empty() && !is_one_of(compare::solver_names(), config.ghost)) {
     return ScenarioError("unknown solver " + shown(config.ghost), "ghost");
   }
@@ -66,10 +75,26 @@ std::optional<compare::ScenarioError> validate(const SessionConfig& config) {
   return std::nullopt;
 }
 
+namespace {
+
+// the scenario, from its random start when the configuration names one
+compare::Scenario scenario_of(const SessionConfig& config, const Model& model) {
+  compare::ScenarioOptions options;
+  if (!config.start.empty()) {
+    uint64_t seed = 0;
+    int64_t index = 0;
+    compare::parse_start(config.start, &seed, &index);  // validate() checked it
+    options.start = compare::random_start(model, seed, index);
+  }
+  return compare::make_scenario(config.scenario, model, options);
+}
+
+}  // namespace
+
 Session::Session(const SessionConfig& config) : config_(config) {
   if (auto problem = validate(config)) throw *problem;
   model_ = std::make_unique<Model>(compare::load_named_model(config.model));
-  scenario_ = compare::make_scenario(config.scenario, *model_);
+  scenario_ = scenario_of(config, *model_);
   start_over();
 }
 
@@ -90,9 +115,10 @@ void Session::start_over() {
 
 void Session::configure(const SessionConfig& config) {
   if (auto problem = validate(config)) throw *problem;
-  if (config.model != config_.model || config.scenario != config_.scenario) {
+  if (config.model != config_.model || config.scenario != config_.scenario ||
+      config.start != config_.start) {
     auto model = std::make_unique<Model>(compare::load_named_model(config.model));
-    compare::Scenario scenario = compare::make_scenario(config.scenario, *model);
+    compare::Scenario scenario = scenario_of(config, *model);
     // the solvers are checked before anything is replaced
     make_run(config.solver, config.options, *model);
     if (!config.ghost.empty()) make_run(config.ghost, config.options, *model);

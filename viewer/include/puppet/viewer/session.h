@@ -48,6 +48,9 @@ struct SessionConfig {
   // the mouse's grab: 0 holds the point on the cursor's ray (the seed's hard pin); C > 0 (m/N)
   // pulls it with a spring of stiffness 1/C, as MuJoCo's and Bullet's pickers do
   double grab_compliance = 0.0;
+  // "SEED:INDEX": a random start of testbed robustness (compare/start.h), replayed; empty for
+  // the scenario's own start
+  std::string start;
 };
 
 // "bad input: one message naming it" for a config (dt, names), empty when valid
