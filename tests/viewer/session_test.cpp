@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "puppet/compare/metrics.h"
+#include "puppet/compare/run.h"
 
 namespace puppet::viewer {
 namespace {
@@ -80,6 +81,32 @@ TEST(Session, BadInputNamesTheProblem) {
             0u);
   EXPECT_EQ(message([](SessionConfig& c) { c.start = "7:-1"; }).find("start: "), 0u);
   EXPECT_EQ(message([](SessionConfig&) {}), "no error");
+}
+
+// what the viewer calls diverged is what the testbed does, at the same step: it judges after
+// every step, not once a frame (a start of testbed robustness where relaxed diverges at 0.16 s
+// by energy while the frame's last step looks calm)
+TEST(Session, ARunDivergesAtTheTestbedsStep) {
+  SessionConfig c;
+  c.scenario = "drag";
+  c.start = "1:36";
+  Session session(c);
+  run_for(session, 0.5);
+  ASSERT_TRUE(session.run(0).diverged);
+
+  compare::ScenarioOptions options;
+  options.start = compare::random_start(session.model(), 1, 36);
+  const compare::Scenario scenario = compare::make_scenario("drag", session.model(), options);
+  auto simulator = compare::make_simulator("procedural", compare::SolverOptions{});
+  compare::RunOptions run;
+  run.duration = 0.5;
+  run.timing = false;
+  run.sample_hz = 1;
+  const compare::RunResult result =
+      compare::run_scenario(*simulator, session.model(), scenario, run);
+  ASSERT_TRUE(result.diverged);
+  EXPECT_NEAR(session.run(0).diverged_at, result.diverged_at, 1e-9);
+  EXPECT_STREQ(session.run(0).diverged_reason, result.diverged_reason.c_str());
 }
 
 // --start replays testbed robustness's start: the same initial state, the same pins

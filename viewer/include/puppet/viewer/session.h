@@ -136,7 +136,9 @@ class Session {
   // collect_pins, and every run holds the new pins
   void pins_changed();
   void step_frame(int steps);
-  void observe(Run& run, int steps, double seconds);
+  // reads a run's state after a step and judges it by the testbed's criteria, as the testbed
+  // does after every step (a frame of 4 steps would miss a spike the testbed sees)
+  void judge(Run& run, double t);
 
   SessionConfig config_;
   std::unique_ptr<Model> model_;  // runs hold a reference: its address never changes
@@ -154,6 +156,7 @@ class Session {
 
   std::vector<Pin> pins_;
   std::vector<Vector3d> targets_;
+  std::vector<double> pin_gaps_;  // judge()'s scratch
 };
 
 }  // namespace puppet::viewer
