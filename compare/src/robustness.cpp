@@ -106,8 +106,8 @@ std::vector<RobustnessRow> run_robustness(const RobustnessSpec& spec) {
         r.seed = spec.seed;
         r.start = start_index;
         const StartInputs& start = *options.start;
-        const bool hanging = name == "hang" || name == "drag" || name == "shake" ||
-                             name == "water" || name == "tremble";
+        // the tilt is drawn for every start but used only where the figure hangs from a pin
+        const bool hanging = !scenario.pins.empty() && scenario.pins[0].path == TargetPath::kFixed;
         r.tilt_deg = hanging ? start.tilt_deg : std::nan("");
         const PinPath* grab = nullptr;
         for (const PinPath& p : scenario.pins) {
