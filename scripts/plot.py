@@ -769,7 +769,8 @@ def report_lines(s, frontier, plots, folder):
     out += humanoid_section(folder)
     out += robustness_section(read_robustness(folder))
     out += ablation_section(folder, frontier)
-    out += ["## Findings", ""] + [f"- {f}" for f in findings(s, frontier, dt)] + [""]
+    out += ["## Findings", ""] + [f"- {f}" for f in findings(s, frontier, dt,
+                                                             read_robustness(folder))] + [""]
     out += ["## Plots", ""]
     for title, path in plots:
         if path:
@@ -944,7 +945,7 @@ def ablation_section(folder, frontier):
     return out
 
 
-def findings(s, frontier, dt):
+def findings(s, frontier, dt, robustness=None):
     found = []
     multibody = ("bullet-multibody", "")
     rules = [c for c in s.configs if c[0] == "procedural"]
@@ -1042,6 +1043,32 @@ def findings(s, frontier, dt):
                  if c != multibody and not math.isnan(v)]
         found.append(f"Time per step against bullet-multibody ({fmt(speeds[multibody], 3)} µs, "
                      f"geometric mean over scenarios): {', '.join(parts)} faster.")
+    found += robustness_findings(robustness)
+    return found
+
+
+def robustness_findings(rows):
+    """per dt of the robustness sweep: who never diverged, and each configuration's worst scenario"""
+    if not rows:
+        return []
+    found = []
+    for d in sorted({r["dt"] for r in rows}, reverse=True):
+        at = [r for r in rows if r["dt"] == d]
+        configs = [c for c in CONFIGS if any((r["solver"], r["rule"]) == c for r in at)]
+        never = [label(c) for c in configs
+                 if all(r["diverged"] == 0 for r in at if (r["solver"], r["rule"]) == c)]
+        worst = []
+        for c in configs:
+            mine = [r for r in at if (r["solver"], r["rule"]) == c and r["diverged"] > 0]
+            if mine:
+                r = max(mine, key=lambda r: r["rate"])
+                worst.append(f"{label(c)} {r['diverged']}/{r['runs']} in {r['scenario']}")
+        runs = sorted({r["runs"] for r in at})
+        found.append(f"From {' or '.join(str(n) for n in runs)} random starts per scenario at "
+                     f"dt = {dt_text(d)} s: "
+                     + (f"{', '.join(never)} never diverged, and the others' worst scenario "
+                        if never else "every solver diverged somewhere; each one's worst ")
+                     + "(runs diverged of runs): " + ", ".join(worst) + ".")
     return found
 
 
