@@ -19,6 +19,15 @@ bool parse_decimal(const std::string& text, double* out) {
 
 }  // namespace
 
+bool parse_whole(const std::string& text, uint64_t* out) {
+  if (text.empty() || text.size() > 18 || (text.size() > 1 && text[0] == '0') ||
+      text.find_first_not_of("0123456789") != std::string::npos) {
+    return false;
+  }
+  *out = std::stoull(text);
+  return true;
+}
+
 bool parse_finite(const std::string& text, double* out) {
   const auto slash = text.find('/');
   double value = 0.0;

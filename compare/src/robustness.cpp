@@ -217,26 +217,35 @@ std::vector<RobustnessRow> parse_robustness_csv(const std::string& text,
   return rows;
 }
 
-std::string robustness_summary_csv(const std::vector<RobustnessRow>& rows) {
+std::vector<RobustnessRate> robustness_rates(const std::vector<RobustnessRow>& rows) {
   // in the order of the rows' first appearance (the job order)
-  std::vector<ConfigKey> order;
-  std::map<ConfigKey, std::pair<int64_t, int64_t>> counts;  // runs, diverged
+  std::vector<RobustnessRate> rates;
+  std::map<ConfigKey, size_t> index;
   for (const RobustnessRow& r : rows) {
-    const ConfigKey key = key_of(r);
-    auto [it, fresh] = counts.try_emplace(key, 0, 0);
-    if (fresh) order.push_back(key);
-    ++it->second.first;
-    it->second.second += r.diverged ? 1 : 0;
+    auto [it, fresh] = index.try_emplace(key_of(r), rates.size());
+    if (fresh) {
+      RobustnessRate rate;
+      rate.scenario = r.scenario;
+      rate.solver = r.solver;
+      rate.rule = r.rule;
+      rate.dt = r.dt;
+      rates.push_back(rate);
+    }
+    RobustnessRate& rate = rates[it->second];
+    ++rate.runs;
+    rate.diverged += r.diverged ? 1 : 0;
   }
+  for (RobustnessRate& rate : rates) rate.ci95 = wilson_interval(rate.diverged, rate.runs);
+  return rates;
+}
+
+std::string robustness_summary_csv(const std::vector<RobustnessRow>& rows) {
   std::ostringstream out;
   out << kRatesHeader << '\n';
-  for (const ConfigKey& key : order) {
-    const auto [runs, diverged] = counts[key];
-    const Interval ci = wilson_interval(diverged, runs);
-    out << std::get<0>(key) << ',' << std::get<1>(key) << ',' << std::get<2>(key) << ','
-        << std::get<3>(key) << ',' << runs << ',' << diverged << ','
-        << csv_number(static_cast<double>(diverged) / runs) << ',' << csv_number(ci.low) << ','
-        << csv_number(ci.high) << '\n';
+  for (const RobustnessRate& r : robustness_rates(rows)) {
+    out << r.scenario << ',' << r.solver << ',' << r.rule << ',' << format_dt(r.dt) << ',' << r.runs
+        << ',' << r.diverged << ',' << csv_number(r.rate()) << ',' << csv_number(r.ci95.low) << ','
+        << csv_number(r.ci95.high) << '\n';
   }
   return out.str();
 }

@@ -4,6 +4,7 @@
 #include <queue>
 #include <stdexcept>
 
+#include "puppet/compare/number.h"
 #include "puppet/model/rotation.h"
 #include "puppet/model/text.h"
 
@@ -151,20 +152,13 @@ std::vector<BodyState> posed_start(const Model& model, const StartInputs& start,
 
 void parse_start(const std::string& text, uint64_t* seed, int64_t* index) {
   const size_t colon = text.find(':');
-  const auto digits = [](const std::string& part) {
-    if (part.empty() || part.size() > 18 || (part.size() > 1 && part[0] == '0')) return false;
-    for (char c : part) {
-      if (c < '0' || c > '9') return false;
-    }
-    return true;
-  };
-  const std::string seed_text = colon == std::string::npos ? "" : text.substr(0, colon);
-  const std::string index_text = colon == std::string::npos ? "" : text.substr(colon + 1);
-  if (!digits(seed_text) || !digits(index_text)) {
+  uint64_t s = 0, k = 0;
+  if (colon == std::string::npos || !parse_whole(text.substr(0, colon), &s) ||
+      !parse_whole(text.substr(colon + 1), &k)) {
     throw std::invalid_argument("expected SEED:INDEX in plain decimal digits, got " + shown(text));
   }
-  *seed = std::stoull(seed_text);
-  *index = std::stoll(index_text);
+  *seed = s;
+  *index = static_cast<int64_t>(k);
 }
 
 }  // namespace puppet::compare

@@ -597,23 +597,24 @@ void write_robustness(const OutputFolder& folder, const std::vector<RobustnessRo
 }
 
 void print_rates(const std::vector<RobustnessRow>& rows) {
+  // from the rows as written, as robustness_summary.csv is
   const std::vector<RobustnessRow> written =
       parse_robustness_csv(robustness_csv(rows), "robustness.csv");
-  std::istringstream summary(robustness_summary_csv(written));
-  std::string line;
-  std::getline(summary, line);
   std::printf("\n%-8s %-16s %-9s %-12s %6s %9s %8s %s\n", "scenario", "solver", "rule", "dt",
               "runs", "diverged", "rate", "95 % interval");
-  while (std::getline(summary, line)) {
-    std::vector<std::string> f;
-    std::stringstream in(line);
-    std::string field;
-    while (std::getline(in, field, ',')) f.push_back(field);
-    if (f.size() != 9) continue;
-    std::printf("%-8s %-16s %-9s %-12s %6s %9s %8.3f [%.3f, %.3f]\n", f[0].c_str(), f[1].c_str(),
-                f[2].empty() ? "-" : f[2].c_str(), f[3].c_str(), f[4].c_str(), f[5].c_str(),
-                std::stod(f[6]), std::stod(f[7]), std::stod(f[8]));
+  for (const RobustnessRate& r : robustness_rates(written)) {
+    std::printf("%-8s %-16s %-9s %-12s %6lld %9lld %8.3f [%.3f, %.3f]\n", r.scenario.c_str(),
+                r.solver.c_str(), r.rule.empty() ? "-" : r.rule.c_str(), format_dt(r.dt).c_str(),
+                static_cast<long long>(r.runs), static_cast<long long>(r.diverged), r.rate(),
+                r.ci95.low, r.ci95.high);
   }
+}
+
+// "I/N" in plain decimal digits (the range is the caller's to check)
+bool parse_shard(const std::string& text, uint64_t* index, uint64_t* count) {
+  const size_t slash = text.find('/');
+  return slash != std::string::npos && parse_whole(text.substr(0, slash), index) &&
+         parse_whole(text.substr(slash + 1), count);
 }
 
 int command_robustness(const RunFlags& f) {
@@ -627,27 +628,15 @@ int command_robustness(const RunFlags& f) {
   if (std::to_string(spec.starts) != f.starts) {
     throw UsageError("--starts: expected a whole number, got " + shown(f.starts));
   }
-  try {
-    uint64_t seed = 0;
-    int64_t unused = 0;
-    parse_start(f.seed + ":0", &seed, &unused);
-    spec.seed = seed;
-  } catch (const std::invalid_argument&) {
+  if (!parse_whole(f.seed, &spec.seed)) {
     throw UsageError("--seed: expected a whole number of at most 18 digits, got " + shown(f.seed));
   }
   if (!f.shard.empty()) {
-    uint64_t i = 0;
-    int64_t n = 0;
-    const size_t slash = f.shard.find('/');
-    std::string as_pair = f.shard;
-    if (slash != std::string::npos) as_pair[slash] = ':';
-    try {
-      if (slash == std::string::npos) throw std::invalid_argument("");
-      parse_start(as_pair, &i, &n);
-    } catch (const std::invalid_argument&) {
+    uint64_t i = 0, n = 0;
+    if (!parse_shard(f.shard, &i, &n)) {
       throw UsageError("--shard: expected I/N, got " + shown(f.shard));
     }
-    if (n < 1 || n > 100000 || static_cast<int64_t>(i) >= n) {
+    if (n < 1 || n > 100000 || i >= n) {
       throw UsageError("--shard: expected I/N with 0 <= I < N <= 100000, got " + shown(f.shard));
     }
     spec.shard = static_cast<int>(i);
@@ -735,27 +724,18 @@ Shard read_shard(const std::string& folder) {
   shard.identity = fields["identity"];
   shard.model = fields["model"];
   shard.replay = fields["replay"];
-  uint64_t index = 0;
-  int64_t count = 0;
-  std::string pair = fields["shard"];
-  const size_t slash = pair.find('/');
-  if (slash != std::string::npos) pair[slash] = ':';
-  try {
-    parse_start(pair, &index, &count);
-    uint64_t jobs = 0, rows = 0;
-    int64_t unused = 0;
-    parse_start(fields["jobs"] + ":0", &jobs, &unused);
-    parse_start(fields["rows"] + ":0", &rows, &unused);
-    shard.jobs = static_cast<int64_t>(jobs);
-    shard.rows = static_cast<int64_t>(rows);
-  } catch (const std::invalid_argument&) {
+  uint64_t index = 0, count = 0, jobs = 0, rows = 0;
+  if (!parse_shard(fields["shard"], &index, &count) || !parse_whole(fields["jobs"], &jobs) ||
+      !parse_whole(fields["rows"], &rows)) {
     throw UsageError("merge: " + path + ": malformed shard, jobs or rows line");
   }
-  if (count < 1 || static_cast<int64_t>(index) >= count) {
+  if (count < 1 || index >= count) {
     throw UsageError("merge: " + path + ": shard " + fields["shard"] + " is not I/N with I < N");
   }
   shard.index = static_cast<int64_t>(index);
-  shard.count = count;
+  shard.count = static_cast<int64_t>(count);
+  shard.jobs = static_cast<int64_t>(jobs);
+  shard.rows = static_cast<int64_t>(rows);
   return shard;
 }
 

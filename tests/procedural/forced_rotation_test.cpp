@@ -11,26 +11,18 @@
 #include "puppet/model/rotation.h"
 #include "rules/rules.h"
 #include "stages.h"
+#include "support/random.h"
 
 namespace puppet::procedural {
 namespace {
+
+using test::random_rotation;
+using test::random_vector;
 
 struct Case {
   MovingBody body;
   Vector3d c_b, c_a;
 };
-
-Quaterniond random_rotation(std::mt19937_64& rng) {
-  std::normal_distribution<double> normal;
-  const double w = normal(rng), x = normal(rng), y = normal(rng), z = normal(rng);
-  return Quaterniond(w, x, y, z).normalized();
-}
-
-Vector3d random_vector(std::mt19937_64& rng, double scale) {
-  std::uniform_real_distribution<double> u(-scale, scale);
-  const double x = u(rng), y = u(rng), z = u(rng);
-  return {x, y, z};
-}
 
 // a body of 0.5–5 kg with principal moments 0.01–1 kg m², a diagonal one (a segment) or its
 // tensor in a turned frame (a composite, as rule subtree builds it); its point 5–50 cm from its

@@ -8,9 +8,12 @@
 #include "model_tables.h"
 #include "puppet/model/rotation.h"
 #include "puppet/procedural/solver.h"
+#include "support/random.h"
 
 namespace puppet::procedural {
 namespace {
+
+using test::random_rotation;
 
 // a base and an arm on a ball joint (swing 40° × 20°, twist 30°) with a turned joint frame, and on
 // a hinge (−30° to 60°)
@@ -25,12 +28,6 @@ Model two_segments(bool hinge) {
        "joints":[{"name":"j","parent":"base","child":"arm","anchor":[0,0,0.9],)" +
           joint + "}]}",
       "pair");
-}
-
-Quaterniond random_rotation(std::mt19937_64& rng) {
-  std::normal_distribution<double> normal;
-  const double w = normal(rng), x = normal(rng), y = normal(rng), z = normal(rng);
-  return Quaterniond(w, x, y, z).normalized();
 }
 
 TEST(JointLimits, TheLimitedSideIsInsideAndAnInsideOneIsLeftAlone) {

@@ -12,9 +12,13 @@
 #include "puppet/model/model.h"
 #include "puppet/model/rotation.h"
 #include "stages.h"
+#include "support/random.h"
 
 namespace puppet::procedural {
 namespace {
+
+using test::random_rotation;
+using test::random_vector;
 
 // a base and an arm on a ball joint (swing 40° × 20°, twist 30°)
 Model pair() {
@@ -25,23 +29,6 @@ Model pair() {
        "joints":[{"name":"j","parent":"base","child":"arm","anchor":[0,0,0.9],
                   "type":"ball","swing_deg":[40,20],"twist_deg":30}]})",
       "pair");
-}
-
-Quaterniond random_rotation(std::mt19937_64& rng) {
-  std::normal_distribution<double> normal;
-  const double w = normal(rng), x = normal(rng), y = normal(rng), z = normal(rng);
-  return Quaterniond(w, x, y, z).normalized();
-}
-
-Vector3d random_vector(std::mt19937_64& rng, double scale) {
-  std::uniform_real_distribution<double> u(-scale, scale);
-  const double x = u(rng), y = u(rng), z = u(rng);
-  return {x, y, z};
-}
-
-Matrix3d world_inertia(const Segment& segment, const BodyState& body) {
-  const Matrix3d frame = body.q.toRotationMatrix();
-  return frame * segment.inertia.asDiagonal() * frame.transpose();
 }
 
 // the world rotation vector that turned `before` into `after`
@@ -88,8 +75,8 @@ TEST(TwoSided, AJointCorrectionIsAnEqualAndOppositeImpulsePair) {
     EXPECT_LT((ms.mass * (parent.x - before[p.joint().parent].x) + impulse).norm(), 1e-15);
     // angular momentum about the origin: Σ I Δθ + x × m Δx = (c_c − c_p) × λ, the gap's arm
     const Vector3d angular =
-        world_inertia(ms, before[p.joint().parent]) * turn(before[p.joint().parent], parent) +
-        world_inertia(cs, before[p.joint().child]) * turn(before[p.joint().child], child) +
+        world_inertia(ms, before[p.joint().parent].q) * turn(before[p.joint().parent], parent) +
+        world_inertia(cs, before[p.joint().child].q) * turn(before[p.joint().child], child) +
         before[p.joint().parent].x.cross(ms.mass * (parent.x - before[p.joint().parent].x)) +
         before[p.joint().child].x.cross(impulse);
     EXPECT_LT((angular + gap.cross(impulse)).norm(), 1e-6 * impulse.norm() * gap.norm() + 1e-18);
@@ -136,7 +123,7 @@ TEST(TwoSided, ACompliantPinLeavesTheSpringsShareOfTheGap) {
     Matrix3d cross;
     cross << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
     const Matrix3d k = Matrix3d::Identity() / segment.mass -
-                       cross * world_inertia(segment, before).inverse() * cross;
+                       cross * world_inertia(segment, before.q).inverse() * cross;
     const Vector3d expected_left =
         alpha_tilde * (k + alpha_tilde * Matrix3d::Identity()).inverse() * gap;
     const Vector3d left = point + gap - world_point(p.state.bodies[pin.segment], pin.local_point);
@@ -170,9 +157,9 @@ TEST(TwoSided, ALimitCorrectionIsAnAngularImpulsePairThatBringsTheJointBack) {
     // no centre moves, and I_p Δθ_p + I_c Δθ_c = 0: an internal torque pair
     EXPECT_EQ(p.state.bodies[joint.parent].x, before[joint.parent].x);
     EXPECT_EQ(p.state.bodies[joint.child].x, before[joint.child].x);
-    const Vector3d l_child = world_inertia(cs, before[joint.child]) *
+    const Vector3d l_child = world_inertia(cs, before[joint.child].q) *
                              turn(before[joint.child], p.state.bodies[joint.child]);
-    const Vector3d l_parent = world_inertia(ps, before[joint.parent]) *
+    const Vector3d l_parent = world_inertia(ps, before[joint.parent].q) *
                               turn(before[joint.parent], p.state.bodies[joint.parent]);
     EXPECT_LT((l_child + l_parent).norm(), 1e-9 * l_child.norm());
     // a small violation is closed to second order; a large one at least halved

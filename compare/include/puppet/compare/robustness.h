@@ -66,6 +66,17 @@ struct Interval {
 };
 Interval wilson_interval(int64_t k, int64_t n, double z = 1.959963984540054);
 
+// per scenario and configuration, in job order: the runs, the diverged ones, the rate and its
+// interval
+struct RobustnessRate {
+  std::string scenario, solver, rule;
+  double dt = 0.0;
+  int64_t runs = 0, diverged = 0;
+  Interval ci95;
+  double rate() const { return static_cast<double>(diverged) / runs; }
+};
+std::vector<RobustnessRate> robustness_rates(const std::vector<RobustnessRow>& rows);
+
 // The files one run writes, from its rows in job order (a merge writes the same from all
 // shards' rows): robustness.csv, a row per run; robustness_summary.csv, per scenario and
 // configuration the rate and its interval; worst.csv, per configuration up to `worst` starts
