@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
-# Installs the libraries from a build into a fresh prefix and builds examples/embed against the
-# installed package alone (find_package(puppet CONFIG)), from a clean build folder; then runs it.
+# Installs the libraries from a build into a fresh prefix and, against the installed package
+# alone (find_package(puppet CONFIG)), from clean build folders that set no C++ standard:
+#   - builds examples/embed and runs it;
+#   - compiles every installed header on its own, one translation unit each, so that a header
+#     that uses what it does not include fails here.
 #   scripts/embed_check.sh [BUILD_DIR]     (default build/release, built already)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -13,4 +16,27 @@ cmake -S examples/embed -B "$work/build" -DCMAKE_PREFIX_PATH="$work/prefix" \
 cmake --build "$work/build" >/dev/null
 "$work/build/embed" models/pinocchio.json
 "$work/build/embed" chain:8
-echo "embed_check: examples/embed builds against the installed package and runs"
+
+# one translation unit per installed header, nothing before its #include
+mkdir -p "$work/headers"
+headers=0
+sources=""
+while IFS= read -r header; do
+  relative=${header#"$work/prefix/include/"}
+  unit="$work/headers/$(echo "$relative" | tr '/.' '__').cpp"
+  printf '#include "%s"\n' "$relative" >"$unit"
+  sources="$sources $unit"
+  headers=$((headers + 1))
+done < <(find "$work/prefix/include/puppet" -name '*.h' | sort)
+cat >"$work/headers/CMakeLists.txt" <<CMAKE
+cmake_minimum_required(VERSION 3.25)
+project(puppet_headers LANGUAGES CXX)
+find_package(puppet 0.1 CONFIG REQUIRED)
+add_library(headers OBJECT $sources)
+target_link_libraries(headers PRIVATE puppet::crowd)
+CMAKE
+cmake -S "$work/headers" -B "$work/headers/build" -DCMAKE_PREFIX_PATH="$work/prefix" \
+  -DCMAKE_CXX_FLAGS="-Wall -Wextra -Werror" >/dev/null
+cmake --build "$work/headers/build" >/dev/null
+echo "embed_check: examples/embed builds against the installed package (no standard set) and" \
+  "runs; each of the $headers installed headers compiles on its own"

@@ -1,5 +1,6 @@
 #include "puppet/compare/output.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,6 +14,8 @@
 #include <fstream>
 #include <sstream>
 #include <thread>
+
+#include "puppet/compare/output_folder.h"
 
 namespace puppet::compare {
 
@@ -104,25 +107,70 @@ std::string poses_csv(const Model& model, const RunResult& r) {
   return out.str();
 }
 
+std::string output_file_problem(const std::string& path) {
+  if (path.empty()) return "is an empty path";
+  struct stat link {};
+  if (::lstat(path.c_str(), &link) != 0) {
+    if (errno != ENOENT) return std::string("cannot be examined (") + std::strerror(errno) + ")";
+    const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+    std::error_code error;
+    if (!folder.empty() && !std::filesystem::is_directory(folder, error)) {
+      return "is in a folder that does not exist";
+    }
+    return {};
+  }
+  struct stat target = link;
+  const bool is_link = S_ISLNK(link.st_mode);
+  if (is_link && ::stat(path.c_str(), &target) != 0) {
+    return "is a symbolic link to nothing (it is not followed to make a file)";
+  }
+  if (S_ISREG(target.st_mode)) return {};
+  const char* what = S_ISDIR(target.st_mode)    ? "a folder"
+                     : S_ISCHR(target.st_mode)  ? "a character device"
+                     : S_ISBLK(target.st_mode)  ? "a block device"
+                     : S_ISFIFO(target.st_mode) ? "a FIFO"
+                     : S_ISSOCK(target.st_mode) ? "a socket"
+                                                : "not a regular file";
+  return std::string(is_link ? "is a symbolic link to " : "is ") + what +
+         ", which is never replaced (name a new or a regular file)";
+}
+
 void write_file_atomically(const std::string& path, const std::string& content) {
+  auto check = [&](const std::string& file) {
+    if (std::string problem = output_file_problem(file); !problem.empty()) {
+      throw OutputError(path + " " + problem);
+    }
+  };
+  check(path);
+  // through a symbolic link: the file it names is the one replaced, the link stays
+  std::error_code error;
+  const bool is_link = std::filesystem::is_symlink(std::filesystem::symlink_status(path, error));
+  error.clear();  // a new name has no status
+  const std::string file = is_link ? std::filesystem::canonical(path, error).string() : path;
+  if (error) throw OutputError(path + " cannot be resolved (" + error.message() + ")");
   // a name of this writer's own: two writers of one path (two threads, two processes) never
   // share a temporary, and the last rename wins whole
   static std::atomic<unsigned> counter{0};
   const std::string temporary =
-      path + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
+      file + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
   {
-    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-    if (!file) throw std::runtime_error(path + ": cannot write");
-    file << content;
-    file.flush();
-    if (!file) {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error(path + ": cannot write");
+    out << content;
+    out.flush();
+    if (!out) {
       const std::string reason = std::strerror(errno);
       std::remove(temporary.c_str());
       throw std::runtime_error(path + ": write failed (" + reason + ")");
     }
   }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
+  try {
+    check(file);  // what may have appeared at the name while the file was written
+  } catch (...) {
+    std::remove(temporary.c_str());
+    throw;
+  }
+  std::filesystem::rename(temporary, file, error);
   if (error) {
     std::remove(temporary.c_str());
     throw std::runtime_error(path + ": cannot write (" + error.message() + ")");

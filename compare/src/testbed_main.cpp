@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -46,6 +47,11 @@ using namespace puppet::compare;
 
 constexpr int kBadInput = 2;
 constexpr size_t kMessageLength = 400;  // an error is one line of at most this many characters
+
+// one line of at most kMessageLength characters, the prefix included
+void print_error(const char* prefix, const std::string& what) {
+  std::cerr << one_line(prefix + what, kMessageLength) << '\n';
+}
 
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -145,9 +151,8 @@ int command_list() {
 // the model as MJCF (mjcf.h), to a file (written whole or not at all) or to stdout
 int command_export_mjcf(const std::string& path, const std::string& out) {
   if (!out.empty() && out != "-") {
-    const std::filesystem::path folder = std::filesystem::path(out).parent_path();
-    if (!folder.empty() && !std::filesystem::is_directory(folder)) {
-      throw UsageError("-o: " + out + ": no such folder");
+    if (std::string problem = output_file_problem(out); !problem.empty()) {
+      throw UsageError("-o: " + shown(out) + " " + problem);
     }
   }
   const Model model = load_named_model(path);
@@ -873,6 +878,11 @@ void add_solver_flags(CLI::App* command, RunFlags& f) {
 // exit 0 when every gate passes, 1 when one fails, 2 on bad input
 int command_gate(const std::vector<std::string>& bench_files, const std::string& thresholds,
                  const std::string& csv) {
+  if (!csv.empty()) {
+    if (std::string problem = output_file_problem(csv); !problem.empty()) {
+      throw UsageError("--csv: " + shown(csv) + " " + problem);
+    }
+  }
   const std::vector<GateSpec> specs = read_gate_specs(thresholds);
   std::vector<BenchTime> times;
   for (const std::string& file : bench_files) {
@@ -889,7 +899,7 @@ int command_gate(const std::vector<std::string>& bench_files, const std::string&
   return passed ? 0 : 1;
 }
 
-int main(int argc, char** argv) {
+int run_command(int argc, char** argv) {
   CLI::App app{"testbed: the seed's procedural solver for articulated bodies, measured"};
   app.require_subcommand(1);
   app.fallthrough(false);
@@ -1006,7 +1016,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "testbed: " << one_line(e.what(), kMessageLength) << '\n';
+    print_error("testbed: ", e.what());
     return kBadInput;
   }
 
@@ -1031,19 +1041,34 @@ int main(int argc, char** argv) {
                  signal == SIGTERM ? "SIGTERM" : "SIGINT");
     return 128 + signal;
   } catch (const OutputError& e) {
-    std::cerr << "testbed: " << one_line(e.what(), kMessageLength) << '\n';
+    print_error("testbed: ", e.what());
   } catch (const UsageError& e) {
-    std::cerr << "testbed: " << one_line(e.what(), kMessageLength) << '\n';
+    print_error("testbed: ", e.what());
   } catch (const ModelError& e) {
-    std::cerr << "testbed: " << one_line(e.what(), kMessageLength) << '\n';
+    print_error("testbed: ", e.what());
   } catch (const ScenarioError& e) {
     // the library names the option; the command line adds its flag
-    std::cerr << "testbed: " << one_line(with_flag(e), kMessageLength) << '\n';
+    print_error("testbed: ", with_flag(e));
   } catch (const GateError& e) {
-    std::cerr << "testbed gate: " << one_line(e.what(), kMessageLength) << '\n';
+    print_error("testbed gate: ", e.what());
   } catch (const std::exception& e) {
-    std::cerr << "testbed: " << one_line(e.what(), kMessageLength) << '\n';
+    print_error("testbed: ", e.what());
     return 1;
   }
   return kBadInput;
+}
+
+// what a command printed reached standard output, or the command fails: a full disk or a closed
+// file there is not success
+int main(int argc, char** argv) {
+  const int status = run_command(argc, argv);
+  std::cout.flush();
+  errno = 0;
+  if (std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout) {
+    const int error = errno;
+    print_error("testbed: ", std::string("cannot write to standard output (") +
+                                 (error ? std::strerror(error) : "write failed") + ")");
+    return status == 0 ? 1 : status;
+  }
+  return status;
 }

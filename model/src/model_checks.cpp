@@ -1,6 +1,8 @@
 // The model's limits (docs/model.md, "Limits"): what every front end checks before a model is
 // built, so that every quantity derived from it (inverse masses and inertias, totals, rest
 // height, normalised rotations) is a finite number with room to spare.
+#include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 
@@ -29,12 +31,14 @@ std::string printable(std::string_view text, size_t max_length) {
 }
 
 std::string one_line(std::string_view text, size_t max_length) {
-  std::string out(text.substr(0, max_length));
+  // a cut text ends in "...", within max_length
+  const bool cut = text.size() > max_length;
+  std::string out(text.substr(0, cut ? max_length - std::min<size_t>(3, max_length) : max_length));
   for (char& c : out) {
     const auto byte = static_cast<unsigned char>(c);
     if (byte < 0x20 || byte == 0x7f) c = '?';
   }
-  if (text.size() > max_length) out += "...";
+  if (cut) out += std::string("...").substr(0, std::min<size_t>(3, max_length));
   return out;
 }
 
@@ -53,10 +57,12 @@ std::string shown(std::string_view text) {
 namespace detail {
 namespace {
 
+// the shortest text that reads back as exactly x: a value just outside a range never prints as
+// its bound ("a mass of 9.9999999999999995e-07 kg", not "1e-06")
 std::string number(double x) {
   char text[32];
-  std::snprintf(text, sizeof text, "%.6g", x);
-  return text;
+  const auto result = std::to_chars(text, text + sizeof text, x);
+  return std::string(text, result.ptr);
 }
 
 bool within(double x, double lo, double hi) { return x >= lo && x <= hi; }  // false for NaN
@@ -159,6 +165,22 @@ std::string joint_problem(const Joint& j) {
   if (j.type == JointType::kHinge &&
       (!j.hinge_axis.allFinite() || std::abs(j.hinge_axis.squaredNorm() - 1.0) > 1e-9)) {
     return "the hinge axis is not a unit vector";
+  }
+  // the limits, whichever file gave them (JSON's fields, MJCF's range or its user data)
+  constexpr double kPi = 3.14159265358979323846;
+  if (j.type == JointType::kBall) {
+    const std::pair<const char*, double> limits[] = {
+        {"swing x", j.swing_x}, {"swing y", j.swing_y}, {"twist", j.twist}};
+    for (const auto& [what, value] : limits) {
+      if (!within(value, 0.0, kPi)) {
+        return std::string("the ") + what + " limit is " + number(value) + " rad (from 0 to pi)";
+      }
+    }
+  } else if (j.type == JointType::kHinge) {
+    if (!within(j.lower, -kPi, 0.0) || !within(j.upper, 0.0, kPi)) {
+      return "the hinge range [" + number(j.lower) + ", " + number(j.upper) +
+             "] rad must contain 0, the rest angle, and lie within [-pi, pi]";
+    }
   }
   return {};
 }

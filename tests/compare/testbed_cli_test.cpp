@@ -2,6 +2,8 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -25,8 +27,8 @@ struct Outcome {
   std::string output;  // stdout and stderr
 };
 
-Outcome testbed(const std::string& arguments) {
-  const std::string command = std::string(TESTBED_BINARY) + " " + arguments + " 2>&1";
+// a shell command line's status and what it printed on standard output
+Outcome shell(const std::string& command) {
   Outcome outcome{-1, ""};
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return outcome;
@@ -35,6 +37,10 @@ Outcome testbed(const std::string& arguments) {
   const int raw = pclose(pipe);
   outcome.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
   return outcome;
+}
+
+Outcome testbed(const std::string& arguments) {
+  return shell(std::string(TESTBED_BINARY) + " " + arguments + " 2>&1");
 }
 
 fs::path fresh_folder(const std::string& name) {
@@ -49,6 +55,8 @@ void expect_bad(const std::string& arguments, const std::string& names) {
   EXPECT_EQ(o.status, 2) << arguments << "\n" << o.output;
   EXPECT_NE(o.output.find(names), std::string::npos) << arguments << "\n" << o.output;
   EXPECT_EQ(std::count(o.output.begin(), o.output.end(), '\n'), 1) << arguments << "\n" << o.output;
+  EXPECT_LE(o.output.size(), 401u) << "at most 400 characters, \"testbed: \" included\n"
+                                   << o.output;
 }
 
 TEST(TestbedCli, HelpAndList) {
@@ -94,6 +102,47 @@ TEST(TestbedCli, ExportMjcf) {
   EXPECT_FALSE(fs::exists(folder / "x.xml"));
   expect_bad("export-mjcf pinocchio -o /no/such/folder/x.xml", "/no/such/folder/x.xml");
   expect_bad("run --solver mujoco --mujoco-integrator rk5", "--mujoco-integrator");
+}
+
+std::string slurp(const fs::path& path);
+
+// A file the testbed writes (-o, --csv) is a new one or a regular file it replaces; a device,
+// FIFO, folder or a link to one is refused before anything runs and left as it was
+TEST(TestbedCli, OutputsNeverReplaceWhatIsNotOurs) {
+  const fs::path folder = fresh_folder("not_ours");
+  fs::create_directories(folder);
+  ASSERT_EQ(::mkfifo((folder / "fifo").c_str(), 0644), 0);
+  fs::create_directory(folder / "folder");
+  fs::create_symlink("fifo", folder / "link_to_fifo");
+  fs::create_symlink("missing", folder / "dangling");
+  std::vector<std::string> refused = {"fifo", "folder", "link_to_fifo", "dangling"};
+  if (::getuid() == 0) {  // a copy of /dev/null, as root would meet it
+    ASSERT_EQ(::mknod((folder / "null").c_str(), S_IFCHR | 0666, makedev(1, 3)), 0);
+    fs::create_symlink("null", folder / "link_to_null");
+    refused.push_back("null");
+    refused.push_back("link_to_null");
+  }
+  for (const std::string& name : refused) {
+    const fs::file_status before = fs::symlink_status(folder / name);
+    expect_bad("export-mjcf pinocchio -o " + (folder / name).string(), "-o: ");
+    expect_bad("gate " + std::string(PUPPET_SOURCE_DIR) + "/results/bench/bench_step.json" +
+                   " --csv " + (folder / name).string(),
+               "--csv: ");
+    EXPECT_EQ(fs::symlink_status(folder / name).type(), before.type()) << name;
+  }
+  // a regular file is replaced, through a link to it too (the link stays a link)
+  std::ofstream(folder / "old.xml") << "old";
+  fs::create_symlink("old.xml", folder / "link.xml");
+  ASSERT_EQ(testbed("export-mjcf chain:3 -o " + (folder / "link.xml").string()).status, 0);
+  EXPECT_TRUE(fs::is_symlink(folder / "link.xml"));
+  EXPECT_NE(slurp(folder / "old.xml").find("<mujoco model=\"chain:3\">"), std::string::npos);
+  // standard output that cannot be written is a failure, not success
+  for (const char* command : {"export-mjcf pinocchio", "validate pinocchio", "list"}) {
+    const Outcome o = shell(std::string(TESTBED_BINARY) + " " + command + " 2>&1 >/dev/full");
+    EXPECT_EQ(o.status, 1) << command << "\n" << o.output;
+    EXPECT_NE(o.output.find("cannot write to standard output"), std::string::npos) << o.output;
+  }
+  fs::remove_all(folder);
 }
 
 std::string slurp(const fs::path& path) {
@@ -247,6 +296,11 @@ TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
     expect_bad(arguments + o, names);
   }
   expect_bad("explode", "\"explode\"");
+  // a message that quotes a long path stays within its 400 characters, prefix included
+  expect_bad("run --model /" + std::string(300, 'm') + "/" + std::string(200, 'x') + ".json" + o,
+             "--model: /mmm");
+  expect_bad("export-mjcf pinocchio -o /" + std::string(300, 'n') + "/" + std::string(200, 'y'),
+             "-o: ");
   expect_bad("run --out ''", "--out");
   expect_bad("run --out /", "--out");
   // a folder that holds anything but the command's own files is not replaced

@@ -300,13 +300,13 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "viewer: " << one_line(e.what(), 400) << '\n';
+    std::cerr << one_line(std::string("viewer: ") + e.what(), 400) << '\n';
     return kBadInput;
   }
   config.options.rule = *procedural::parse_rule(rule_text);  // --rule checked it
 
   auto bad = [](const std::string& message) {
-    std::cerr << "viewer: " << one_line(message, 400) << '\n';
+    std::cerr << one_line("viewer: " + message, 400) << '\n';
     return kBadInput;
   };
   // the testbed's range: a smaller step would take longer than a frame forever
