@@ -105,6 +105,7 @@ OutputFolder::OutputFolder(const std::string& flag, const std::string& path,
 }
 
 void OutputFolder::commit() {
+  throw_if_cancelled();  // a signal while the results were written: the old ones stay
   std::error_code error;
   if (fs::exists(fs::symlink_status(path_, error))) {
     // one rename swaps the old results and the new: the folder is never missing or mixed

@@ -1,12 +1,16 @@
 #include "puppet/compare/robustness.h"
 
 #include <algorithm>
+#include <cctype>
+#include <cstring>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <stdexcept>
 #include <tuple>
 
+#include "puppet/compare/number.h"
 #include "puppet/compare/output.h"
 #include "puppet/compare/run.h"
 #include "puppet/model/text.h"
@@ -45,16 +49,20 @@ std::vector<std::string> split(const std::string& line) {
   return out;
 }
 
+// a number as csv_number writes it: empty for NaN, "inf" and "-inf", else a finite decimal (no
+// hex, no blanks, no "nan")
 double number(const std::string& text, const std::string& where) {
   if (text.empty()) return std::nan("");
-  size_t used = 0;
+  if (text == "inf") return std::numeric_limits<double>::infinity();
+  if (text == "-inf") return -std::numeric_limits<double>::infinity();
+  const bool decimal = std::all_of(text.begin(), text.end(), [](char c) {
+    return (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+' || c == 'e' || c == 'E';
+  });
   double value = 0.0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
+  if (!decimal || text.size() > 32 || !parse_finite(text, &value) ||
+      text.find('/') != std::string::npos) {
+    throw std::runtime_error(where + ": not a number: " + shown(text));
   }
-  if (used != text.size()) throw std::runtime_error(where + ": not a number: " + shown(text));
   return value;
 }
 
@@ -182,11 +190,9 @@ std::vector<RobustnessRow> parse_robustness_csv(const std::string& text,
     RobustnessRow r;
     // plain decimal digits, as robustness_csv writes them
     const auto whole = [&](const std::string& t) -> uint64_t {
-      const bool digits =
-          !t.empty() && t.size() <= 19 &&
-          std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; });
-      if (!digits) throw std::runtime_error(where + ": not a count: " + shown(t));
-      return std::stoull(t);
+      uint64_t value = 0;
+      if (!parse_whole(t, &value)) throw std::runtime_error(where + ": not a count: " + shown(t));
+      return value;
     };
     r.job = static_cast<int64_t>(whole(f[0]));
     r.scenario = f[1];
@@ -211,7 +217,11 @@ std::vector<RobustnessRow> parse_robustness_csv(const std::string& text,
     r.peak_speed = number(f[19], where);
     r.joint_gap_max = number(f[20], where);
     r.pin_gap_max = number(f[21], where);
-    r.steps = static_cast<int>(whole(f[22]));
+    const uint64_t steps = whole(f[22]);
+    if (steps > static_cast<uint64_t>(std::numeric_limits<int>::max())) {
+      throw std::runtime_error(where + ": " + std::to_string(steps) + " steps");
+    }
+    r.steps = static_cast<int>(steps);
     rows.push_back(r);
   }
   return rows;
@@ -250,6 +260,17 @@ std::string robustness_summary_csv(const std::vector<RobustnessRow>& rows) {
   return out.str();
 }
 
+std::string shell_word(const std::string& text) {
+  const bool plain = !text.empty() && std::all_of(text.begin(), text.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) ||
+           (c != '\0' && std::strchr("_./:=,+-", c) != nullptr);
+  });
+  if (plain) return text;
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
 std::string worst_csv(const std::vector<RobustnessRow>& rows, const RobustnessSpec& spec,
                       int worst) {
   std::vector<ConfigKey> order;
@@ -280,10 +301,10 @@ std::string worst_csv(const std::vector<RobustnessRow>& rows, const RobustnessSp
       const std::string which = "--scenario " + r.scenario + " --solver " + r.solver +
                                 (r.rule.empty() ? "" : " --rule " + r.rule) + " --dt " +
                                 dt_flag(r.dt) + " --start " + start;
-      const std::string testbed = "build/release/testbed run --model " + spec.model_name + " " +
-                                  which + spec.replay_flags + " --no-accuracy --out results/replay";
-      const std::string viewer =
-          "build/release/viewer/viewer --model " + spec.model_name + " " + which;
+      const std::string model = shell_word(spec.model_name);
+      const std::string testbed = "build/release/testbed run --model " + model + " " + which +
+                                  spec.replay_flags + " --no-accuracy --out results/replay";
+      const std::string viewer = "build/release/viewer/viewer --model " + model + " " + which;
       out << r.scenario << ',' << r.solver << ',' << r.rule << ',' << format_dt(r.dt) << ','
           << r.seed << ',' << r.start << ',' << (r.diverged ? "diverged" : "ok") << ','
           << csv_number(r.diverged_at) << ',' << csv_number(r.joint_gap_max) << ','
@@ -291,34 +312,6 @@ std::string worst_csv(const std::vector<RobustnessRow>& rows, const RobustnessSp
           << '\n';
     }
   }
-  return out.str();
-}
-
-std::string spec_identity(const RobustnessSpec& spec) {
-  std::ostringstream out;
-  out << "model=" << spec.model_name << " scenarios=";
-  for (size_t i = 0; i < spec.scenarios.size(); ++i) out << (i ? "," : "") << spec.scenarios[i];
-  out << " configs=";
-  for (size_t i = 0; i < spec.configs.size(); ++i) {
-    out << (i ? "," : "") << spec.configs[i].solver;
-    if (spec.configs[i].solver == "procedural") out << ":" << rule_of(spec.configs[i]);
-  }
-  out << " dts=";
-  for (size_t i = 0; i < spec.dts.size(); ++i) out << (i ? "," : "") << format_dt(spec.dts[i]);
-  out << " starts=" << spec.starts << " seed=" << spec.seed << " flags=" << spec.replay_flags
-      << " code=" << spec.code;
-  return out.str();
-}
-
-std::string shard_manifest(const RobustnessSpec& spec, int64_t rows) {
-  std::ostringstream out;
-  out << "puppet robustness shard\n"
-      << "identity: " << spec_identity(spec) << "\n"
-      << "model: " << spec.model_name << "\n"
-      << "replay: " << spec.replay_flags << "\n"
-      << "shard: " << spec.shard << "/" << spec.shards << "\n"
-      << "jobs: " << robustness_job_count(spec) << "\n"
-      << "rows: " << rows << "\n";
   return out.str();
 }
 

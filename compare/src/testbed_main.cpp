@@ -30,6 +30,7 @@
 #include "puppet/compare/robustness.h"
 #include "puppet/compare/run.h"
 #include "puppet/compare/scenario.h"
+#include "puppet/compare/shard.h"
 #include "puppet/compare/simulator.h"
 #include "puppet/compare/start.h"
 #include "puppet/compare/sweep.h"
@@ -554,17 +555,6 @@ int command_frontier(const RunFlags& f) {
   return 0;
 }
 
-// a word as a shell reads it back: as it is when it is plain, else in single quotes
-std::string shell_word(const std::string& text) {
-  const bool plain = !text.empty() && std::all_of(text.begin(), text.end(), [](char c) {
-    return std::isalnum(static_cast<unsigned char>(c)) || std::strchr("_./:=,+-", c) != nullptr;
-  });
-  if (plain) return text;
-  std::string out = "'";
-  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
 // the flags a replay of one robustness run repeats: every one given that changes the run
 std::string replay_flags(const RunFlags& f) {
   std::string out;
@@ -591,14 +581,15 @@ std::string replay_flags(const RunFlags& f) {
 // the three files of a run or a merge, from its rows in job order: the summary and the worst
 // starts are read from the rows as written, so that a merge of shards, which reads them back,
 // writes the same bytes
-void write_robustness(const OutputFolder& folder, const std::vector<RobustnessRow>& rows,
-                      const RobustnessSpec& spec) {
+std::string write_robustness(const OutputFolder& folder, const std::vector<RobustnessRow>& rows,
+                             const RobustnessSpec& spec) {
   const std::string csv = robustness_csv(rows);
   const std::vector<RobustnessRow> written = parse_robustness_csv(csv, "robustness.csv");
   write_file_atomically((folder.staging() / "robustness.csv").string(), csv);
   write_file_atomically((folder.staging() / "robustness_summary.csv").string(),
                         robustness_summary_csv(written));
   write_file_atomically((folder.staging() / "worst.csv").string(), worst_csv(written, spec));
+  return csv;
 }
 
 void print_rates(const std::vector<RobustnessRow>& rows) {
@@ -685,10 +676,10 @@ int command_robustness(const RunFlags& f) {
   const std::vector<RobustnessRow> rows = run_robustness(spec);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-  write_robustness(folder, rows, spec);
+  const std::string csv = write_robustness(folder, rows, spec);
   if (spec.shards > 1) {
     write_file_atomically((folder.staging() / "shard.txt").string(),
-                          shard_manifest(spec, static_cast<int64_t>(rows.size())));
+                          shard_manifest(spec, static_cast<int64_t>(rows.size()), csv));
   }
   folder.commit();
   print_rates(rows);
@@ -699,115 +690,59 @@ int command_robustness(const RunFlags& f) {
   return 0;
 }
 
-struct Shard {
-  std::string folder, identity, model, replay;
-  int64_t index = 0, count = 0, jobs = 0, rows = 0;
-};
+void add_robustness_flags(CLI::App* robustness, RunFlags& rf);
 
-Shard read_shard(const std::string& folder) {
-  Shard shard;
-  shard.folder = folder;
-  std::string text, problem;
-  const std::string path = folder + "/shard.txt";
-  if (!read_regular_file(path, 1 << 16, &text, &problem)) {
-    throw UsageError("merge: " + path + ": " + problem);
+// the replay flags of a shard's manifest as the testbed writes them, from what its own flag
+// parsers make of them (ShardError when they do not parse): shard.h's canonical_replay
+std::string canonical_replay(const std::string& replay) {
+  std::vector<std::string> words;
+  if (!split_shell_words(replay, &words)) {
+    throw ShardError("not words a shell reads as they are written");
   }
-  std::istringstream in(text);
-  std::string line;
-  std::getline(in, line);
-  if (line != "puppet robustness shard") {
-    throw UsageError("merge: " + path + ": not a robustness shard's manifest");
+  CLI::App app;
+  RunFlags f;
+  add_robustness_flags(&app, f);
+  std::reverse(words.begin(), words.end());  // CLI11 reads its argument vector from the back
+  try {
+    app.parse(words);
+    if (!f.duration.empty()) parse_in("--duration", f.duration, 0.0, 3600.0, " s");
+    parse_scenario_options(f);
+  } catch (const CLI::ParseError& e) {
+    throw ShardError(e.what());
+  } catch (const UsageError& e) {
+    throw ShardError(e.what());
   }
-  std::map<std::string, std::string> fields;
-  while (std::getline(in, line)) {
-    const size_t colon = line.find(": ");
-    if (colon != std::string::npos) fields[line.substr(0, colon)] = line.substr(colon + 2);
-  }
-  for (const char* key : {"identity", "model", "replay", "shard", "jobs", "rows"}) {
-    if (!fields.count(key)) throw UsageError("merge: " + path + ": no " + key + " line");
-  }
-  shard.identity = fields["identity"];
-  shard.model = fields["model"];
-  shard.replay = fields["replay"];
-  uint64_t index = 0, count = 0, jobs = 0, rows = 0;
-  if (!parse_shard(fields["shard"], &index, &count) || !parse_whole(fields["jobs"], &jobs) ||
-      !parse_whole(fields["rows"], &rows)) {
-    throw UsageError("merge: " + path + ": malformed shard, jobs or rows line");
-  }
-  if (count < 1 || index >= count) {
-    throw UsageError("merge: " + path + ": shard " + fields["shard"] + " is not I/N with I < N");
-  }
-  shard.index = static_cast<int64_t>(index);
-  shard.count = static_cast<int64_t>(count);
-  shard.jobs = static_cast<int64_t>(jobs);
-  shard.rows = static_cast<int64_t>(rows);
-  return shard;
+  return replay_flags(f);
 }
 
 int command_merge(const std::vector<std::string>& folders, const std::string& out) {
-  std::vector<Shard> shards;
-  for (const std::string& folder : folders) shards.push_back(read_shard(folder));
-  const Shard& first = shards.front();
-  std::map<int64_t, const Shard*> by_index;
-  for (const Shard& shard : shards) {
-    if (shard.identity != first.identity || shard.count != first.count) {
-      throw UsageError("merge: " + shard.folder + " is a shard of another sweep than " +
-                       first.folder + " (their shard.txt identities differ)");
-    }
-    if (!by_index.emplace(shard.index, &shard).second) {
-      throw UsageError("merge: " + shard.folder + " and " + by_index[shard.index]->folder +
-                       " are both shard " + std::to_string(shard.index) + "/" +
-                       std::to_string(shard.count));
-    }
-  }
-  std::string missing;
-  int64_t missing_count = 0;
-  for (int64_t i = 0; i < first.count; ++i) {
-    if (by_index.count(i)) continue;
-    if (++missing_count <= 10) missing += (missing.empty() ? "" : ", ") + std::to_string(i);
-  }
-  if (missing_count > 0) {
-    throw UsageError("merge: " + std::to_string(missing_count) + " of " +
-                     std::to_string(first.count) + " shards missing: " + missing +
-                     (missing_count > 10 ? ", ..." : ""));
-  }
-  std::vector<RobustnessRow> rows;
-  for (const auto& [index, shard] : by_index) {
-    const std::string path = shard->folder + "/robustness.csv";
-    std::string text, problem;
-    if (!read_regular_file(path, size_t(4) << 30, &text, &problem)) {
-      throw UsageError("merge: " + path + ": " + problem);
-    }
-    std::vector<RobustnessRow> part;
-    try {
-      part = parse_robustness_csv(text, path);
-    } catch (const std::runtime_error& e) {
-      throw UsageError(std::string("merge: ") + e.what());
-    }
-    const int64_t expected = (first.jobs - index + first.count - 1) / first.count;
-    if (static_cast<int64_t>(part.size()) != shard->rows || shard->rows != expected) {
-      throw UsageError("merge: " + path + ": " + std::to_string(part.size()) + " rows, shard " +
-                       std::to_string(index) + "/" + std::to_string(first.count) + " has " +
-                       std::to_string(expected));
-    }
-    for (const RobustnessRow& r : part) {
-      if (r.job % first.count != index) {
-        throw UsageError("merge: " + path + ": job " + std::to_string(r.job) + " is not shard " +
-                         std::to_string(index) + "'s");
+  // nothing is written before every shard and every row is checked; a signal meanwhile ends the
+  // command at once (cancel.h)
+  std::vector<ShardManifest> shards;
+  for (const std::string& folder : folders) {
+    shards.push_back(read_shard_manifest(folder, [](const std::string& replay) {
+      try {
+        return canonical_replay(replay);
+      } catch (const ShardError& e) {
+        throw ShardError("replay: " + shown(replay) + ": " + e.what());
       }
-    }
+    }));
+  }
+  check_shard_set(shards);
+  std::sort(shards.begin(), shards.end(),
+            [](const ShardManifest& a, const ShardManifest& b) { return a.index < b.index; });
+  std::vector<RobustnessRow> rows;
+  rows.reserve(static_cast<size_t>(std::min<int64_t>(shards.front().jobs, kMaxShardRuns)));
+  for (const ShardManifest& shard : shards) {
+    const std::vector<RobustnessRow> part = read_shard_rows(shard);
     rows.insert(rows.end(), part.begin(), part.end());
   }
+  // each row was its shard's job, each shard there once: every job is here once
   std::sort(rows.begin(), rows.end(),
             [](const RobustnessRow& a, const RobustnessRow& b) { return a.job < b.job; });
-  for (size_t k = 0; k < rows.size(); ++k) {
-    if (rows[k].job != static_cast<int64_t>(k)) {
-      throw UsageError("merge: job " + std::to_string(k) + " is missing or repeated");
-    }
-  }
   RobustnessSpec spec;
-  spec.model_name = first.model;
-  spec.replay_flags = first.replay;
+  spec.model_name = shards.front().model;
+  spec.replay_flags = shards.front().replay;
   OutputFolder folder("--out", out, {"robustness.csv", "robustness_summary.csv", "worst.csv"});
   write_robustness(folder, rows, spec);
   folder.commit();
@@ -871,6 +806,31 @@ void add_solver_flags(CLI::App* command, RunFlags& f) {
       ->check(CLI::Range(1, procedural::kMaxSubsteps));
   command->add_flag("--no-velocities", f.no_velocities,
                     "procedural: do not derive velocities from poses");
+}
+
+// robustness's flags and their defaults (the command line's, and merge's reading of a shard's
+// replay flags)
+void add_robustness_flags(CLI::App* robustness, RunFlags& rf) {
+  rf.dt = "1/240";
+  rf.out = "results/robustness";
+  rf.solver = "procedural";
+  add_solver_flags(robustness, rf);
+  robustness->add_option("--scenario", rf.scenario, "scenario name, comma list, or all")
+      ->capture_default_str();
+  robustness->add_option("--dt", rf.dt, "time steps in seconds, comma list")->capture_default_str();
+  robustness->add_option("--duration", rf.duration,
+                         "seconds to simulate (default: the scenario's)");
+  robustness->add_option("--starts", rf.starts, "random starts per scenario, solver, rule and dt")
+      ->capture_default_str();
+  robustness->add_option("--seed", rf.seed, "the starts' seed")->capture_default_str();
+  robustness->add_option("--shard", rf.shard,
+                         "run only shard I of N (jobs j with j mod N = I); merge the shards with "
+                         "testbed merge");
+  robustness->add_option("--pin", rf.pin, "hanging point SEGMENT[:x,y,z] (segment frame)");
+  robustness->add_option("--air-drag", rf.air_drag, "air drag k_air (1/s)");
+  robustness->add_option("--ground", rf.ground, "ground plane on|off")
+      ->check(CLI::IsMember({"on", "off"}));
+  robustness->add_flag("--no-tremble", rf.no_tremble, "procedural: no tremble");
 }
 
 }  // namespace
@@ -954,31 +914,12 @@ int run_command(int argc, char** argv) {
       ->capture_default_str();
 
   RunFlags rf;
-  rf.dt = "1/240";
-  rf.out = "results/robustness";
-  rf.solver = "procedural";
   auto* robustness = app.add_subcommand(
       "robustness",
       "run every scenario x solver x rule x dt from N random starts (--seed); write "
       "robustness.csv, "
       "the divergence rates with 95 % Wilson intervals and the worst starts as replay commands");
-  add_solver_flags(robustness, rf);
-  robustness->add_option("--scenario", rf.scenario, "scenario name, comma list, or all")
-      ->capture_default_str();
-  robustness->add_option("--dt", rf.dt, "time steps in seconds, comma list")->capture_default_str();
-  robustness->add_option("--duration", rf.duration,
-                         "seconds to simulate (default: the scenario's)");
-  robustness->add_option("--starts", rf.starts, "random starts per scenario, solver, rule and dt")
-      ->capture_default_str();
-  robustness->add_option("--seed", rf.seed, "the starts' seed")->capture_default_str();
-  robustness->add_option("--shard", rf.shard,
-                         "run only shard I of N (jobs j with j mod N = I); merge the shards with "
-                         "testbed merge");
-  robustness->add_option("--pin", rf.pin, "hanging point SEGMENT[:x,y,z] (segment frame)");
-  robustness->add_option("--air-drag", rf.air_drag, "air drag k_air (1/s)");
-  robustness->add_option("--ground", rf.ground, "ground plane on|off")
-      ->check(CLI::IsMember({"on", "off"}));
-  robustness->add_flag("--no-tremble", rf.no_tremble, "procedural: no tremble");
+  add_robustness_flags(robustness, rf);
 
   std::vector<std::string> merge_folders;
   std::string merge_out = "results/robustness";
@@ -1020,9 +961,22 @@ int run_command(int argc, char** argv) {
     return kBadInput;
   }
 
-  // SIGINT and SIGTERM stop the runs at their next step; the output folder is left as it was
+  // SIGINT and SIGTERM: before anything is written, the process ends at once; after, the runs
+  // stop at their next step and the output folder is left as it was (cancel.h)
   struct sigaction action {};
-  action.sa_handler = [](int signal) { request_cancel(signal); };
+  action.sa_handler = [](int signal) {
+    if (cancel_points().load() > 0) {
+      request_cancel(signal);
+      return;
+    }
+    // nothing written yet (a model or the shards being read): stop at once
+    static const char kInt[] = "\ntestbed: stopped by SIGINT; nothing was written\n";
+    static const char kTerm[] = "\ntestbed: stopped by SIGTERM; nothing was written\n";
+    const bool term = signal == SIGTERM;
+    [[maybe_unused]] const ssize_t written =
+        ::write(STDERR_FILENO, term ? kTerm : kInt, term ? sizeof kTerm - 1 : sizeof kInt - 1);
+    ::_exit(128 + signal);
+  };
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
@@ -1049,6 +1003,8 @@ int run_command(int argc, char** argv) {
   } catch (const ScenarioError& e) {
     // the library names the option; the command line adds its flag
     print_error("testbed: ", with_flag(e));
+  } catch (const ShardError& e) {
+    print_error("testbed merge: ", e.what());
   } catch (const GateError& e) {
     print_error("testbed gate: ", e.what());
   } catch (const std::exception& e) {

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <string>
 #include <thread>
@@ -213,9 +214,145 @@ TEST(TestbedCli, MergeNamesAMissingForeignOrDamagedShard) {
     rows.resize(rows.rfind('\n', rows.size() - 2) + 1);
     std::ofstream(root / "s2" / "robustness.csv", std::ios::binary) << rows;
   }
-  expect_bad("merge " + s0 + " " + s1 + " " + s2 + out, "rows, shard 2/3 has");
+  expect_bad("merge " + s0 + " " + s1 + " " + s2 + out, "the file was changed or cut");
   expect_bad("merge " + (root / "none").string() + out, "shard.txt");
   EXPECT_FALSE(fs::exists(root / "m"));
+}
+
+// FNV-1a 64 of a file's bytes, as shard.txt's csv line gives it (written here again, to edit a
+// shard as one who also rewrites its manifest would)
+std::string fnv1a(const std::string& bytes) {
+  uint64_t hash = 0xcbf29ce484222325ull;
+  for (const char c : bytes) hash = (hash ^ static_cast<unsigned char>(c)) * 0x100000001b3ull;
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
+  return text;
+}
+
+void write_text(const fs::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
+}
+
+// shard.txt's line KEY set to VALUE
+void edit_manifest(const fs::path& shard, const std::string& key, const std::string& value) {
+  std::string text = slurp(shard / "shard.txt");
+  const size_t at = text.find("\n" + key + ": ") + 1;
+  const size_t end = text.find('\n', at);
+  text.replace(at, end - at, key + ": " + value);
+  write_text(shard / "shard.txt", text);
+}
+
+// robustness.csv's data row ROW (0 first), field FIELD set to VALUE, and the manifest's size and
+// checksum made to match
+void edit_row(const fs::path& shard, int row, int field, const std::string& value) {
+  std::string text = slurp(shard / "robustness.csv");
+  size_t at = text.find('\n') + 1;
+  for (int k = 0; k < row; ++k) at = text.find('\n', at) + 1;
+  for (int k = 0; k < field; ++k) at = text.find(',', at) + 1;
+  const size_t end = text.find_first_of(",\n", at);
+  text.replace(at, end - at, value);
+  write_text(shard / "robustness.csv", text);
+  edit_manifest(shard, "csv", std::to_string(text.size()) + " " + fnv1a(text));
+}
+
+// merge trusts no shard: every number bounded, every row the job it claims, every file as its
+// manifest says; and what reaches a replay command line is inert in a shell
+TEST(TestbedCli, MergeVerifiesEveryShardBeforeWriting) {
+  const fs::path root = fresh_folder("merge_hostile");
+  for (const char* shard : {"0", "1", "2"}) {
+    std::string arguments = kSweep;
+    arguments += " --shard ";
+    arguments += shard;
+    arguments += "/3 --out " + (root / "good" / shard_name(shard)).string();
+    ASSERT_EQ(testbed(arguments).status, 0);
+  }
+  const fs::path out = root / "merged";
+  int trial = 0;
+  // a fresh copy of the good shards, `edit` applied to shard 1, merged: refused, naming `names`
+  auto refused = [&](const std::function<void(const fs::path&)>& edit, const std::string& names) {
+    const fs::path copy = root / ("t" + std::to_string(trial++));
+    fs::copy(root / "good", copy, fs::copy_options::recursive);
+    edit(copy / "s1");
+    const auto begin = std::chrono::steady_clock::now();
+    expect_bad("merge " + (copy / "s0").string() + " " + (copy / "s1").string() + " " +
+                   (copy / "s2").string() + " --out " + out.string(),
+               names);
+    EXPECT_LT(std::chrono::steady_clock::now() - begin, std::chrono::seconds(5)) << names;
+    EXPECT_FALSE(fs::exists(out)) << names;
+  };
+  using Edit = std::function<void(const fs::path&)>;
+  const std::vector<std::pair<Edit, std::string>> cases = {
+      // the manifest: bounds, names, the sweep's arithmetic, the flags
+      {[](const fs::path& s) { edit_manifest(s, "shard", "1/999999999999999999"); }, "shard: "},
+      {[](const fs::path& s) { edit_manifest(s, "shard", "1/100001"); }, "shard: "},
+      {[](const fs::path& s) { edit_manifest(s, "jobs", "33"); }, "jobs: 33"},
+      {[](const fs::path& s) { edit_manifest(s, "jobs", "99999999999999999999"); }, "jobs: "},
+      {[](const fs::path& s) { edit_manifest(s, "rows", "12"); }, "rows: 12"},
+      {[](const fs::path& s) { edit_manifest(s, "starts", "0"); }, "starts: "},
+      {[](const fs::path& s) { edit_manifest(s, "scenarios", "hang,swim"); }, "\"swim\" is not"},
+      {[](const fs::path& s) { edit_manifest(s, "configs", "procedural:xpbd,ode"); }, "\"ode\""},
+      {[](const fs::path& s) { edit_manifest(s, "dts", "1/60,1/120"); }, "dts: "},
+      {[](const fs::path& s) { edit_manifest(s, "seed", "2"); }, "another sweep"},
+      {[](const fs::path& s) { edit_manifest(s, "replay", " --duration 0.5; touch x"); },
+       "replay: "},
+      {[](const fs::path& s) { edit_manifest(s, "replay", " --duration '$(id)'"); }, "replay: "},
+      {[](const fs::path& s) { edit_manifest(s, "replay", " --starts 5"); }, "replay: "},
+      {[](const fs::path& s) { edit_manifest(s, "replay", " --duration 1e9"); }, "replay: "},
+      {[](const fs::path& s) { edit_manifest(s, "code", "$(id)"); }, "code: "},
+      {[](const fs::path& s) { write_text(s / "shard.txt", slurp(s / "shard.txt") + "x: 1\n"); },
+       "unknown line"},
+      {[](const fs::path& s) { write_text(s / "shard.txt", slurp(s / "shard.txt") + "rows: 11\n"); },
+       "a second rows line"},
+      // the rows, under a manifest rewritten to match them
+      {[](const fs::path& s) { edit_row(s, 0, 20, "inf"); }, "finite metrics"},
+      {[](const fs::path& s) { edit_row(s, 0, 20, "nan"); }, "not a number"},
+      {[](const fs::path& s) { edit_row(s, 0, 20, "0x1p-3"); }, "not a number"},
+      {[](const fs::path& s) { edit_row(s, 0, 16, "diverged"); }, "without a reason"},
+      {[](const fs::path& s) { edit_row(s, 2, 5, "2"); }, "not the run"},
+      {[](const fs::path& s) { edit_row(s, 2, 1, "swim"); }, "not the run"},
+      {[](const fs::path& s) { edit_row(s, 2, 3, "relaxed"); }, "not the run"},
+      {[](const fs::path& s) { edit_row(s, 2, 6, "0"); }, "not the run"},  // job 7: start 3
+      {[](const fs::path& s) { edit_row(s, 2, 0, "4"); }, "job 4 where"},
+      {[](const fs::path& s) { edit_row(s, 2, 22, "99999999999999"); }, "steps"},
+      // a file changed without its manifest: two bytes cut, one digit changed
+      {[](const fs::path& s) {
+         std::string rows = slurp(s / "robustness.csv");
+         write_text(s / "robustness.csv", rows.substr(0, rows.size() - 2));
+       },
+       "changed or cut"},
+      {[](const fs::path& s) {
+         std::string rows = slurp(s / "robustness.csv");
+         rows[rows.size() - 2] = rows[rows.size() - 2] == '1' ? '2' : '1';
+         write_text(s / "robustness.csv", rows);
+       },
+       "changed or cut"},
+  };
+  for (const auto& [edit, names] : cases) refused(edit, names);
+
+  // a hostile model name agreed by every shard merges, and stays one inert word in a shell
+  const fs::path proof = root / "pwned";
+  const fs::path copy = root / "hostile";
+  fs::copy(root / "good", copy, fs::copy_options::recursive);
+  const std::string model = "chain:4; touch " + proof.string() + " $(touch " + proof.string() +
+                            ") `touch " + proof.string() + "` it's";
+  for (const char* shard : {"s0", "s1", "s2"}) edit_manifest(copy / shard, "model", model);
+  const Outcome merged = testbed("merge " + (copy / "s0").string() + " " + (copy / "s1").string() +
+                                 " " + (copy / "s2").string() + " --out " + out.string());
+  ASSERT_EQ(merged.status, 0) << merged.output;
+  const std::string worst = slurp(out / "worst.csv");
+  const size_t at = worst.find("build/release/testbed run --model ");
+  ASSERT_NE(at, std::string::npos);
+  // the replay command (a plain CSV field: no comma or double quote in it), its program replaced
+  // by one that prints its words, run by a POSIX shell
+  std::string line = worst.substr(at, worst.find(",build/release/viewer", at) - at);
+  line.replace(0, std::string("build/release/testbed").size(), "printf '%s\\n'");
+  write_text(root / "replay.sh", line + "\n");
+  const Outcome words = shell("sh " + (root / "replay.sh").string());
+  EXPECT_EQ(words.status, 0) << line;
+  EXPECT_NE(words.output.find("--model\n" + model + "\n--scenario"), std::string::npos)
+      << line << "\n" << words.output;
+  EXPECT_FALSE(fs::exists(proof)) << line;
+  fs::remove_all(root);
 }
 
 TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
@@ -432,6 +569,44 @@ TEST(TestbedCli, InterruptedRunsLeaveTheOldResults) {
     EXPECT_TRUE(leftovers(out).empty()) << leftovers(out).front();
     fs::remove_all(out);
   }
+}
+
+// a merge that is stopped, reading its shards or writing the merged files, ends within a second
+// with 128 + the signal and writes nothing (a shard of 400,000 valid rows takes it seconds)
+TEST(TestbedCli, AMergeStopsAtASignalAndWritesNothing) {
+  const fs::path root = fresh_folder("merge_signal");
+  fs::create_directories(root / "s0");
+  const int64_t runs = 400000;
+  std::string csv =
+      "job,scenario,solver,rule,dt,seed,start,tilt_deg,hz,phase_deg,grab_segment,grab_x,grab_y,"
+      "grab_z,joint_angle_rms_deg,joint_speed_rms,status,reason,diverged_at_s,peak_speed_mps,"
+      "joint_gap_max_m,pin_gap_max_m,steps\n";
+  for (int64_t job = 0; job < runs; ++job) {
+    const std::string n = std::to_string(job);
+    csv += n + ",hang,bullet-rigid,,0.0166666667,1," + n + ",10,,,,,,,5,0.5,ok,,,1.5,0.001,0.002,30\n";
+  }
+  write_text(root / "s0" / "robustness.csv", csv);
+  write_text(root / "s0" / "shard.txt",
+             "puppet robustness shard\nmodel: pinocchio\nscenarios: hang\nconfigs: bullet-rigid\n"
+             "dts: 0.0166666667\nstarts: 400000\nseed: 1\nreplay: \ncode: unknown\nshard: 0/1\n"
+             "jobs: 400000\nrows: 400000\ncsv: " +
+                 std::to_string(csv.size()) + " " + fnv1a(csv) + "\n");
+  for (const int signal : {SIGINT, SIGTERM}) {
+    const fs::path out = root / "merged";
+    const Child child = start({"merge", (root / "s0").string(), "--out", out.string()});
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    ::kill(child.pid, signal);
+    int status = 0;
+    ASSERT_TRUE(child.wait(1.0, &status)) << "still running a second after signal " << signal;
+    EXPECT_EQ(status, 128 + signal);
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_TRUE(leftovers(out).empty()) << leftovers(out).front();
+  }
+  // undisturbed, the same merge succeeds: the signal, not the shard, stopped it
+  const Outcome merged = testbed("merge " + (root / "s0").string() + " --out " +
+                                 (root / "merged").string());
+  EXPECT_EQ(merged.status, 0) << merged.output;
+  fs::remove_all(root);
 }
 
 // killed outright, a run leaves the old results and its staging folder beside them, which the

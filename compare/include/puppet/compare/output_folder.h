@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "puppet/compare/cancel.h"
+
 namespace puppet::compare {
 
 // a folder that cannot be used: bad input, before anything runs
@@ -43,6 +45,7 @@ class OutputFolder {
 
  private:
   std::filesystem::path path_, staging_, lock_;
+  CancelPoint tidy_;  // from here on a signal stops the command, which removes its staging
   int lock_fd_ = -1;
   bool committed_ = false;
 };

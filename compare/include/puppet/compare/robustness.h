@@ -87,12 +87,12 @@ std::string robustness_summary_csv(const std::vector<RobustnessRow>& rows);
 std::string worst_csv(const std::vector<RobustnessRow>& rows, const RobustnessSpec& spec,
                       int worst = 3);
 
-// A shard's manifest (shard.txt): the spec's identity and the shard's place. Every shard of one
-// sweep has the same identity; merge refuses to mix two.
-std::string spec_identity(const RobustnessSpec& spec);
-std::string shard_manifest(const RobustnessSpec& spec, int64_t rows);
+// a word as a POSIX shell reads it back: as it is when it is plain (letters, digits, _ . / : = ,
+// + -), else in single quotes, a quote inside as '\'' (so "$(id)" or "a; b" stay one inert word)
+std::string shell_word(const std::string& text);
 
-// reads what robustness_csv wrote back (the merge); throws std::runtime_error naming the line
+// reads what robustness_csv wrote back (the merge): numbers as csv_number writes them (no hex,
+// no "nan"), counts as plain digits; throws std::runtime_error naming the line
 std::vector<RobustnessRow> parse_robustness_csv(const std::string& text, const std::string& source);
 
 }  // namespace puppet::compare
