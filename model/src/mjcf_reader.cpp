@@ -6,8 +6,11 @@
 // never dropped. User data written by write_mjcf gives back the exact rest values.
 #include <tinyxml2.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <map>
 #include <optional>
 #include <set>
@@ -24,8 +27,167 @@ using tinyxml2::XMLElement;
 
 constexpr double kPi = 3.14159265358979323846;
 
-// attributes by element kind ("geom", "joint", ...) of one default class
-using ClassDefaults = std::map<std::string, std::map<std::string, std::string>>;
+// What a file may hold before tinyxml2 reads it (tinyxml2 checks each attribute against all the
+// earlier ones of its element, so a body of 200,000 attributes would take minutes): the most
+// attributes an MJCF element has is 33 (a geom), the longest value this reader needs a few
+// hundred bytes (user data). Elements nest at most 100 deep (tinyxml2's own limit).
+constexpr int kMaxAttributes = 64;
+constexpr size_t kMaxAttributeBytes = 4096;
+constexpr int kMaxElements = 1000000;
+
+// The attributes each element this reader reads may carry: MuJoCo 2.2.2's own lists
+// (xml_native_reader.cc), less what a body's physics here cannot hold (those are read and
+// refused with a reason where they matter). In a <default> class the same lists hold without
+// name and class.
+using Names = std::initializer_list<const char*>;
+constexpr Names kGeomAttributes = {
+    "name",      "class",  "type",    "size",        "fromto",   "pos",      "quat",
+    "axisangle", "euler",  "xyaxes",  "zaxis",       "mass",     "density",  "rgba",
+    "material",  "group",  "contype", "conaffinity", "condim",   "friction", "solref",
+    "solimp",    "solmix", "margin",  "gap",         "priority", "user"};
+constexpr Names kJointAttributes = {
+    "name",         "class", "type",      "pos",         "axis",        "range",
+    "limited",      "ref",   "stiffness", "springref",   "damping",     "armature",
+    "frictionloss", "group", "user",      "solreflimit", "solimplimit", "margin"};
+constexpr Names kSiteAttributes = {"name",   "class",    "type",  "group",  "pos",
+                                   "quat",   "material", "size",  "fromto", "axisangle",
+                                   "xyaxes", "zaxis",    "euler", "rgba",   "user"};
+constexpr Names kCameraAttributes = {"name", "class",     "fovy",   "ipd",   "pos",
+                                     "quat", "axisangle", "xyaxes", "zaxis", "euler",
+                                     "mode", "target",    "user"};
+constexpr Names kLightAttributes = {"name",    "class",   "directional", "castshadow", "active",
+                                    "pos",     "dir",     "attenuation", "cutoff",     "exponent",
+                                    "ambient", "diffuse", "specular",    "mode",       "target"};
+constexpr Names kMaterialAttributes = {"name",        "class",    "texture",  "texrepeat",
+                                       "texuniform",  "emission", "specular", "shininess",
+                                       "reflectance", "rgba"};
+constexpr Names kSizeAttributes = {"njmax",       "nconmax",    "nstack",       "nuserdata",
+                                   "nkey",        "nuser_body", "nuser_jnt",    "nuser_geom",
+                                   "nuser_site",  "nuser_cam",  "nuser_tendon", "nuser_actuator",
+                                   "nuser_sensor"};
+
+// the attributes an element kind may carry, for the kinds a <default> class may set (null for
+// any other kind)
+const Names* default_kind(const std::string& tag) {
+  if (tag == "geom") return &kGeomAttributes;
+  if (tag == "joint") return &kJointAttributes;
+  if (tag == "site") return &kSiteAttributes;
+  if (tag == "camera") return &kCameraAttributes;
+  if (tag == "light") return &kLightAttributes;
+  if (tag == "material") return &kMaterialAttributes;
+  return nullptr;
+}
+
+bool among(const char* name, const Names& names) {
+  for (const char* n : names) {
+    if (std::strcmp(n, name) == 0) return true;
+  }
+  return false;
+}
+
+// One linear pass over the text before tinyxml2 sees it: every element's attribute count and
+// value lengths within bounds, the element count too, and no character reference to a control
+// character (tinyxml2 turns "a&#0;b" into "a", silently). Returns the line and the problem of
+// the first breach (line 0: none). What is not well-formed is left to tinyxml2 to name.
+std::pair<int, std::string> xml_shape_problem(const std::string& text) {
+  int line = 1, elements = 0;
+  const size_t n = text.size();
+  auto skip_to = [&](size_t from, const char* end) {
+    const size_t at = text.find(end, from);
+    const size_t stop = at == std::string::npos ? n : at + std::strlen(end);
+    line += static_cast<int>(std::count(text.begin() + static_cast<std::ptrdiff_t>(from),
+                                        text.begin() + static_cast<std::ptrdiff_t>(stop), '\n'));
+    return stop;
+  };
+  // "&#...;" at i: the character it names may not be a control character
+  auto reference_problem = [&](size_t i) -> std::string {
+    if (text.compare(i, 2, "&#") != 0) return {};
+    const bool hex = i + 2 < n && (text[i + 2] == 'x' || text[i + 2] == 'X');
+    unsigned long code = 0;
+    size_t k = i + (hex ? 3 : 2);
+    for (int digits = 0; k < n && digits < 8 && std::isxdigit(static_cast<unsigned char>(text[k]));
+         ++k, ++digits) {
+      const char c = static_cast<char>(std::tolower(static_cast<unsigned char>(text[k])));
+      if (!hex && !std::isdigit(static_cast<unsigned char>(c))) break;
+      code = code * (hex ? 16 : 10) + static_cast<unsigned long>(c <= '9' ? c - '0' : c - 'a' + 10);
+    }
+    if (k < n && text[k] == ';' && (code < 0x20 || (code >= 0x7f && code <= 0x9f))) {
+      return "a character reference to a control character (" + text.substr(i, k + 1 - i) + ")";
+    }
+    return {};
+  };
+  size_t i = 0;
+  while (i < n) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line;
+      ++i;
+    } else if (c == '&') {
+      if (std::string problem = reference_problem(i); !problem.empty()) return {line, problem};
+      ++i;
+    } else if (c != '<') {
+      ++i;
+    } else if (text.compare(i, 4, "<!--") == 0) {
+      i = skip_to(i + 4, "-->");
+    } else if (text.compare(i, 9, "<![CDATA[") == 0) {
+      i = skip_to(i + 9, "]]>");
+    } else if (text.compare(i, 2, "<?") == 0 || text.compare(i, 2, "<!") == 0 ||
+               text.compare(i, 2, "</") == 0) {
+      i = skip_to(i + 1, ">");
+    } else {
+      // an element's start tag: its attributes are its '=' outside quoted values
+      if (++elements > kMaxElements) {
+        return {line, "more than " + std::to_string(kMaxElements) + " elements"};
+      }
+      const int tag_line = line;
+      int attributes = 0;
+      ++i;
+      size_t name_end = i;
+      while (name_end < n && name_end - i < detail::kMaxNameLength &&
+             !std::isspace(static_cast<unsigned char>(text[name_end])) && text[name_end] != '>' &&
+             text[name_end] != '/') {
+        ++name_end;
+      }
+      const std::string tag =
+          "<" + detail::printable(text.substr(i, name_end - i), detail::kMaxNameLength) + ">: ";
+      while (i < n && text[i] != '>') {
+        const char t = text[i];
+        if (t == '\n') ++line;
+        if (t == '=' && ++attributes > kMaxAttributes) {
+          return {tag_line, tag + "more than " + std::to_string(kMaxAttributes) +
+                                " attributes (an MJCF element has at most 33)"};
+        }
+        if (t == '"' || t == '\'') {
+          const size_t close = text.find(t, i + 1);
+          if (close == std::string::npos) return {0, {}};  // tinyxml2 names it
+          if (close - i - 1 > kMaxAttributeBytes) {
+            return {line, tag + "an attribute value of more than " +
+                              std::to_string(kMaxAttributeBytes) + " bytes"};
+          }
+          for (size_t k = i + 1; k < close; ++k) {
+            if (text[k] == '\n') ++line;
+            if (text[k] == '&') {
+              if (std::string problem = reference_problem(k); !problem.empty()) {
+                return {line, tag + problem};
+              }
+            }
+          }
+          i = close;
+        }
+        ++i;
+      }
+    }
+  }
+  return {0, {}};
+}
+
+// A <default> class: what it sets itself, by element kind, and the class it inherits from. A
+// value is looked up along the chain of parents (at most 100 deep, as elements nest), so no class
+// copies its parent's attributes.
+struct DefaultClass {
+  int parent = -1;
+  std::map<std::string, std::map<std::string, std::string>> own;
+};
 
 class Reader {
  public:
@@ -35,6 +197,9 @@ class Reader {
     if (const size_t nul = text.find('\0'); nul != std::string::npos) {
       throw ModelError(source_ + ": a NUL byte at offset " + std::to_string(nul) +
                        " (a model file is text)");
+    }
+    if (const auto [line, problem] = xml_shape_problem(text); line > 0) {
+      throw ModelError(source_ + ":" + std::to_string(line) + ": " + problem);
     }
     tinyxml2::XMLDocument doc;
     if (doc.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) {
@@ -50,6 +215,9 @@ class Reader {
     if (std::string(root->Name()) != "mujoco") {
       throw ModelError(source_ + ":" + std::to_string(root->GetLineNum()) + ": <" +
                        one_line(root->Name()) + ">: the root element must be <mujoco>");
+    }
+    if (const XMLElement* second = root->NextSiblingElement()) {
+      fail(second, "a second root element (a file holds one <mujoco>)");
     }
     check_attributes(root, {"model"});
     root_line_ = root->GetLineNum();
@@ -70,7 +238,7 @@ class Reader {
       } else if (tag == "size") {
         read_size(e);
       } else if (tag == "default") {
-        read_default(e, "main", {});
+        read_default(e, "main", -1);
       } else if (tag == "worldbody") {
         if (world) fail(e, "a second <worldbody>");
         world = e;
@@ -142,12 +310,26 @@ class Reader {
     return detail::normalized(v);
   }
 
-  void check_attributes(const XMLElement* e, std::initializer_list<const char*> known) const {
+  void check_attributes(const XMLElement* e, Names known) const {
     for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next()) {
-      bool ok = false;
-      for (const char* k : known) ok = ok || std::string(a->Name()) == k;
-      if (!ok) fail(e, "attribute \"" + one_line(a->Name()) + "\" is not supported");
+      if (!among(a->Name(), known)) {
+        fail(e, "attribute \"" + one_line(a->Name()) + "\" is not supported");
+      }
     }
+  }
+
+  // a site, camera or light: nothing that moves the body, but what it says is MJCF
+  void check_ornament(const XMLElement* e) const {
+    check_attributes(e, *default_kind(e->Name()));
+    if (e->FirstChildElement()) fail(e->FirstChildElement(), "is not supported here");
+  }
+
+  // a boolean attribute: "true" or "false" (MJCF's spelling), else refused
+  std::optional<bool> boolean(const XMLElement* e, const char* key) const {
+    const auto v = attribute(e, key);
+    if (!v) return std::nullopt;
+    if (*v != "true" && *v != "false") fail(e, std::string(key) + " must be true or false");
+    return *v == "true";
   }
 
   static std::optional<std::string> attribute(const XMLElement* e, const char* key) {
@@ -159,12 +341,14 @@ class Reader {
   std::optional<std::string> value(const XMLElement* e, const char* key,
                                    const std::string& class_name) const {
     if (auto v = attribute(e, key)) return v;
-    const auto c = defaults_.find(class_name);
-    if (c == defaults_.end()) return std::nullopt;
-    const auto kind = c->second.find(e->Name());
-    if (kind == c->second.end()) return std::nullopt;
-    const auto v = kind->second.find(key);
-    return v == kind->second.end() ? std::nullopt : std::optional<std::string>(v->second);
+    const auto c = class_index_.find(class_name);
+    for (int k = c == class_index_.end() ? -1 : c->second; k >= 0; k = classes_[k].parent) {
+      const auto kind = classes_[k].own.find(e->Name());
+      if (kind == classes_[k].own.end()) continue;
+      const auto v = kind->second.find(key);
+      if (v != kind->second.end()) return v->second;
+    }
+    return std::nullopt;
   }
 
   // exactly one number (an empty attribute, or two numbers, is refused)
@@ -261,6 +445,8 @@ class Reader {
   void read_compiler(const XMLElement* e) {
     check_attributes(e, {"angle", "coordinate", "inertiafromgeom", "eulerseq", "autolimits",
                          "meshdir", "texturedir", "assetdir", "strippath", "discardvisual"});
+    boolean(e, "strippath");
+    boolean(e, "discardvisual");
     if (auto a = attribute(e, "angle")) {
       if (*a != "degree" && *a != "radian") fail(e, "angle must be degree or radian");
       degrees_ = *a == "degree";
@@ -280,7 +466,8 @@ class Reader {
       }
       euler_sequence_ = *s;
     }
-    if (auto a = attribute(e, "autolimits")) auto_limits_ = *a == "true";
+    if (auto a = boolean(e, "autolimits")) auto_limits_ = *a;
+    if (e->FirstChildElement()) fail(e->FirstChildElement(), "is not supported in <compiler>");
   }
 
   void read_option(const XMLElement* e) {
@@ -306,6 +493,8 @@ class Reader {
   }
 
   void read_size(const XMLElement* e) {
+    check_attributes(e, kSizeAttributes);
+    if (e->FirstChildElement()) fail(e->FirstChildElement(), "is not supported in <size>");
     auto count = [&](const char* key) {
       const std::vector<double> v = numbers(e, key, *attribute(e, key));
       if (v.size() != 1 || v[0] < -1 || v[0] > 1000 || v[0] != std::floor(v[0])) {
@@ -317,29 +506,42 @@ class Reader {
     if (attribute(e, "nuser_jnt")) user_joint_ = count("nuser_jnt");
   }
 
-  void read_default(const XMLElement* e, const std::string& name, const ClassDefaults& parent) {
+  void read_default(const XMLElement* e, const std::string& name, int parent) {
     check_attributes(e, {"class"});
-    ClassDefaults mine = parent;
+    const int index = static_cast<int>(classes_.size());
+    if (!class_index_.emplace(name, index).second) {
+      fail(e, "a second default class \"" + one_line(name) + "\"");
+    }
+    classes_.push_back({parent, {}});
     for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
       const std::string tag = c->Name();
       if (tag == "default") continue;
+      const Names* known = default_kind(tag);
+      if (!known)
+        fail(c, "is not supported in <default> (geom, joint, site, camera, light, material)");
+      if (c->FirstChildElement()) fail(c->FirstChildElement(), "is not supported here");
+      auto [kind, fresh] = classes_[index].own.try_emplace(tag);
+      if (!fresh) fail(c, "a second <" + tag + "> in default class \"" + one_line(name) + "\"");
       for (const tinyxml2::XMLAttribute* a = c->FirstAttribute(); a; a = a->Next()) {
-        mine[tag][a->Name()] = a->Value();
+        if (!among(a->Name(), *known) || std::strcmp(a->Name(), "name") == 0 ||
+            std::strcmp(a->Name(), "class") == 0) {
+          fail(c, "attribute \"" + one_line(a->Name()) + "\" is not supported in a default");
+        }
+        kind->second[a->Name()] = a->Value();
       }
     }
-    if (!defaults_.emplace(name, mine).second) fail(e, "a second default class \"" + name + "\"");
     for (const XMLElement* c = e->FirstChildElement("default"); c;
          c = c->NextSiblingElement("default")) {
       const auto child = attribute(c, "class");
       if (!child) fail(c, "a nested default needs a class");
-      read_default(c, *child, mine);
+      read_default(c, *child, index);
     }
   }
 
   std::string class_of(const XMLElement* e, const std::string& inherited) const {
     const auto c = attribute(e, "class");
     if (!c) return inherited;
-    if (!defaults_.count(*c)) fail(e, "unknown class \"" + one_line(*c) + "\"");
+    if (!class_index_.count(*c)) fail(e, "unknown class \"" + one_line(*c) + "\"");
     return *c;
   }
 
@@ -353,10 +555,13 @@ class Reader {
         root = e;
       } else if (tag == "geom") {
         // a floor: the scenarios decide whether there is ground
+        check_attributes(e, kGeomAttributes);
         if (value(e, "type", class_of(e, "main")).value_or("sphere") != "plane") {
           fail(e, "a geom on the world is not supported (only a floor plane, which is ignored)");
         }
-      } else if (tag != "light" && tag != "camera" && tag != "site") {
+      } else if (tag == "light" || tag == "camera" || tag == "site") {
+        check_ornament(e);
+      } else {
         fail(e, "is not supported in <worldbody>");
       }
     }
@@ -371,11 +576,10 @@ class Reader {
     const auto name = attribute(e, "name");
     if (!name || name->empty()) fail(e, "a body needs a name (it names the segment)");
     if (std::string problem = detail::name_problem(*name); !problem.empty()) fail(e, problem);
-    if (attribute(e, "mocap").value_or("false") == "true")
-      fail(e, "mocap bodies are not supported");
+    if (boolean(e, "mocap").value_or(false)) fail(e, "mocap bodies are not supported");
     std::string child_class = inherited_class;
     if (auto c = attribute(e, "childclass")) {
-      if (!defaults_.count(*c)) fail(e, "unknown childclass \"" + one_line(*c) + "\"");
+      if (!class_index_.count(*c)) fail(e, "unknown childclass \"" + one_line(*c) + "\"");
       child_class = *c;
     }
     // the body frame in world
@@ -395,7 +599,9 @@ class Reader {
       } else if (tag == "inertial") {
         if (inertial) fail(c, "a second <inertial>");
         inertial = c;
-      } else if (tag != "site" && tag != "camera" && tag != "light") {
+      } else if (tag == "site" || tag == "camera" || tag == "light") {
+        check_ornament(c);
+      } else {
         fail(c, "is not supported in a body");
       }
     }
@@ -440,11 +646,7 @@ class Reader {
   Segment read_segment(const XMLElement* body, const XMLElement* geom, const XMLElement* inertial,
                        const Vector3d& x, const Quaterniond& q, const std::string& class_name) {
     const std::string cls = class_of(geom, class_name);
-    check_attributes(
-        geom, {"name",      "class",  "type",    "size",        "fromto",   "pos",      "quat",
-               "axisangle", "euler",  "xyaxes",  "zaxis",       "mass",     "density",  "rgba",
-               "material",  "group",  "contype", "conaffinity", "condim",   "friction", "solref",
-               "solimp",    "solmix", "margin",  "gap",         "priority", "user"});
+    check_attributes(geom, kGeomAttributes);
     Segment s;
     const std::string type = value(geom, "type", cls).value_or("sphere");
     const auto size_text = value(geom, "size", cls);
@@ -624,9 +826,7 @@ class Reader {
     joint_lines_.push_back(e->GetLineNum());
     if (std::string(e->Name()) == "freejoint") fail(e, "a free joint below the root");
     const std::string cls = class_of(e, class_name);
-    check_attributes(e, {"name", "class", "type", "pos", "axis", "range", "limited", "ref",
-                         "stiffness", "springref", "damping", "armature", "frictionloss", "group",
-                         "user", "solreflimit", "solimplimit", "margin"});
+    check_attributes(e, kJointAttributes);
     j.name = attribute(e, "name").value_or(segments_[child].name);
     if (std::string problem = detail::name_problem(j.name); !problem.empty()) fail(e, problem);
     for (const char* physics : {"stiffness", "damping", "armature", "frictionloss", "ref"}) {
@@ -715,7 +915,8 @@ class Reader {
   bool auto_limits_ = false;  // MuJoCo 2.2's default
   Vector3d gravity_{0.0, 0.0, -9.81};
   int user_body_ = 0, user_joint_ = 0;
-  std::map<std::string, ClassDefaults> defaults_;
+  std::vector<DefaultClass> classes_;
+  std::map<std::string, int> class_index_;
   std::vector<Segment> segments_;
   std::vector<detail::RawJoint> joints_;
   std::vector<int> segment_lines_, joint_lines_;

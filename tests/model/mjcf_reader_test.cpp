@@ -211,5 +211,73 @@ TEST(MjcfReader, LoadModelReadsXmlFiles) {
   EXPECT_GE(m.segment_count(), 13);
 }
 
+// the message of parse_mjcf's refusal, or "loaded"
+std::string refusal(const std::string& xml) {
+  try {
+    parse_mjcf(xml, "t.xml");
+  } catch (const ModelError& e) {
+    return e.what();
+  }
+  return "loaded";
+}
+
+std::string one_body(const std::string& defaults, const std::string& geom) {
+  return "<mujoco model=\"m\">" + defaults + "<worldbody><body name=\"b\"><freejoint/><geom " +
+         geom + "/></body></worldbody></mujoco>";
+}
+
+// tinyxml2 compares each attribute with all the earlier ones of its element: 200,000 of them on
+// one body would take minutes. A linear pass refuses them first, by count.
+TEST(MjcfReader, AttributesAreCountedBeforeTheQuadraticParser) {
+  std::string attributes;
+  for (int k = 0; k < 200000; ++k) attributes += " a" + std::to_string(k) + "=\"1\"";
+  EXPECT_EQ(refusal(one_body("", "size=\"0.1\"" + attributes)),
+            "t.xml:1: <geom>: more than 64 attributes (an MJCF element has at most 33)");
+  // a comment or CDATA holding '=' and '<' counts for nothing; a quoted '>' does not end a tag
+  EXPECT_EQ(refusal(one_body("<!-- <a b=1 c=2> -->", "size=\"0.1\" rgba=\"1 1 1 1\"")), "loaded");
+}
+
+// A default class is looked up along its parents, never copied: a class 95 deep reads what its
+// ancestors set, the nearest one winning, and 8,000 classes with all a geom's attributes cost
+// what they hold
+TEST(MjcfReader, DefaultClassesInheritByReference) {
+  std::string open, close;
+  for (int k = 0; k < 95; ++k) {
+    open += "<default class=\"c" + std::to_string(k) + "\">";
+    if (k == 0) open += "<geom size=\"0.2\" density=\"500\"/>";
+    if (k == 50) open += "<geom density=\"2000\"/>";
+    close += "</default>";
+  }
+  const Model deep =
+      parse_mjcf(one_body("<default>" + open + close + "</default>", "class=\"c94\""), "deep.xml");
+  const double volume = 4.0 / 3.0 * kPi * 0.2 * 0.2 * 0.2;
+  EXPECT_NEAR(deep.segments[0].mass, 2000 * volume, 1e-12);  // c50's density, c0's size
+  std::string wide = "<default>";
+  for (int k = 0; k < 8000; ++k) {
+    wide += "<default class=\"w" + std::to_string(k) +
+            "\"><geom type=\"sphere\" size=\"0.1\" mass=\"1\" rgba=\"1 1 1 1\" "
+            "friction=\"1 0.1 0.1\" contype=\"1\" conaffinity=\"1\" condim=\"3\" "
+            "group=\"1\" priority=\"0\" margin=\"0\" gap=\"0\" solmix=\"1\"/></default>";
+  }
+  wide += "</default>";
+  EXPECT_EQ(parse_mjcf(one_body(wide, "class=\"w7999\""), "wide.xml").segments[0].mass, 1.0);
+}
+
+// what the subset reads is all it takes: no unknown attribute or element anywhere it reads, no
+// second root, no character reference to a control character, booleans spelled true or false
+TEST(MjcfReader, TheSubsetIsStrict) {
+  EXPECT_EQ(refusal(one_body("", "size=\"0.1\" name=\"a&#0;b\"")),
+            "t.xml:1: <geom>: a character reference to a control character (&#0;)");
+  EXPECT_EQ(parse_mjcf(one_body("", "size=\"0.1\" name=\"a&#66;c\""), "ok.xml").name, "m");
+  EXPECT_EQ(refusal(one_body("", "size=\"0.1\"") + "<mujoco/>"),
+            "t.xml:1: <mujoco>: a second root element (a file holds one <mujoco>)");
+  EXPECT_EQ(refusal(one_body("<default><geom group=\"1\" gruop=\"2\"/></default>", "size=\"0.1\"")),
+            "t.xml:1: <geom>: attribute \"gruop\" is not supported in a default");
+  EXPECT_EQ(refusal(one_body("<size nuser_body=\"1\" nuser_bdy=\"1\"/>", "size=\"0.1\"")),
+            "t.xml:1: <size>: attribute \"nuser_bdy\" is not supported");
+  EXPECT_EQ(refusal(one_body("<compiler autolimits=\"1\"/>", "size=\"0.1\"")),
+            "t.xml:1: <compiler>: autolimits must be true or false");
+}
+
 }  // namespace
 }  // namespace puppet
