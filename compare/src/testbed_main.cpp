@@ -157,6 +157,9 @@ int command_export_mjcf(const std::string& path, const std::string& out) {
     }
   }
   const Model model = load_named_model(path);
+  if (std::string problem = mjcf_depth_problem(model); !problem.empty()) {
+    throw UsageError("MODEL: " + shown(path) + ": " + problem);
+  }
   MjcfOptions options;
   options.environment.gravity = model.gravity;
   const std::string xml = write_mjcf(model, options);
@@ -202,6 +205,11 @@ int command_validate(const std::string& path) {
                 model.segments[j.parent].name.c_str(), model.segments[j.child].name.c_str(),
                 limits);
   }
+  // what each engine makes of it: the verdict every command applies before it runs
+  const std::string mujoco = reference::mujoco_model_problem(model);
+  std::printf("engines: procedural, bullet-multibody, bullet-rigid%s\n",
+              mujoco.empty() ? ", mujoco" : "");
+  if (!mujoco.empty()) std::printf("  not mujoco: %s\n", one_line(mujoco, 300).c_str());
   return 0;
 }
 
@@ -402,14 +410,22 @@ void check_run_size(const SweepSpec& spec, const Model& model) {
   }
 }
 
-// every chosen solver can build the model (MuJoCo nests its bodies at most 96 deep)
-void check_solvers_build(const std::vector<SolverConfig>& configs, const Model& model) {
-  for (const SolverConfig& config : configs) {
-    if (config.solver != "mujoco") continue;
-    if (std::string problem = reference::mujoco_model_problem(model); !problem.empty()) {
-      throw UsageError("--solver: mujoco cannot run " + shown(model.name) + ": " + problem);
-    }
+// One verdict per model, before anything runs: an engine that cannot build the model (MuJoCo's
+// depth, arena and compiler, reference::mujoco_model_problem) is refused when --solver names it,
+// and dropped with a note when --solver is all
+void apply_engine_verdicts(std::vector<SolverConfig>& configs, const Model& model,
+                           const RunFlags& f) {
+  const bool wanted = std::any_of(configs.begin(), configs.end(),
+                                  [](const SolverConfig& c) { return c.solver == "mujoco"; });
+  if (!wanted) return;
+  const std::string problem = reference::mujoco_model_problem(model);
+  if (problem.empty()) return;
+  if (f.solver != "all") {
+    throw UsageError("--solver: mujoco cannot run " + shown(f.model) + ": " + problem);
   }
+  std::erase_if(configs, [](const SolverConfig& c) { return c.solver == "mujoco"; });
+  print_error("testbed: ",
+              "note: mujoco left out, it cannot run " + shown(f.model) + ": " + problem);
 }
 
 // the dt of the sweep shown in the table: the one nearest 1/240 s
@@ -480,7 +496,7 @@ int command_run(const RunFlags& f) {
     spec.scenarios.push_back(make_scenario(name, model, options));
   }
   check_run_size(spec, model);
-  check_solvers_build(spec.configs, model);
+  apply_engine_verdicts(spec.configs, model, f);
   if (spec.accuracy && !have_second_truth(model)) {
     std::fprintf(stderr, "testbed: no second truth (MuJoCo) for this model: %s\n",
                  reference::have_mujoco() ? reference::mujoco_model_problem(model).c_str()
@@ -521,7 +537,7 @@ int command_frontier(const RunFlags& f) {
   spec.jobs = f.jobs;
   const Model model = parse_model(f);
   spec.model = &model;
-  check_solvers_build(spec.configs, model);
+  apply_engine_verdicts(spec.configs, model, f);
   make_scenario("yank", model, spec.scenario);  // a bad --grab fails here, before any run
   OutputFolder folder("--out", f.out, {"frontier.csv"});
   spec.on_progress = Progress("frontier");
@@ -642,7 +658,7 @@ int command_robustness(const RunFlags& f) {
   const Model model = parse_model(f);
   spec.model = &model;
   spec.model_name = f.model;
-  check_solvers_build(spec.configs, model);
+  apply_engine_verdicts(spec.configs, model, f);
   // a row is about 300 bytes held and 250 written: a shard holds at most 2 million
   const int64_t jobs = robustness_job_count(spec);
   const int64_t per_shard = (jobs + spec.shards - 1) / spec.shards;

@@ -273,6 +273,18 @@ class Writer {
 
 }  // namespace
 
+std::string mjcf_depth_problem(const Model& model) {
+  std::vector<int> depth(model.segment_count(), 1);
+  int deepest = 0;
+  for (int i = 0; i < model.segment_count(); ++i) {
+    if (model.segments[i].parent >= 0) depth[i] = depth[model.segments[i].parent] + 1;
+    deepest = std::max(deepest, depth[i]);
+  }
+  if (deepest <= kMjcfMaxDepth) return {};
+  return "the model's tree is " + std::to_string(deepest) + " segments deep; MJCF (read with " +
+         "tinyxml2, by MuJoCo and by this project) nests at most " + std::to_string(kMjcfMaxDepth);
+}
+
 double mjcf_ball_range(const Joint& joint) {
   const double largest = std::max({joint.swing_x, joint.swing_y, joint.twist});
   return largest < kPi ? largest : -1.0;

@@ -54,7 +54,52 @@ mjModel* compile(const std::string& xml) {
 }
 
 Vector3d vec3(const mjtNum* p) { return {p[0], p[1], p[2]}; }
+
+// the bytes of the solver stack MuJoCo 2.2.2's compiler sizes for the document write_mjcf gives
+// (user_model.cc: nstack = 5 (njmax + neq + nv)², njmax as mjcf_writer.cpp writes it with two
+// driven pins)
+double arena_bytes(const Model& model) {
+  double nv = 6.0;
+  for (const Joint& joint : model.joints) {
+    nv += joint.type == JointType::kBall ? 3.0 : joint.type == JointType::kHinge ? 1.0 : 0.0;
+  }
+  const double pins = 2.0;
+  const double njmax = 24.0 * model.segment_count() + 3.0 * pins + 32.0;
+  const double rows = njmax + pins + nv;
+  return 5.0 * rows * rows * sizeof(mjtNum);
+}
 Quaterniond quat4(const mjtNum* p) { return Quaterniond(p[0], p[1], p[2], p[3]); }
+
+}  // namespace
+
+std::string mujoco_model_problem(const Model& model) {
+  if (std::string problem = mjcf_depth_problem(model); !problem.empty()) return problem;
+  if (const double bytes = arena_bytes(model); bytes > kMujocoMaxArenaBytes) {
+    return "its solver stack would take " + std::to_string(std::lround(bytes / (1 << 20))) +
+           " MiB (at most " + std::to_string(std::lround(kMujocoMaxArenaBytes / (1 << 20))) +
+           "): " + std::to_string(model.segment_count()) + " segments are too many for MuJoCo";
+  }
+  // the compiler's own verdict, on the document a solver would build (names the model's own)
+  MjcfOptions options;
+  options.environment.gravity = model.gravity;
+  options.stiff_constraints = true;
+  options.user_data = false;
+  try {
+    mjModel* m = compile(write_mjcf(model, options));
+    mjData* d = mj_makeData(m);
+    const bool made = d != nullptr;
+    if (d) mj_deleteData(d);
+    mj_deleteModel(m);
+    if (!made) return "MuJoCo could not make its data";
+  } catch (const ModelError& e) {
+    std::string what = e.what();
+    const std::string prefix = "mujoco: ";
+    return what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what;
+  }
+  return {};
+}
+
+namespace {
 
 bool same_point(const Pin& a, const Pin& b) {
   return a.segment == b.segment && a.local_point == b.local_point;

@@ -102,10 +102,52 @@ TEST(TestbedCli, ExportMjcf) {
              "/no/such/model.json: cannot open");
   EXPECT_FALSE(fs::exists(folder / "x.xml"));
   expect_bad("export-mjcf pinocchio -o /no/such/folder/x.xml", "/no/such/folder/x.xml");
+  // what export-mjcf writes, validate takes, up to MJCF's depth; past it export refuses
+  for (const char* chain : {"chain:1", "chain:2", "chain:96"}) {
+    const fs::path xml = folder / "chain.xml";
+    ASSERT_EQ(testbed(std::string("export-mjcf ") + chain + " -o " + xml.string()).status, 0);
+    const Outcome back = testbed("validate " + xml.string());
+    EXPECT_EQ(back.status, 0) << chain << "\n" << back.output;
+    EXPECT_NE(back.output.find(std::string("model \"") + chain + "\""), std::string::npos);
+  }
+  expect_bad("export-mjcf chain:97 -o " + (folder / "deep.xml").string(), "97 segments deep");
+  EXPECT_FALSE(fs::exists(folder / "deep.xml"));
   expect_bad("run --solver mujoco --mujoco-integrator rk5", "--mujoco-integrator");
 }
 
 std::string slurp(const fs::path& path);
+void write_text(const fs::path& path, const std::string& text);
+
+// One verdict per model, before any run: a model MuJoCo's compiler refuses (a hinge whose range
+// is [0, 0], which the model allows) is named by validate, refused when --solver names mujoco, and
+// leaves mujoco out with one note when --solver is all, the other runs going ahead
+TEST(TestbedCli, AModelAnEngineRefusesIsJudgedBeforeAnyRun) {
+  const fs::path folder = fresh_folder("verdict");
+  fs::create_directories(folder);
+  std::string json = slurp(std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json");
+  json.replace(json.find("\"range_deg\": [-5, 145]"), 23, "\"range_deg\": [0, 0]");
+  const fs::path model = folder / "stiff_elbow.json";
+  write_text(model, json);
+  const Outcome validate = testbed("validate " + model.string());
+  EXPECT_EQ(validate.status, 0) << validate.output;
+  EXPECT_NE(validate.output.find("engines: procedural, bullet-multibody, bullet-rigid\n"),
+            std::string::npos)
+      << validate.output;
+  EXPECT_NE(validate.output.find("not mujoco: the compiler rejected the model"), std::string::npos);
+  const std::string out = " --out " + (folder / "out").string();
+  const std::string run = "run --model " + model.string() +
+                          " --scenario hang --dt 1/60 --duration 0.1 --no-timing --no-accuracy";
+  expect_bad(run + " --solver mujoco" + out, "--solver: mujoco cannot run");
+  expect_bad(run + " --solver procedural,mujoco" + out, "--solver: mujoco cannot run");
+  EXPECT_FALSE(fs::exists(folder / "out"));
+  const Outcome all = testbed(run + " --rule xpbd" + out);
+  EXPECT_EQ(all.status, 0) << all.output;
+  EXPECT_EQ(all.output.rfind("testbed: note: mujoco left out, it cannot run", 0), 0u) << all.output;
+  const std::string summary = slurp(folder / "out" / "summary.csv");
+  EXPECT_NE(summary.find(",bullet-rigid,"), std::string::npos);
+  EXPECT_EQ(summary.find(",mujoco,"), std::string::npos);
+  fs::remove_all(folder);
+}
 
 // A file the testbed writes (-o, --csv) is a new one or a regular file it replaces; a device,
 // FIFO, folder or a link to one is refused before anything runs and left as it was
@@ -301,7 +343,9 @@ TEST(TestbedCli, MergeVerifiesEveryShardBeforeWriting) {
       {[](const fs::path& s) { edit_manifest(s, "code", "$(id)"); }, "code: "},
       {[](const fs::path& s) { write_text(s / "shard.txt", slurp(s / "shard.txt") + "x: 1\n"); },
        "unknown line"},
-      {[](const fs::path& s) { write_text(s / "shard.txt", slurp(s / "shard.txt") + "rows: 11\n"); },
+      {[](const fs::path& s) {
+         write_text(s / "shard.txt", slurp(s / "shard.txt") + "rows: 11\n");
+       },
        "a second rows line"},
       // the rows, under a manifest rewritten to match them
       {[](const fs::path& s) { edit_row(s, 0, 20, "inf"); }, "finite metrics"},
@@ -350,7 +394,8 @@ TEST(TestbedCli, MergeVerifiesEveryShardBeforeWriting) {
   const Outcome words = shell("sh " + (root / "replay.sh").string());
   EXPECT_EQ(words.status, 0) << line;
   EXPECT_NE(words.output.find("--model\n" + model + "\n--scenario"), std::string::npos)
-      << line << "\n" << words.output;
+      << line << "\n"
+      << words.output;
   EXPECT_FALSE(fs::exists(proof)) << line;
   fs::remove_all(root);
 }
@@ -583,7 +628,8 @@ TEST(TestbedCli, AMergeStopsAtASignalAndWritesNothing) {
       "joint_gap_max_m,pin_gap_max_m,steps\n";
   for (int64_t job = 0; job < runs; ++job) {
     const std::string n = std::to_string(job);
-    csv += n + ",hang,bullet-rigid,,0.0166666667,1," + n + ",10,,,,,,,5,0.5,ok,,,1.5,0.001,0.002,30\n";
+    csv +=
+        n + ",hang,bullet-rigid,,0.0166666667,1," + n + ",10,,,,,,,5,0.5,ok,,,1.5,0.001,0.002,30\n";
   }
   write_text(root / "s0" / "robustness.csv", csv);
   write_text(root / "s0" / "shard.txt",
@@ -603,8 +649,8 @@ TEST(TestbedCli, AMergeStopsAtASignalAndWritesNothing) {
     EXPECT_TRUE(leftovers(out).empty()) << leftovers(out).front();
   }
   // undisturbed, the same merge succeeds: the signal, not the shard, stopped it
-  const Outcome merged = testbed("merge " + (root / "s0").string() + " --out " +
-                                 (root / "merged").string());
+  const Outcome merged =
+      testbed("merge " + (root / "s0").string() + " --out " + (root / "merged").string());
   EXPECT_EQ(merged.status, 0) << merged.output;
   fs::remove_all(root);
 }

@@ -331,5 +331,57 @@ TEST(ExportMjcf, MujocosCompilerLoadsIt) {
   }
 }
 
+// One verdict per model, before anything runs: what MuJoCo's compiler (or its arena, or MJCF's
+// depth) refuses is named up front; a model it takes gets an empty verdict and then builds
+TEST(Mujoco, ModelProblemIsTheCompilersVerdictUpFront) {
+  const Model pinocchio = load_model(test::kPinocchioPath);
+  EXPECT_EQ(mujoco_model_problem(pinocchio), "");
+  EXPECT_NO_THROW(make_mujoco(pinocchio, Environment{.gravity = pinocchio.gravity}));
+
+  Model zero_range = pinocchio;  // a hinge that cannot move: the model allows it, MuJoCo not
+  for (Joint& j : zero_range.joints) {
+    if (j.type == JointType::kHinge) {
+      j.lower = j.upper = 0.0;
+      const std::string problem = mujoco_model_problem(zero_range);
+      EXPECT_NE(problem.find("range[0] should be smaller than range[1] in joint '" + j.name),
+                std::string::npos)
+          << problem;
+      EXPECT_THROW(make_mujoco(zero_range, Environment{}), ModelError);
+      break;
+    }
+  }
+  Model light = pinocchio;  // the model's floor is 1e-16 kg m², MuJoCo's 1e-15
+  light.segments.back().inertia = Vector3d(1e-16, 1e-16, 1e-16);
+  EXPECT_NE(mujoco_model_problem(light).find("mass and inertia of moving bodies"),
+            std::string::npos)
+      << mujoco_model_problem(light);
+  EXPECT_THROW(make_mujoco(light, Environment{}), ModelError);
+
+  EXPECT_NE(mujoco_model_problem(make_chain(97)).find("97 segments deep"), std::string::npos);
+  EXPECT_EQ(mujoco_model_problem(make_chain(96)), "");
+  // a wide tree of 300 segments: MuJoCo's stack would take 2.5 GiB, refused before compiling
+  std::string json = R"({"name": "wide", "segments": [{"name": "root", "mass": 10,
+      "position": [0, 0, 2], "shape": {"type": "sphere", "radius": 1}})";
+  std::string joints;
+  for (int k = 1; k < 300; ++k) {
+    const double z = 1.0 - 2.0 * (k + 0.5) / 300.0, r = std::sqrt(1.0 - z * z), a = 2.4 * k;
+    char segment[512], joint[512];
+    std::snprintf(segment, sizeof segment,
+                  R"(, {"name": "s%d", "mass": 0.01, "position": [%.9f, %.9f, %.9f],
+                     "shape": {"type": "sphere", "radius": 0.01}})",
+                  k, 1.01 * r * std::cos(a), 1.01 * r * std::sin(a), 2.0 + 1.01 * z);
+    std::snprintf(joint, sizeof joint,
+                  R"(%s{"name": "j%d", "parent": "root", "child": "s%d", "type": "fixed",
+                     "anchor": [%.9f, %.9f, %.9f]})",
+                  k == 1 ? "" : ", ", k, k, r * std::cos(a), r * std::sin(a), 2.0 + z);
+    json += segment;
+    joints += joint;
+  }
+  json += "], \"joints\": [" + joints + "]}";
+  const Model wide = parse_model(json, "wide.json");
+  EXPECT_NE(mujoco_model_problem(wide).find("solver stack would take"), std::string::npos)
+      << mujoco_model_problem(wide);
+}
+
 }  // namespace
 }  // namespace puppet::reference

@@ -43,22 +43,16 @@ struct MujocoSettings {
 // whether this build has MuJoCo
 bool have_mujoco();
 
-// MuJoCo 2.2.2 reads its XML with tinyxml2, which nests at most 100 elements: <mujoco>,
-// <worldbody>, a <body> per level of the tree and the deepest body's <geom> leave room for a
-// tree 96 segments deep (measured: chain:96 builds, chain:97 does not)
-inline constexpr int kMujocoMaxDepth = 96;
-// why MuJoCo cannot build the model (empty when it can), checked before anything runs
-inline std::string mujoco_model_problem(const Model& model) {
-  std::vector<int> depth(model.segment_count(), 1);
-  int deepest = 0;
-  for (int i = 0; i < model.segment_count(); ++i) {
-    if (model.segments[i].parent >= 0) depth[i] = depth[model.segments[i].parent] + 1;
-    deepest = std::max(deepest, depth[i]);
-  }
-  if (deepest <= kMujocoMaxDepth) return {};
-  return "the model's tree is " + std::to_string(deepest) + " segments deep; MuJoCo's XML reader " +
-         "nests at most " + std::to_string(kMujocoMaxDepth);
-}
+// MuJoCo sizes its solver's stack as 5 (njmax + neq + nv)² numbers: the model's arena, held by
+// every mujoco solver, may take at most this many bytes
+inline constexpr double kMujocoMaxArenaBytes = double(1u << 30);
+
+// Why MuJoCo cannot run the model (empty when it can), decided before anything runs: the tree
+// within MJCF's depth (mjcf_depth_problem), the arena within kMujocoMaxArenaBytes, and then the
+// verdict of MuJoCo's own compiler on the document a mujoco solver builds (a zero-width hinge
+// range, a principal moment under its 1e-15 floor, ...), which names the body or joint. A build
+// without MuJoCo says so.
+std::string mujoco_model_problem(const Model& model);
 
 // builds the model at rest in the environment; throws ModelError when MuJoCo's compiler rejects
 // the document (or the build has no MuJoCo)
