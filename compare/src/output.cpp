@@ -19,6 +19,15 @@
 
 namespace puppet::compare {
 
+std::vector<std::string> split_commas(const std::string& line) {
+  std::vector<std::string> out;
+  std::string field;
+  std::istringstream in(line);
+  while (std::getline(in, field, ',')) out.push_back(field);
+  if (!line.empty() && line.back() == ',') out.emplace_back();
+  return out;
+}
+
 std::string csv_number(double value) {
   if (std::isnan(value)) return "";
   char buffer[32];

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -38,15 +38,6 @@ std::string dt_flag(double dt) {
   const double n = std::round(1.0 / dt);
   if (n >= 1 && std::abs(1.0 / n - dt) <= 1e-8 * dt) return "1/" + std::to_string(int64_t(n));
   return format_dt(dt);
-}
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> out;
-  std::string field;
-  std::istringstream in(line);
-  while (std::getline(in, field, ',')) out.push_back(field);
-  if (!line.empty() && line.back() == ',') out.emplace_back();
-  return out;
 }
 
 // a number as csv_number writes it: empty for NaN, "inf" and "-inf", else a finite decimal (no
@@ -183,7 +174,7 @@ std::vector<RobustnessRow> parse_robustness_csv(const std::string& text,
   while (std::getline(in, line)) {
     ++line_number;
     const std::string where = source + ":" + std::to_string(line_number);
-    const std::vector<std::string> f = split(line);
+    const std::vector<std::string> f = split_commas(line);
     if (f.size() != 23) {
       throw std::runtime_error(where + ": expected 23 fields, got " + std::to_string(f.size()));
     }

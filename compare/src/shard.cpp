@@ -19,8 +19,8 @@ namespace puppet::compare {
 namespace {
 
 constexpr const char* kHeader = "puppet robustness shard";
-constexpr const char* kKeys[] = {"model", "scenarios", "configs", "dts",  "starts", "seed", "replay",
-                                 "code",  "shard",     "jobs",    "rows", "csv"};
+constexpr const char* kKeys[] = {"model",  "scenarios", "configs", "dts",  "starts", "seed",
+                                 "replay", "code",      "shard",   "jobs", "rows",   "csv"};
 constexpr size_t kMaxManifestBytes = 1 << 16;
 constexpr size_t kMaxModelName = 1024;
 constexpr int64_t kMaxStarts = 1000000;
@@ -39,22 +39,14 @@ std::string joined(const std::vector<std::string>& items) {
   return out;
 }
 
-std::vector<std::string> split_list(const std::string& text) {
-  std::vector<std::string> out;
-  std::string item;
-  std::istringstream in(text);
-  while (std::getline(in, item, ',')) out.push_back(item);
-  if (!text.empty() && text.back() == ',') out.emplace_back();
-  return out;
-}
-
 bool known_config(const std::string& config) {
   const std::string prefix = "procedural:";
   if (config.rfind(prefix, 0) == 0) {
     return procedural::parse_rule(config.substr(prefix.size())).has_value();
   }
   const auto& solvers = solver_names();
-  return config != "procedural" && std::find(solvers.begin(), solvers.end(), config) != solvers.end();
+  return config != "procedural" &&
+         std::find(solvers.begin(), solvers.end(), config) != solvers.end();
 }
 
 // the rows a shard holds: the jobs j < jobs with j mod count = index
@@ -139,9 +131,9 @@ ShardManifest read_shard_manifest(
     return value;
   };
   auto list = [&](const char* key, size_t most, const auto& known) {
-    std::vector<std::string> items = split_list(fields[key]);
-    if (items.empty() || items.size() > most) fail(std::string(key) + ": from 1 to " +
-                                                   std::to_string(most) + " items expected");
+    std::vector<std::string> items = split_commas(fields[key]);
+    if (items.empty() || items.size() > most)
+      fail(std::string(key) + ": from 1 to " + std::to_string(most) + " items expected");
     std::set<std::string> seen;
     for (const std::string& item : items) {
       if (!known(item)) fail(std::string(key) + ": " + shown(item) + " is not known");
@@ -181,16 +173,14 @@ ShardManifest read_shard_manifest(
   if (slash == std::string::npos || !parse_whole(place.substr(0, slash), &index) ||
       !parse_whole(place.substr(slash + 1), &count) || count < 1 ||
       count > static_cast<uint64_t>(kMaxShards) || index >= count) {
-    fail("shard: " + shown(place) + " is not I/N with 0 <= I < N <= " +
-         std::to_string(kMaxShards));
+    fail("shard: " + shown(place) + " is not I/N with 0 <= I < N <= " + std::to_string(kMaxShards));
   }
   m.index = static_cast<int64_t>(index);
   m.count = static_cast<int64_t>(count);
   m.jobs = static_cast<int64_t>(whole("jobs", 1, kMaxSweepRuns));
   // the sweep's size from its parts (each part bounded above, so no product overflows)
-  const int64_t expected_jobs = static_cast<int64_t>(m.scenarios.size() * m.configs.size() *
-                                                     m.dts.size()) *
-                                m.starts;
+  const int64_t expected_jobs =
+      static_cast<int64_t>(m.scenarios.size() * m.configs.size() * m.dts.size()) * m.starts;
   if (m.jobs != expected_jobs) {
     fail("jobs: " + std::to_string(m.jobs) + ", but its scenarios, configs, dts and starts make " +
          std::to_string(expected_jobs));
@@ -260,9 +250,14 @@ std::vector<RobustnessRow> read_shard_rows(const ShardManifest& shard) {
            shown(r.scenario) + ", " + shown(config) + ", dt " + format_dt(r.dt) + ", seed " +
            std::to_string(r.seed) + ", start " + std::to_string(r.start) + ")");
     }
-    const double inputs[] = {r.tilt_deg,     r.hz,           r.phase_deg,
-                             r.grab_point.x(), r.grab_point.y(), r.grab_point.z(),
-                             r.joint_angle_rms_deg, r.joint_speed_rms};
+    const double inputs[] = {r.tilt_deg,
+                             r.hz,
+                             r.phase_deg,
+                             r.grab_point.x(),
+                             r.grab_point.y(),
+                             r.grab_point.z(),
+                             r.joint_angle_rms_deg,
+                             r.joint_speed_rms};
     for (double v : inputs) {
       if (std::isinf(v)) fail("an infinite start input");
     }
@@ -337,8 +332,8 @@ bool split_shell_words(const std::string& text, std::vector<std::string>* words)
         quoted = true;
       } else {
         const char c = text[i];
-        if (!(std::isalnum(static_cast<unsigned char>(c)) || std::string("_./:=,+-").find(c) !=
-                                                                 std::string::npos)) {
+        if (!(std::isalnum(static_cast<unsigned char>(c)) ||
+              std::string("_./:=,+-").find(c) != std::string::npos)) {
           return false;  // what a shell would read otherwise: $, `, ;, \, ", ...
         }
         word += c;

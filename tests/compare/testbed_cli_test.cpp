@@ -205,18 +205,24 @@ const std::string kSweep =
     "robustness --model chain:4 --scenario hang,yank --solver procedural,bullet-rigid "
     "--rule xpbd --dt 1/60,1/120 --starts 4 --duration 0.5 --jobs 2";
 
+// the small sweep as shards 0, 1 and 2 of 3, into FOLDER/s0, s1, s2, run in the order given
+void run_shards(const fs::path& folder,
+                std::initializer_list<const char*> order = {"0", "1", "2"}) {
+  for (const char* shard : order) {
+    std::string arguments = kSweep;
+    arguments += " --shard ";
+    arguments += shard;
+    arguments += "/3 --out " + (folder / shard_name(shard)).string();
+    const Outcome o = testbed(arguments);
+    ASSERT_EQ(o.status, 0) << o.output;
+  }
+}
+
 TEST(TestbedCli, RobustnessShardsMergeIntoTheUnshardedBytes) {
   const fs::path root = fresh_folder("shards");
   ASSERT_EQ(testbed(kSweep + " --out " + (root / "all").string()).status, 0);
   // shards run out of order, merged in another
-  for (const char* shard : {"2", "0", "1"}) {
-    std::string arguments = kSweep;
-    arguments += " --shard ";
-    arguments += shard;
-    arguments += "/3 --out " + (root / shard_name(shard)).string();
-    const Outcome o = testbed(arguments);
-    ASSERT_EQ(o.status, 0) << o.output;
-  }
+  ASSERT_NO_FATAL_FAILURE(run_shards(root, {"2", "0", "1"}));
   const std::string shards =
       " " + (root / "s1").string() + " " + (root / "s2").string() + " " + (root / "s0").string();
   const Outcome merged = testbed("merge" + shards + " --out " + (root / "merged").string());
@@ -236,13 +242,7 @@ TEST(TestbedCli, RobustnessShardsMergeIntoTheUnshardedBytes) {
 
 TEST(TestbedCli, MergeNamesAMissingForeignOrDamagedShard) {
   const fs::path root = fresh_folder("merge_bad");
-  for (const char* shard : {"0", "1", "2"}) {
-    std::string arguments = kSweep;
-    arguments += " --shard ";
-    arguments += shard;
-    arguments += "/3 --out " + (root / shard_name(shard)).string();
-    ASSERT_EQ(testbed(arguments).status, 0);
-  }
+  ASSERT_NO_FATAL_FAILURE(run_shards(root));
   const std::string s0 = (root / "s0").string(), s1 = (root / "s1").string(),
                     s2 = (root / "s2").string(), out = " --out " + (root / "m").string();
   expect_bad("merge " + s0 + " " + s2 + out, "1 of 3 shards missing: 1");
@@ -301,13 +301,7 @@ void edit_row(const fs::path& shard, int row, int field, const std::string& valu
 // manifest says; and what reaches a replay command line is inert in a shell
 TEST(TestbedCli, MergeVerifiesEveryShardBeforeWriting) {
   const fs::path root = fresh_folder("merge_hostile");
-  for (const char* shard : {"0", "1", "2"}) {
-    std::string arguments = kSweep;
-    arguments += " --shard ";
-    arguments += shard;
-    arguments += "/3 --out " + (root / "good" / shard_name(shard)).string();
-    ASSERT_EQ(testbed(arguments).status, 0);
-  }
+  ASSERT_NO_FATAL_FAILURE(run_shards(root / "good"));
   const fs::path out = root / "merged";
   int trial = 0;
   // a fresh copy of the good shards, `edit` applied to shard 1, merged: refused, naming `names`

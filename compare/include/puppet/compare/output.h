@@ -25,6 +25,9 @@ std::string csv_number(double value);
 // text as one CSV field (RFC 4180): as it is, or in double quotes with quotes doubled when it
 // holds a comma, a quote or a line break
 std::string csv_field(const std::string& text);
+// a line's comma-separated fields as csv_number and unquoted csv_field write them ("a,,b," is
+// four fields)
+std::vector<std::string> split_commas(const std::string& line);
 // dt as a decimal with 9 significant digits
 std::string format_dt(double dt);
 // <model>__<scenario>__<solver>__<rule>__<dt>, safe as a file name ("-" for an empty rule)

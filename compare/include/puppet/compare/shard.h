@@ -36,7 +36,7 @@ std::string shard_manifest(const RobustnessSpec& spec, int64_t rows, const std::
 // a shard as its manifest describes it, every field checked
 struct ShardManifest {
   std::string folder;
-  std::string model;                 // as given to robustness (a name or a path)
+  std::string model;  // as given to robustness (a name or a path)
   std::vector<std::string> scenarios;
   std::vector<std::string> configs;  // "solver" or "procedural:rule"
   std::vector<std::string> dts;      // format_dt of each
