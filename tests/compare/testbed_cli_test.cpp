@@ -649,6 +649,21 @@ TEST(TestbedCli, AMergeStopsAtASignalAndWritesNothing) {
   fs::remove_all(root);
 }
 
+// while a model loads (chain:100000 takes seconds to build and check) nothing has been written:
+// a signal ends the command at once with 128 + the signal
+TEST(TestbedCli, ACommandLoadingAModelStopsAtASignal) {
+  for (const int signal : {SIGINT, SIGTERM}) {
+    const Child child = start({"validate", "chain:100000"});
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    const auto sent = std::chrono::steady_clock::now();
+    ::kill(child.pid, signal);
+    int status = 0;
+    ASSERT_TRUE(child.wait(1.0, &status)) << "still loading a second after signal " << signal;
+    EXPECT_EQ(status, 128 + signal);
+    EXPECT_LT(std::chrono::steady_clock::now() - sent, std::chrono::seconds(1));
+  }
+}
+
 // killed outright, a run leaves the old results and its staging folder beside them, which the
 // next command on the folder removes
 TEST(TestbedCli, ACrashLeavesTheOldResultsAndTheNextRunTidies) {
