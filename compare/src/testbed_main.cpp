@@ -655,6 +655,15 @@ int command_robustness(const RunFlags& f) {
     spec.shards = static_cast<int>(n);
   }
   spec.jobs = f.jobs;
+  // what a shard's manifest carries, merge reads back: its model's name too
+  const bool printable_name =
+      f.model.size() <= 1024 &&
+      std::all_of(f.model.begin(), f.model.end(), [](char c) { return c >= 0x20 && c < 0x7f; });
+  if (spec.shards > 1 && !printable_name) {
+    throw UsageError("--model: " + shown(f.model) +
+                     ": a sharded sweep names its model in shard.txt, in at most 1024 printable "
+                     "ASCII characters");
+  }
   const Model model = parse_model(f);
   spec.model = &model;
   spec.model_name = f.model;

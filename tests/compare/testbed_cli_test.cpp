@@ -434,6 +434,8 @@ TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
   expect_bad("robustness --seed -1" + o, "--seed");
   expect_bad("robustness --seed 0x10" + o, "--seed");
   expect_bad("robustness --scenario swim" + o, "--scenario");
+  expect_bad("robustness --shard 0/2 --model \"$(printf '/tmp/caf\\303\\251.json')\"" + o,
+             "printable ASCII");
   expect_bad("run --start 1" + o, "--start");
   expect_bad("run --start x:2" + o, "--start");
   expect_bad("run --start 1:-2" + o, "--start");
