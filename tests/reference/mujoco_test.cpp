@@ -10,11 +10,13 @@
 #include <cstdio>
 #include <cstring>
 #include <numbers>
+#include <random>
 
 #include "puppet/compare/metrics.h"
 #include "puppet/compare/run.h"
 #include "puppet/compare/scenario.h"
 #include "puppet/compare/simulator.h"
+#include "puppet/model/euler_box.h"
 #include "puppet/model/mjcf.h"
 #include "puppet/model/rotation.h"
 #include "support/pendulum.h"
@@ -381,6 +383,48 @@ TEST(Mujoco, ModelProblemIsTheCompilersVerdictUpFront) {
   const Model wide = parse_model(json, "wide.json");
   EXPECT_NE(mujoco_model_problem(wide).find("solver stack would take"), std::string::npos)
       << mujoco_model_problem(wide);
+}
+
+// MuJoCo's three hinges at one point of one body compose in the order written: the body turns by
+// euler_rotation of its joint angles, and euler_angles reads them back (the box limit's engine
+// reading, docs/design.md)
+TEST(Mujoco, ThreeHingesInOneBodyAreAnEulerBox) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> outer(-3.0, 3.0), middle(-1.4, 1.4);
+  for (const char* name : {"xyz", "xzy", "yxz", "yzx", "zxy", "zyx"}) {
+    EulerOrder order;
+    ASSERT_TRUE(parse_euler_order(name, &order));
+    std::string joints;
+    for (int axis : order.axes) {
+      const Vector3d a = Vector3d::Unit(axis);
+      char joint[160];
+      std::snprintf(joint, sizeof joint, "<joint type=\"hinge\" axis=\"%g %g %g\"/>", a.x(), a.y(),
+                    a.z());
+      joints += joint;
+    }
+    const std::string xml = "<mujoco><worldbody><body pos=\"0 0 1\">" + joints +
+                            "<geom type=\"box\" size=\"0.1 0.2 0.3\"/></body></worldbody></mujoco>";
+    mjVFS vfs;
+    mj_defaultVFS(&vfs);
+    ASSERT_EQ(mj_makeEmptyFileVFS(&vfs, "box.xml", static_cast<int>(xml.size())), 0);
+    std::memcpy(vfs.filedata[mj_findFileVFS(&vfs, "box.xml")], xml.data(), xml.size());
+    char error[1000] = "";
+    mjModel* m = mj_loadXML("box.xml", &vfs, error, sizeof error);
+    mj_deleteVFS(&vfs);
+    ASSERT_NE(m, nullptr) << error;
+    mjData* d = mj_makeData(m);
+    for (int k = 0; k < 200; ++k) {
+      const double a = outer(rng), b = middle(rng), c = outer(rng);
+      const Vector3d angles(a, b, c);
+      for (int j = 0; j < 3; ++j) d->qpos[j] = angles[j];
+      mj_kinematics(m, d);
+      const Quaterniond body(d->xquat[4], d->xquat[5], d->xquat[6], d->xquat[7]);
+      EXPECT_LT(body.angularDistance(euler_rotation(order, angles)), 1e-12) << name;
+      EXPECT_LT((euler_angles(order, body) - angles).cwiseAbs().maxCoeff(), 1e-9) << name;
+    }
+    mj_deleteData(d);
+    mj_deleteModel(m);
+  }
 }
 
 }  // namespace

@@ -1,0 +1,40 @@
+/// \file
+/// A box of intrinsic Euler angles: a ball joint's rotation written as three turns about distinct
+/// axes of its frame, q = R(a₀, θ₀) R(a₁, θ₁) R(a₂, θ₂), each angle within a range of its own.
+/// It is the seed's eq. 4 reading of a joint limit (each constrained rotation direction with its
+/// own [θmin, θmax]) and the one limit every engine can build alike: MuJoCo as three hinges in one
+/// body (they compose in this order), btGeneric6DofSpring2Constraint as RO_ZYX with the angles
+/// negated for the x→y→z order.
+#pragma once
+
+#include <array>
+#include <string>
+#include <string_view>
+
+#include "puppet/model/model.h"
+
+namespace puppet {
+
+/// the three axes of the joint frame turned about, in order (0 x, 1 y, 2 z; all different)
+struct EulerOrder {
+  std::array<int, 3> axes{0, 1, 2};
+  bool operator==(const EulerOrder&) const = default;
+};
+
+/// "xyz", "zyx", ...: three different letters of x, y, z; false for anything else
+bool parse_euler_order(std::string_view text, EulerOrder* order);
+std::string euler_order_name(const EulerOrder& order);
+
+/// R(a₀, θ₀) R(a₁, θ₁) R(a₂, θ₂)
+Quaterniond euler_rotation(const EulerOrder& order, const Vector3d& angles);
+/// the angles of q: θ₁ in [−π/2, π/2], θ₀ and θ₂ in [−π, π] (Eigen's EulerAngles); at θ₁ = ±π/2
+/// (gimbal lock) θ₀ takes the whole turn about the shared axis
+Vector3d euler_angles(const EulerOrder& order, const Quaterniond& q);
+
+/// q with each angle clamped into [lower, upper] and recomposed; q itself (the same bits) when
+/// every angle is inside. The nearest rotation in the angles, not along the sphere: what the
+/// procedural solver's clamp does and what a limit of three hinges enforces, axis by axis.
+Quaterniond clamp_to_box(const EulerOrder& order, const Vector3d& lower, const Vector3d& upper,
+                         const Quaterniond& q);
+
+}  // namespace puppet

@@ -1,0 +1,73 @@
+#include "puppet/model/euler_box.h"
+
+#include <algorithm>
+#include <unsupported/Eigen/EulerAngles>
+
+namespace puppet {
+namespace {
+
+// Eigen's EulerSystem is a compile-time order: one instance per Tait-Bryan order, chosen at run
+// time. F is called with the EulerAngles type of the order.
+template <typename F>
+auto with_system(const EulerOrder& order, F&& f) {
+  using Eigen::EulerSystem;
+  constexpr int X = Eigen::EULER_X, Y = Eigen::EULER_Y, Z = Eigen::EULER_Z;
+  const auto& a = order.axes;
+  if (a == std::array<int, 3>{0, 1, 2})
+    return f(Eigen::EulerAngles<double, EulerSystem<X, Y, Z>>());
+  if (a == std::array<int, 3>{0, 2, 1})
+    return f(Eigen::EulerAngles<double, EulerSystem<X, Z, Y>>());
+  if (a == std::array<int, 3>{1, 0, 2})
+    return f(Eigen::EulerAngles<double, EulerSystem<Y, X, Z>>());
+  if (a == std::array<int, 3>{1, 2, 0})
+    return f(Eigen::EulerAngles<double, EulerSystem<Y, Z, X>>());
+  if (a == std::array<int, 3>{2, 0, 1})
+    return f(Eigen::EulerAngles<double, EulerSystem<Z, X, Y>>());
+  return f(Eigen::EulerAngles<double, EulerSystem<Z, Y, X>>());
+}
+
+}  // namespace
+
+bool parse_euler_order(std::string_view text, EulerOrder* order) {
+  if (text.size() != 3) return false;
+  EulerOrder out;
+  for (int k = 0; k < 3; ++k) {
+    if (text[k] < 'x' || text[k] > 'z') return false;
+    out.axes[k] = text[k] - 'x';
+  }
+  if (out.axes[0] == out.axes[1] || out.axes[1] == out.axes[2] || out.axes[0] == out.axes[2]) {
+    return false;
+  }
+  *order = out;
+  return true;
+}
+
+std::string euler_order_name(const EulerOrder& order) {
+  std::string out;
+  for (int axis : order.axes) out += static_cast<char>('x' + axis);
+  return out;
+}
+
+Quaterniond euler_rotation(const EulerOrder& order, const Vector3d& angles) {
+  return with_system(order, [&](auto euler) {
+    using Angles = decltype(euler);
+    return Quaterniond(Angles(angles[0], angles[1], angles[2]));
+  });
+}
+
+Vector3d euler_angles(const EulerOrder& order, const Quaterniond& q) {
+  return with_system(order, [&](auto euler) {
+    using Angles = decltype(euler);
+    return Vector3d(Angles(q.toRotationMatrix()).angles());
+  });
+}
+
+Quaterniond clamp_to_box(const EulerOrder& order, const Vector3d& lower, const Vector3d& upper,
+                         const Quaterniond& q) {
+  const Vector3d angles = euler_angles(order, q);
+  const Vector3d clamped = angles.cwiseMax(lower).cwiseMin(upper);
+  if (clamped == angles) return q;
+  return euler_rotation(order, clamped);
+}
+
+}  // namespace puppet
