@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "puppet/compare/number.h"
+#include "puppet/model/euler_box.h"
 #include "puppet/model/rotation.h"
 #include "puppet/model/text.h"
 
@@ -58,6 +59,17 @@ StartInputs random_start(const Model& model, uint64_t seed, int64_t index) {
     Vector3d w{0, 0, 0};
     switch (joint.type) {
       case JointType::kBall: {
+        if (joint.ball_limit == BallLimit::kEulerBox) {
+          // each angle within the middle part of its range, as a hinge's
+          Vector3d angles;
+          for (int k = 0; k < 3; ++k) {
+            angles[k] = joint.box_lower[k] + (joint.box_upper[k] - joint.box_lower[k]) *
+                                                 rng.uniform(margin, 1.0 - margin);
+          }
+          q = euler_rotation(joint.box_order, angles);
+          w = kStartJointSpeed * rng.in_ball();
+          break;
+        }
         const double direction = rng.uniform(0.0, 2.0 * M_PI);
         const double radius = kStartLimitFraction * std::sqrt(rng.uniform());
         const double twist = rng.uniform(-kStartLimitFraction, kStartLimitFraction) * joint.twist;

@@ -34,11 +34,13 @@
 #include "puppet/compare/simulator.h"
 #include "puppet/compare/start.h"
 #include "puppet/compare/sweep.h"
+#include "puppet/model/euler_box.h"
 #include "puppet/model/file.h"
 #include "puppet/model/mjcf.h"
 #include "puppet/model/model.h"
 #include "puppet/model/text.h"
 #include "puppet/procedural/solver.h"
+#include "puppet/reference/bullet.h"
 #include "puppet/reference/mujoco.h"
 
 namespace {
@@ -137,6 +139,16 @@ std::vector<std::string> all_rules() {
   return out;
 }
 
+// what each reference engine refuses of the model (empty when it builds it): MuJoCo's depth,
+// arena and compiler (reference::mujoco_model_problem), Bullet's (reference::bullet_model_problem)
+std::string engine_problem(const std::string& solver, const Model& model) {
+  if (solver == "mujoco") return reference::mujoco_model_problem(model);
+  if (solver == "bullet-multibody" || solver == "bullet-rigid") {
+    return reference::bullet_model_problem(model);
+  }
+  return {};
+}
+
 int command_list() {
   std::cout << "scenarios:";
   for (const auto& s : scenario_names()) std::cout << ' ' << s;
@@ -157,7 +169,7 @@ int command_export_mjcf(const std::string& path, const std::string& out) {
     }
   }
   const Model model = load_named_model(path);
-  if (std::string problem = mjcf_depth_problem(model); !problem.empty()) {
+  if (std::string problem = mjcf_write_problem(model); !problem.empty()) {
     throw UsageError("MODEL: " + shown(path) + ": " + problem);
   }
   MjcfOptions options;
@@ -190,7 +202,11 @@ int command_validate(const std::string& path) {
   for (const Joint& j : model.joints) {
     const double d = 180.0 / M_PI;
     char limits[96];
-    if (j.type == JointType::kBall) {
+    if (j.type == JointType::kBall && j.ball_limit == BallLimit::kEulerBox) {
+      std::snprintf(limits, sizeof limits, "box %s [%.0f, %.0f] [%.0f, %.0f] [%.0f, %.0f]",
+                    euler_order_name(j.box_order).c_str(), j.box_lower[0] * d, j.box_upper[0] * d,
+                    j.box_lower[1] * d, j.box_upper[1] * d, j.box_lower[2] * d, j.box_upper[2] * d);
+    } else if (j.type == JointType::kBall) {
       std::snprintf(limits, sizeof limits, "swing %.0f x %.0f, twist %.0f", j.swing_x * d,
                     j.swing_y * d, j.twist * d);
     } else if (j.type == JointType::kHinge) {
@@ -206,10 +222,16 @@ int command_validate(const std::string& path) {
                 limits);
   }
   // what each engine makes of it: the verdict every command applies before it runs
-  const std::string mujoco = reference::mujoco_model_problem(model);
-  std::printf("engines: procedural, bullet-multibody, bullet-rigid%s\n",
-              mujoco.empty() ? ", mujoco" : "");
-  if (!mujoco.empty()) std::printf("  not mujoco: %s\n", one_line(mujoco, 300).c_str());
+  std::string engines, refusals;
+  for (const std::string& solver : solver_names()) {
+    const std::string problem = engine_problem(solver, model);
+    if (problem.empty()) {
+      engines += (engines.empty() ? "" : ", ") + solver;
+    } else {
+      refusals += "  not " + solver + ": " + one_line(problem, 300) + "\n";
+    }
+  }
+  std::printf("engines: %s\n%s", engines.c_str(), refusals.c_str());
   return 0;
 }
 
@@ -410,22 +432,26 @@ void check_run_size(const SweepSpec& spec, const Model& model) {
   }
 }
 
-// One verdict per model, before anything runs: an engine that cannot build the model (MuJoCo's
-// depth, arena and compiler, reference::mujoco_model_problem) is refused when --solver names it,
-// and dropped with a note when --solver is all
+// One verdict per model, before anything runs: an engine that cannot build the model is refused
+// when --solver names it, and left out with a note when --solver is all
 void apply_engine_verdicts(std::vector<SolverConfig>& configs, const Model& model,
                            const RunFlags& f) {
-  const bool wanted = std::any_of(configs.begin(), configs.end(),
-                                  [](const SolverConfig& c) { return c.solver == "mujoco"; });
-  if (!wanted) return;
-  const std::string problem = reference::mujoco_model_problem(model);
-  if (problem.empty()) return;
-  if (f.solver != "all") {
-    throw UsageError("--solver: mujoco cannot run " + shown(f.model) + ": " + problem);
+  std::vector<std::string> refused;
+  for (const SolverConfig& config : configs) {
+    if (std::find(refused.begin(), refused.end(), config.solver) != refused.end()) continue;
+    const std::string problem = engine_problem(config.solver, model);
+    if (problem.empty()) continue;
+    if (f.solver != "all") {
+      throw UsageError("--solver: " + config.solver + " cannot run " + shown(f.model) + ": " +
+                       problem);
+    }
+    print_error("testbed: ", "note: " + config.solver + " left out, it cannot run " +
+                                 shown(f.model) + ": " + problem);
+    refused.push_back(config.solver);
   }
-  std::erase_if(configs, [](const SolverConfig& c) { return c.solver == "mujoco"; });
-  print_error("testbed: ",
-              "note: mujoco left out, it cannot run " + shown(f.model) + ": " + problem);
+  std::erase_if(configs, [&](const SolverConfig& c) {
+    return std::find(refused.begin(), refused.end(), c.solver) != refused.end();
+  });
 }
 
 // the dt of the sweep shown in the table: the one nearest 1/240 s
@@ -497,6 +523,13 @@ int command_run(const RunFlags& f) {
   }
   check_run_size(spec, model);
   apply_engine_verdicts(spec.configs, model, f);
+  // the first truth is bullet-multibody's: a model it cannot build has no accuracy rows
+  if (const std::string problem = reference::bullet_model_problem(model);
+      spec.accuracy && !problem.empty()) {
+    print_error("testbed: ", "note: no truth for this model (bullet-multibody cannot run it: " +
+                                 problem + "); no accuracy rows");
+    spec.accuracy = false;
+  }
   if (spec.accuracy && !have_second_truth(model)) {
     std::fprintf(stderr, "testbed: no second truth (MuJoCo) for this model: %s\n",
                  reference::have_mujoco() ? reference::mujoco_model_problem(model).c_str()

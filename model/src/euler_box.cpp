@@ -70,4 +70,10 @@ Quaterniond clamp_to_box(const EulerOrder& order, const Vector3d& lower, const V
   return euler_rotation(order, clamped);
 }
 
+double box_excess(const EulerOrder& order, const Vector3d& lower, const Vector3d& upper,
+                  const Quaterniond& q) {
+  const Vector3d angles = euler_angles(order, q);
+  return std::max({0.0, (angles - upper).maxCoeff(), (lower - angles).maxCoeff()});
+}
+
 }  // namespace puppet

@@ -273,7 +273,12 @@ class Writer {
 
 }  // namespace
 
-std::string mjcf_depth_problem(const Model& model) {
+std::string mjcf_write_problem(const Model& model) {
+  for (const Joint& joint : model.joints) {
+    if (joint.type == JointType::kBall && joint.ball_limit == BallLimit::kEulerBox) {
+      return "joint \"" + joint.name + "\" has a box limit, which is not written as MJCF yet";
+    }
+  }
   std::vector<int> depth(model.segment_count(), 1);
   int deepest = 0;
   for (int i = 0; i < model.segment_count(); ++i) {

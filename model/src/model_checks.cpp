@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "model_builder.h"
+#include "puppet/model/euler_box.h"
 #include "puppet/model/text.h"
 
 namespace puppet {
@@ -168,7 +169,17 @@ std::string joint_problem(const Joint& j) {
   }
   // the limits, whichever file gave them (JSON's fields, MJCF's range or its user data)
   constexpr double kPi = 3.14159265358979323846;
-  if (j.type == JointType::kBall) {
+  if (j.type == JointType::kBall && j.ball_limit == BallLimit::kEulerBox) {
+    const auto& a = j.box_order.axes;
+    for (int k = 0; k < 3; ++k) {
+      if (a[k] < 0 || a[k] > 2 || a[k] == a[(k + 1) % 3]) return "the box's axes are not an order";
+      const double bound = k == 1 ? kMaxBoxMiddle : kPi;
+      if (!within(j.box_lower[k], -bound, 0.0) || !within(j.box_upper[k], 0.0, bound)) {
+        return "the box's angle " + std::to_string(k) + " range [" + number(j.box_lower[k]) + ", " +
+               number(j.box_upper[k]) + "] rad must contain 0 and lie within ±" + number(bound);
+      }
+    }
+  } else if (j.type == JointType::kBall) {
     const std::pair<const char*, double> limits[] = {
         {"swing x", j.swing_x}, {"swing y", j.swing_y}, {"twist", j.twist}};
     for (const auto& [what, value] : limits) {

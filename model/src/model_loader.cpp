@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "model_builder.h"
+#include "puppet/model/euler_box.h"
 #include "puppet/model/file.h"
 #include "puppet/model/mjcf.h"
 #include "puppet/model/model.h"
@@ -198,9 +199,36 @@ detail::RawJoint read_joint(const Element& e) {
   detail::RawJoint raw;
   Joint& j = raw.joint;
   const std::string type = e.string("type");
-  if (type == "ball") {
-    e.reject_unknown(
-        {"name", "parent", "child", "anchor", "type", "frame", "swing_deg", "twist_deg"});
+  if (type == "ball" && e.has("box_deg")) {
+    // a box of intrinsic Euler angles: {"order": "xyz", "lower": [..], "upper": [..]} (deg)
+    e.reject_unknown({"name", "parent", "child", "anchor", "type", "frame", "box_deg"});
+    j.type = JointType::kBall;
+    j.ball_limit = BallLimit::kEulerBox;
+    j.swing_x = j.swing_y = j.twist = M_PI;
+    const Element box = e.child("box_deg", "box_deg");
+    box.require_object();
+    box.reject_unknown({"order", "lower", "upper"});
+    if (!parse_euler_order(box.string("order"), &j.box_order)) {
+      box.fail("field \"order\" must be three different axes of x, y, z (such as \"xyz\")");
+    }
+    const Vector3d lower = box.vector<3>("lower"), upper = box.vector<3>("upper");
+    for (int k = 0; k < 3; ++k) {
+      if (lower[k] > 0.0 || upper[k] < 0.0) {
+        box.fail("angle " + std::to_string(k) + "'s range [" + Element::fmt(lower[k]) + ", " +
+                 Element::fmt(upper[k]) + "] must contain 0, the rest angle");
+      }
+      const double bound = k == 1 ? kMaxBoxMiddle / kDegToRad : 180.0;
+      if (lower[k] < -bound || upper[k] > bound) {
+        box.fail("angle " + std::to_string(k) + "'s range must lie in [-" + Element::fmt(bound) +
+                 ", " + Element::fmt(bound) + "]" +
+                 (k == 1 ? " (the middle angle: Euler angles lose an axis at 90 degrees)" : ""));
+      }
+    }
+    j.box_lower = lower * kDegToRad;
+    j.box_upper = upper * kDegToRad;
+  } else if (type == "ball") {
+    e.reject_unknown({"name", "parent", "child", "anchor", "type", "frame", "swing_deg",
+                      "twist_deg", "box_deg"});
     j.type = JointType::kBall;
     const Eigen::Vector2d swing = e.vector<2>("swing_deg");
     if ((swing.array() < 0.0).any()) e.fail("field \"swing_deg\" must not be negative");

@@ -1,5 +1,7 @@
 #include "puppet/model/rotation.h"
 
+#include "puppet/model/euler_box.h"
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -162,7 +164,9 @@ Quaterniond clamp_to_limits(const Joint& joint, const Quaterniond& q_rel) {
          std::abs(joint.upper_half_sin - std::sin(0.5 * joint.upper)) < 1e-12);
   switch (joint.type) {
     case JointType::kBall:
-      return clamp_ball(joint, q_rel);
+      return joint.ball_limit == BallLimit::kEulerBox
+                 ? clamp_to_box(joint.box_order, joint.box_lower, joint.box_upper, q_rel)
+                 : clamp_ball(joint, q_rel);
     case JointType::kHinge:
       return clamp_hinge(joint, q_rel);
     case JointType::kFixed:
@@ -181,6 +185,10 @@ void derive_limit_terms(Joint& joint) {
 }
 
 double limit_violation(const Joint& joint, const Quaterniond& q_rel) {
+  // a box in its own terms: the most an angle lies past its range
+  if (joint.type == JointType::kBall && joint.ball_limit == BallLimit::kEulerBox) {
+    return box_excess(joint.box_order, joint.box_lower, joint.box_upper, q_rel);
+  }
   return angle_between(q_rel, clamp_to_limits(joint, q_rel));
 }
 

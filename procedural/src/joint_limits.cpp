@@ -13,6 +13,8 @@ namespace puppet::procedural {
 
 double limit_free_w(const Joint& joint) {
   if (joint.type != JointType::kBall) return 2.0;  // a hinge removes every other direction
+  // a box's Euler angles are not bounded by the rotation's angle near gimbal lock: always test
+  if (joint.ball_limit == BallLimit::kEulerBox) return 2.0;
   // a rotation by ρ has twist ≤ ρ and swing ≤ ρ: inside when ρ is below every half-angle
   const double free_angle = std::min({joint.twist, joint.swing_x, joint.swing_y});
   return free_angle > 0.0 ? std::cos(0.5 * free_angle) : 2.0;

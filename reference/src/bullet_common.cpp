@@ -49,10 +49,21 @@ void clear_contact_caches(btCollisionDispatcher& dispatcher) {
 
 }  // namespace detail
 
+std::string bullet_model_problem(const Model& model) {
+  for (const Joint& joint : model.joints) {
+    if (joint.type == JointType::kBall && joint.ball_limit == BallLimit::kEulerBox) {
+      return "joint \"" + joint.name +
+             "\" has a box limit, which Bullet's solvers do not build yet";
+    }
+  }
+  return {};
+}
+
 std::unique_ptr<Solver> make_solver(Kind kind, const Model& model, const Environment& environment,
                                     const Settings& settings) {
   const std::string problem = validate(settings);
   if (!problem.empty()) throw std::invalid_argument("reference settings: " + problem);
+  if (std::string p = bullet_model_problem(model); !p.empty()) throw ModelError("bullet: " + p);
   if (kind == Kind::kMultibody) return detail::make_multibody(model, environment, settings);
   return detail::make_rigid(model, environment, settings);
 }

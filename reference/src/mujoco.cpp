@@ -73,7 +73,7 @@ Quaterniond quat4(const mjtNum* p) { return Quaterniond(p[0], p[1], p[2], p[3]);
 }  // namespace
 
 std::string mujoco_model_problem(const Model& model) {
-  if (std::string problem = mjcf_depth_problem(model); !problem.empty()) return problem;
+  if (std::string problem = mjcf_write_problem(model); !problem.empty()) return problem;
   if (const double bytes = arena_bytes(model); bytes > kMujocoMaxArenaBytes) {
     return "its solver stack would take " + std::to_string(std::lround(bytes / (1 << 20))) +
            " MiB (at most " + std::to_string(std::lround(kMujocoMaxArenaBytes / (1 << 20))) +
@@ -441,6 +441,10 @@ bool have_mujoco() { return true; }
 
 std::unique_ptr<Solver> make_mujoco(const Model& model, const Environment& environment,
                                     const MujocoSettings& settings) {
+  // what write_mjcf cannot write (a box limit) would otherwise reach MuJoCo as something else
+  if (std::string problem = mjcf_write_problem(model); !problem.empty()) {
+    throw ModelError("mujoco: " + problem);
+  }
   return std::make_unique<MujocoSolver>(model, environment, settings);
 }
 

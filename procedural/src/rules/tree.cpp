@@ -32,6 +32,7 @@
 // the correction from the predicted pose is not carried into the next iteration's right side).
 #include <cmath>
 
+#include "puppet/model/euler_box.h"
 #include "puppet/model/rotation.h"
 #include "rules.h"
 
@@ -76,9 +77,14 @@ void set_pin_rows(const Pin& pin, const Vector3d& target, const BodyState& body,
   jacobian = point_jacobian(body, pin.local_point);
 }
 
-// a ball joint's limit functions at q_rel (rad, > 0 outside): the twist's excess over its limit
-// and the swing's over the ellipse's half-angle in the swing's direction
-Eigen::Vector2d ball_excess(const Joint& joint, const Quaterniond& q_rel) {
+// a ball joint's limit functions at q_rel (rad, > 0 outside). A box's: each Euler angle's excess
+// over its range. Swing–twist's: the twist's excess over its limit and the swing's over the
+// ellipse's half-angle in the swing's direction (and a third that is never positive)
+Vector3d ball_excess(const Joint& joint, const Quaterniond& q_rel) {
+  if (joint.ball_limit == BallLimit::kEulerBox) {
+    const Vector3d angles = euler_angles(joint.box_order, q_rel);
+    return (angles - joint.box_upper).cwiseMax(joint.box_lower - angles);
+  }
   const SwingTwist parts = decompose_swing_twist(q_rel, Vector3d::UnitZ());
   const Vector3d swing = quat_log(parts.swing);
   const double angle = swing.norm();
@@ -87,21 +93,21 @@ Eigen::Vector2d ball_excess(const Joint& joint, const Quaterniond& q_rel) {
     const double ux = swing.x() / (angle * joint.swing_x), uy = swing.y() / (angle * joint.swing_y);
     swing_excess = angle - 1.0 / std::sqrt(ux * ux + uy * uy);
   }
-  return {std::abs(parts.twist_angle) - joint.twist, swing_excess};
+  return {std::abs(parts.twist_angle) - joint.twist, swing_excess, -1.0};
 }
 
-// A ball joint's limit rows: one per limit function that is positive, along its gradient with
-// respect to a turn of the child (its frame). Swing and twist are not independent coordinates:
-// past 90° of swing a turn across the swing changes the twist at first order (by about
+// A ball joint's limit rows (at most three): one per limit function that is positive, along its
+// gradient with respect to a turn of the child (its frame). Swing and twist are not independent
+// coordinates: past 90° of swing a turn across the swing changes the twist at first order (by about
 // tan(φ/2)), so rows along the two parts of the clamp's rotation do not reduce both and Newton
 // stalls at the corner of the two limits (measured at a shoulder at 110° swing and 80° twist).
 // The gradients are central differences (step 1e-6 rad: truncation ~1e-12, rounding ~1e-10).
 int ball_limit_rows(const Joint& joint, const Quaterniond& q_rel, Matrix3d& directions,
                     Vector3d& targets) {
   constexpr double kStep = 1e-6;
-  const Eigen::Vector2d excess = ball_excess(joint, q_rel);
+  const Vector3d excess = ball_excess(joint, q_rel);
   if (excess.maxCoeff() <= 0.0) return 0;
-  Eigen::Matrix<double, 2, 3> gradient;
+  Matrix3d gradient;
   for (int axis = 0; axis < 3; ++axis) {
     const Vector3d turn = kStep * Vector3d::Unit(axis);
     gradient.col(axis) =
@@ -109,7 +115,7 @@ int ball_limit_rows(const Joint& joint, const Quaterniond& q_rel, Matrix3d& dire
         (2.0 * kStep);
   }
   int count = 0;
-  for (int k = 0; k < 2; ++k) {
+  for (int k = 0; k < 3; ++k) {
     if (excess(k) <= 0.0) continue;
     // q_rel exp(δ) for a turn δ_c of the child (its frame) is δ = Fc⁻¹ δ_c: the row is Fc g
     directions.row(count) =
@@ -149,7 +155,8 @@ void set_joint_rows(const Joint& joint, const JointTerms& terms, const BodyState
       case JointType::kBall:
         // two rows built from the limit functions themselves (ball_limit_rows); a zero
         // half-angle (swing forbidden about one axis) keeps the clamp's rotation as one row
-        if (joint.swing_x > 0.0 && joint.swing_y > 0.0) {
+        if (joint.ball_limit == BallLimit::kEulerBox ||
+            (joint.swing_x > 0.0 && joint.swing_y > 0.0)) {
           count = ball_limit_rows(joint, joint_relative_rotation(joint, parent.q, child.q),
                                   directions, targets);
         } else {

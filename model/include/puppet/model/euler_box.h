@@ -15,12 +15,6 @@
 
 namespace puppet {
 
-/// the three axes of the joint frame turned about, in order (0 x, 1 y, 2 z; all different)
-struct EulerOrder {
-  std::array<int, 3> axes{0, 1, 2};
-  bool operator==(const EulerOrder&) const = default;
-};
-
 /// "xyz", "zyx", ...: three different letters of x, y, z; false for anything else
 bool parse_euler_order(std::string_view text, EulerOrder* order);
 std::string euler_order_name(const EulerOrder& order);
@@ -36,5 +30,12 @@ Vector3d euler_angles(const EulerOrder& order, const Quaterniond& q);
 /// procedural solver's clamp does and what a limit of three hinges enforces, axis by axis.
 Quaterniond clamp_to_box(const EulerOrder& order, const Vector3d& lower, const Vector3d& upper,
                          const Quaterniond& q);
+
+/// the most any angle of q lies outside [lower, upper] (rad; 0 inside)
+double box_excess(const EulerOrder& order, const Vector3d& lower, const Vector3d& upper,
+                  const Quaterniond& q);
+
+/// the middle angle's range is within ±kMaxBoxMiddle (85°): Euler angles lose an axis at ±90°
+inline constexpr double kMaxBoxMiddle = 85.0 * 3.14159265358979323846 / 180.0;
 
 }  // namespace puppet

@@ -64,8 +64,9 @@ struct MjcfOptions {
 /// <mujoco>, <worldbody>, a <body> per level of the tree and the deepest body's <geom> leave room
 /// for a tree 96 segments deep (measured: MuJoCo builds chain:96, not chain:97)
 inline constexpr int kMjcfMaxDepth = 96;
-/// why the model cannot be written as MJCF that reads back (empty when it can): its depth
-std::string mjcf_depth_problem(const Model& model);
+/// why the model cannot be written as MJCF that reads back (empty when it can): its depth, or a
+/// ball joint's box limit (three hinges in one body: not written yet)
+std::string mjcf_write_problem(const Model& model);
 
 /// the model as an MJCF document; a ball limit becomes MuJoCo's cone on the whole rotation angle,
 /// of the model's largest half-angle (swing or twist) so that it forbids nothing the model allows

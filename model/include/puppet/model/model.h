@@ -8,6 +8,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <array>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -53,6 +54,16 @@ struct Segment {
 
 enum class JointType { kBall, kHinge, kFixed };
 
+/// A ball joint's limit: a swing ellipse and a twist, or a box of intrinsic Euler angles
+/// (euler_box.h: q_rel = R(a₀, θ₀) R(a₁, θ₁) R(a₂, θ₂), each angle within its own range)
+enum class BallLimit { kSwingTwist, kEulerBox };
+
+/// the axes of a joint frame a box turns about, in order (0 x, 1 y, 2 z; all different)
+struct EulerOrder {
+  std::array<int, 3> axes{0, 1, 2};
+  bool operator==(const EulerOrder&) const = default;
+};
+
 struct Joint {
   std::string name;
   JointType type = JointType::kBall;
@@ -65,8 +76,15 @@ struct Joint {
   Quaterniond frame_in_parent = Quaterniond::Identity();
   Quaterniond frame_in_child = Quaterniond::Identity();
   Quaterniond frame_world = Quaterniond::Identity();  ///< rest
-  /// ball: swing ellipse half-angles about the frame's x and y, |twist| about its z (rad)
+  /// ball: which limit it has
+  BallLimit ball_limit = BallLimit::kSwingTwist;
+  /// ball, swing–twist: swing ellipse half-angles about the frame's x and y, |twist| about its z
+  /// (rad); π each for a box (the swing–twist reading limits nothing there)
   double swing_x = 0.0, swing_y = 0.0, twist = 0.0;
+  /// ball, Euler box: the order of the frame's axes and each angle's range (rad), the rest
+  /// (0, 0, 0) inside; the middle angle within ±85° (away from gimbal lock)
+  EulerOrder box_order;
+  Vector3d box_lower{0, 0, 0}, box_upper{0, 0, 0};
   /// hinge: unit axis in the joint frame and the range of the right-handed angle about it (rad)
   Vector3d hinge_axis{0, 0, 1};
   double lower = 0.0, upper = 0.0;

@@ -67,8 +67,13 @@ class Solver {
   virtual void joint_anchors(int joint, Vector3d* on_parent, Vector3d* on_child) const = 0;
 };
 
+// why Bullet cannot build the model (empty when it can), decided before anything runs: a ball
+// joint's box limit is not built in either Bullet solver yet
+std::string bullet_model_problem(const Model& model);
+
 // builds the model at rest in the environment (its ground, gravity and forces); the model must
-// outlive the solver. Throws ModelError when the model cannot be expressed in Bullet.
+// outlive the solver. Throws ModelError when the model cannot be expressed in Bullet
+// (bullet_model_problem).
 std::unique_ptr<Solver> make_solver(Kind kind, const Model& model, const Environment& environment,
                                     const Settings& settings = {});
 

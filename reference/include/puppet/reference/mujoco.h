@@ -48,7 +48,7 @@ bool have_mujoco();
 inline constexpr double kMujocoMaxArenaBytes = double(1u << 30);
 
 // Why MuJoCo cannot run the model (empty when it can), decided before anything runs: the tree
-// within MJCF's depth (mjcf_depth_problem), the arena within kMujocoMaxArenaBytes, and then the
+// within MJCF's depth (mjcf_write_problem), the arena within kMujocoMaxArenaBytes, and then the
 // verdict of MuJoCo's own compiler on the document a mujoco solver builds (a zero-width hinge
 // range, a principal moment under its 1e-15 floor, ...), which names the body or joint. A build
 // without MuJoCo says so.
