@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <memory>
 #include <random>
 
 #include "joint_limits.h"
@@ -125,6 +126,16 @@ std::vector<Vector3d> faces_and_corners() {
   return out;
 }
 
+// a solver of `rule` without gravity, the base held where it rests
+std::unique_ptr<Solver> base_held(const Model& model, Rule rule) {
+  Settings settings;
+  settings.rule = rule;
+  auto solver = std::make_unique<Solver>(model, settings, Environment{.gravity = Vector3d::Zero()});
+  const Pin hold{.segment = 0, .target = solver->state().bodies[0].x};
+  solver->set_pins({&hold, 1});
+  return solver;
+}
+
 // A joint spun into each face of its box stops there in every rule: the arm turns at 4 rad/s
 // about the face's axis, the base held, no gravity; over the second that follows the angle
 // reaches its face and no angle is ever outside its range after a step by more than the rule's
@@ -138,11 +149,8 @@ TEST(JointLimits, ABoxStopsAJointSpunIntoEachFace) {
       if (push.cwiseAbs().sum() != 1.0) continue;  // a corner: the next test
       SCOPED_TRACE(std::string(rule_name(rule)) + " push " + std::to_string(push.x()) + "," +
                    std::to_string(push.y()) + "," + std::to_string(push.z()));
-      Settings settings;
-      settings.rule = rule;
-      Solver solver(model, settings, Environment{.gravity = Vector3d::Zero()});
-      const Pin hold{.segment = 0, .target = solver.state().bodies[0].x};
-      solver.set_pins({&hold, 1});
+      const auto held = base_held(model, rule);
+      Solver& solver = *held;
       // at rest an angle's rate is a turn about its axis of the joint frame
       std::vector<BodyState> bodies = solver.state().bodies;
       int k = 0;
@@ -178,11 +186,8 @@ TEST(JointLimits, ABoxTakesAJointPastAFaceOrCornerBack) {
     for (const Vector3d& push : faces_and_corners()) {
       SCOPED_TRACE(std::string(rule_name(rule)) + " push " + std::to_string(push.x()) + "," +
                    std::to_string(push.y()) + "," + std::to_string(push.z()));
-      Settings settings;
-      settings.rule = rule;
-      Solver solver(model, settings, Environment{.gravity = Vector3d::Zero()});
-      const Pin hold{.segment = 0, .target = solver.state().bodies[0].x};
-      solver.set_pins({&hold, 1});
+      const auto held = base_held(model, rule);
+      Solver& solver = *held;
       Vector3d past;
       for (int k = 0; k < 3; ++k) {
         past[k] = 1.3 * (push[k] > 0.0   ? joint.box_upper[k]
