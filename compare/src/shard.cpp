@@ -56,6 +56,16 @@ int64_t shard_rows(int64_t jobs, int64_t index, int64_t count) {
 
 }  // namespace
 
+std::string shard_model_problem(const std::string& model) {
+  const bool printable =
+      std::all_of(model.begin(), model.end(), [](char c) { return c >= 0x20 && c < 0x7f; });
+  if (model.empty() || model.size() > kMaxModelName || !printable) {
+    return "a model's name in shard.txt is 1 to " + std::to_string(kMaxModelName) +
+           " characters of printable ASCII";
+  }
+  return {};
+}
+
 std::string content_checksum(const std::string& bytes) {
   uint64_t hash = 0xcbf29ce484222325ull;  // FNV-1a 64: offset basis and prime
   for (const char c : bytes) {
@@ -145,8 +155,8 @@ ShardManifest read_shard_manifest(
   ShardManifest m;
   m.folder = folder;
   m.model = fields["model"];
-  if (m.model.empty() || m.model.size() > kMaxModelName) {
-    fail("model: from 1 to " + std::to_string(kMaxModelName) + " characters expected");
+  if (std::string name_problem = shard_model_problem(m.model); !name_problem.empty()) {
+    fail("model: " + name_problem);
   }
   const auto& scenarios = scenario_names();
   m.scenarios = list("scenarios", scenarios.size(), [&](const std::string& s) {

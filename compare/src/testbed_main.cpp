@@ -523,11 +523,11 @@ int command_run(const RunFlags& f) {
   }
   check_run_size(spec, model);
   apply_engine_verdicts(spec.configs, model, f);
-  // the first truth is bullet-multibody's: a model it cannot build has no accuracy rows
-  if (const std::string problem = reference::bullet_model_problem(model);
+  // a model the first truth's engine cannot build has no accuracy rows
+  if (const std::string problem = engine_problem(kTruthSolver, model);
       spec.accuracy && !problem.empty()) {
-    print_error("testbed: ", "note: no truth for this model (bullet-multibody cannot run it: " +
-                                 problem + "); no accuracy rows");
+    print_error("testbed: ", std::string("note: no truth for this model (") + kTruthSolver +
+                                 " cannot run it: " + problem + "); no accuracy rows");
     spec.accuracy = false;
   }
   if (spec.accuracy && !have_second_truth(model)) {
@@ -681,33 +681,30 @@ int command_robustness(const RunFlags& f) {
     if (!parse_shard(f.shard, &i, &n)) {
       throw UsageError("--shard: expected I/N, got " + shown(f.shard));
     }
-    if (n < 1 || n > 100000 || i >= n) {
-      throw UsageError("--shard: expected I/N with 0 <= I < N <= 100000, got " + shown(f.shard));
+    if (n < 1 || n > static_cast<uint64_t>(kMaxShards) || i >= n) {
+      throw UsageError("--shard: expected I/N with 0 <= I < N <= " + std::to_string(kMaxShards) +
+                       ", got " + shown(f.shard));
     }
     spec.shard = static_cast<int>(i);
     spec.shards = static_cast<int>(n);
   }
   spec.jobs = f.jobs;
   // what a shard's manifest carries, merge reads back: its model's name too
-  const bool printable_name =
-      f.model.size() <= 1024 &&
-      std::all_of(f.model.begin(), f.model.end(), [](char c) { return c >= 0x20 && c < 0x7f; });
-  if (spec.shards > 1 && !printable_name) {
-    throw UsageError("--model: " + shown(f.model) +
-                     ": a sharded sweep names its model in shard.txt, in at most 1024 printable "
-                     "ASCII characters");
+  if (std::string problem = shard_model_problem(f.model); spec.shards > 1 && !problem.empty()) {
+    throw UsageError("--model: " + shown(f.model) + ": " + problem);
   }
   const Model model = parse_model(f);
   spec.model = &model;
   spec.model_name = f.model;
   apply_engine_verdicts(spec.configs, model, f);
-  // a row is about 300 bytes held and 250 written: a shard holds at most 2 million
+  // the bounds merge reads a shard within (shard.h)
   const int64_t jobs = robustness_job_count(spec);
   const int64_t per_shard = (jobs + spec.shards - 1) / spec.shards;
-  if (jobs > 1000000000 || per_shard > 2000000) {
+  if (jobs > kMaxSweepRuns || per_shard > kMaxShardRuns) {
     throw UsageError("--starts: " + std::to_string(jobs) + " runs in all, " +
-                     std::to_string(per_shard) +
-                     " in this shard (at most 2000000 per shard, 1e9 in all): use more shards");
+                     std::to_string(per_shard) + " in this shard (at most " +
+                     std::to_string(kMaxShardRuns) + " per shard, " +
+                     std::to_string(kMaxSweepRuns) + " in all): use more shards");
   }
   // every scenario builds with a start, and no run is longer than a sweep's
   double longest = 0.0;

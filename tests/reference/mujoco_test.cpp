@@ -35,6 +35,23 @@ double max_distance(const std::vector<BodyState>& a, const std::vector<BodyState
   return worst;
 }
 
+// MJCF text compiled by MuJoCo through its virtual file system; null with *error set when the
+// compiler refuses it
+mjModel* compile_text(const std::string& xml, std::string* error) {
+  mjVFS vfs;
+  mj_defaultVFS(&vfs);
+  if (mj_makeEmptyFileVFS(&vfs, "text.xml", static_cast<int>(xml.size())) != 0) {
+    *error = "cannot stage the document";
+    return nullptr;
+  }
+  std::memcpy(vfs.filedata[mj_findFileVFS(&vfs, "text.xml")], xml.data(), xml.size());
+  char text[1000] = "";
+  mjModel* m = mj_loadXML("text.xml", &vfs, text, sizeof text);
+  mj_deleteVFS(&vfs);
+  *error = text;
+  return m;
+}
+
 // Pinocchio with every limit opened out of reach
 Model without_limits(Model model) {
   model.name += "-free";
@@ -292,14 +309,8 @@ TEST(ExportMjcf, MujocosCompilerLoadsIt) {
        {load_model(test::kPinocchioPath), make_chain(5), test::rods(2),
         load_model(std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio-open-limits.json")}) {
     SCOPED_TRACE(model.name);
-    const std::string xml = write_mjcf(model);
-    mjVFS vfs;
-    mj_defaultVFS(&vfs);
-    ASSERT_EQ(mj_makeEmptyFileVFS(&vfs, "export.xml", static_cast<int>(xml.size())), 0);
-    std::memcpy(vfs.filedata[mj_findFileVFS(&vfs, "export.xml")], xml.data(), xml.size());
-    char error[1000] = "";
-    mjModel* m = mj_loadXML("export.xml", &vfs, error, sizeof error);
-    mj_deleteVFS(&vfs);
+    std::string error;
+    mjModel* m = compile_text(write_mjcf(model), &error);
     ASSERT_NE(m, nullptr) << error;
     EXPECT_EQ(m->nbody, model.segment_count() + 1);
     EXPECT_EQ(m->nuser_body, kBodyUserSize);
@@ -404,13 +415,8 @@ TEST(Mujoco, ThreeHingesInOneBodyAreAnEulerBox) {
     }
     const std::string xml = "<mujoco><worldbody><body pos=\"0 0 1\">" + joints +
                             "<geom type=\"box\" size=\"0.1 0.2 0.3\"/></body></worldbody></mujoco>";
-    mjVFS vfs;
-    mj_defaultVFS(&vfs);
-    ASSERT_EQ(mj_makeEmptyFileVFS(&vfs, "box.xml", static_cast<int>(xml.size())), 0);
-    std::memcpy(vfs.filedata[mj_findFileVFS(&vfs, "box.xml")], xml.data(), xml.size());
-    char error[1000] = "";
-    mjModel* m = mj_loadXML("box.xml", &vfs, error, sizeof error);
-    mj_deleteVFS(&vfs);
+    std::string error;
+    mjModel* m = compile_text(xml, &error);
     ASSERT_NE(m, nullptr) << error;
     mjData* d = mj_makeData(m);
     for (int k = 0; k < 200; ++k) {

@@ -26,6 +26,10 @@ inline constexpr int64_t kMaxShards = 100000;
 inline constexpr int64_t kMaxSweepRuns = 1000000000;
 inline constexpr int64_t kMaxShardRuns = 2000000;  // a row is about 300 bytes held
 
+// what is wrong with a model's name as a manifest carries it (empty when nothing): 1 to 1024
+// characters of printable ASCII. robustness --shard refuses such a name up front, merge on read.
+std::string shard_model_problem(const std::string& model);
+
 // the FNV-1a 64-bit hash of a file's bytes, as 16 hex digits: it catches a file cut short or
 // edited by accident (it is no signature: whoever edits a shard can write a new manifest)
 std::string content_checksum(const std::string& bytes);
