@@ -4,6 +4,6 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 command -v doxygen >/dev/null || bash scripts/setup.sh
-rm -rf build/doxygen
+rm -rf build/doxygen && mkdir -p build
 doxygen docs/Doxyfile
 echo "api_docs: build/doxygen/html/index.html, no warnings"

@@ -61,7 +61,7 @@ struct MjcfOptions {
 };
 
 /// MJCF readers built on tinyxml2 (MuJoCo 2.2.2's and this project's) nest at most 100 elements:
-/// <mujoco>, <worldbody>, a <body> per level of the tree and the deepest body's <geom> leave room
+/// `mujoco`, `worldbody`, a `body` per level of the tree and the deepest body's `geom` leave room
 /// for a tree 96 segments deep (measured: MuJoCo builds chain:96, not chain:97)
 inline constexpr int kMjcfMaxDepth = 96;
 /// why the model cannot be written as MJCF that reads back (empty when it can): its depth, or a
