@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <numbers>
+#include <set>
 #include <sstream>
 
 #include "puppet/model/mjcf.h"
@@ -231,6 +232,10 @@ class Writer {
       // the reader recovers a fixed joint's anchor from the parent's surface
       return;
     }
+    if (joint.type == JointType::kBall && joint.ball_limit == BallLimit::kEulerBox) {
+      write_box(joint, forward, pad);
+      return;
+    }
     const Vector3d anchor = forward ? joint.anchor_in_child : joint.anchor_in_parent;
     out_ << pad << "<joint name=\""
          << (options_.model_names ? escaped(joint.name) : indexed("j", joint.child - 1))
@@ -259,6 +264,35 @@ class Writer {
     out_ << "/>\n";
   }
 
+  // A box is three hinges in the body, which MuJoCo composes in order: with F the joint frame
+  // in the body, R(F·e₀, θ₀) R(F·e₁, θ₁) R(F·e₂, θ₂) = F R_box F⁻¹. Written from the joint's
+  // parent (a re-rooted tree) the rotation is inverted: the hinges in reverse order about the
+  // parent frame's axes, each angle and range negated. Each hinge's user data is the ball's
+  // anchor and frame and its own axis in that frame.
+  void write_box(const Joint& joint, bool forward, const std::string& pad) {
+    const Vector3d anchor = forward ? joint.anchor_in_child : joint.anchor_in_parent;
+    const Quaterniond frame = forward ? joint.frame_in_child : joint.frame_in_parent;
+    const std::string name =
+        options_.model_names ? escaped(joint.name) : indexed("j", joint.child - 1);
+    for (int n = 0; n < 3; ++n) {
+      const int k = forward ? n : 2 - n;
+      const int axis = joint.box_order.axes[k];
+      const Vector3d e = Vector3d::Unit(axis);
+      const double lower = forward ? joint.box_lower[k] : -joint.box_upper[k];
+      const double upper = forward ? joint.box_upper[k] : -joint.box_lower[k];
+      out_ << pad << "<joint name=\"" << name << ':' << "xyz"[axis] << "\" pos=\"" << vec(anchor)
+           << "\" type=\"hinge\" axis=\"" << vec(frame * e) << "\"";
+      if (lower > -kPi || upper < kPi) {
+        out_ << " limited=\"true\" range=\"" << nums({lower, upper}) << "\"";
+      }
+      if (options_.user_data) {
+        out_ << " user=\"" << vec(joint.anchor_world) << ' ' << quat(joint.frame_world) << ' '
+             << vec(e) << "\"";
+      }
+      out_ << "/>\n";
+    }
+  }
+
   std::string body_name(int s) const {
     return options_.model_names ? escaped(model_.segments[s].name) : indexed("s", s);
   }
@@ -274,9 +308,18 @@ class Writer {
 }  // namespace
 
 std::string mjcf_write_problem(const Model& model) {
+  // a box's hinges are named "<joint>:x" and so on: no other joint may have such a name
+  std::set<std::string> names;
   for (const Joint& joint : model.joints) {
-    if (joint.type == JointType::kBall && joint.ball_limit == BallLimit::kEulerBox) {
-      return "joint \"" + joint.name + "\" has a box limit, which is not written as MJCF yet";
+    if (joint.type == JointType::kFixed) continue;
+    const bool box = joint.type == JointType::kBall && joint.ball_limit == BallLimit::kEulerBox;
+    for (int k = 0; k < (box ? 3 : 1); ++k) {
+      std::string name = joint.name;
+      if (box) name.append({':', "xyz"[joint.box_order.axes[k]]});
+      if (!names.insert(name).second) {
+        return "two joints would be written as \"" + name +
+               "\" (a box limit's hinges are named <joint>:x, :y and :z)";
+      }
     }
   }
   std::vector<int> depth(model.segment_count(), 1);

@@ -4,6 +4,7 @@
 //   free   qpos = (x, q_b), qvel = (v, q_b⁻¹ ω) (the angular part in the body frame)
 //   ball   qpos = Q, qvel = q_b⁻¹ (ω_b − ω_P) (in the body frame)
 //   hinge  qpos = θ with Q = rotation by θ about the axis a, qvel = a · q_b⁻¹ (ω_b − ω_P)
+//   box    three hinges in one body, Q = R(a₀, θ₀) R(a₁, θ₁) R(a₂, θ₂) (set_hinge_triple)
 // The pins' configuration (which one hangs the tree, which are mocap-driven) is part of the
 // compiled model: a change rebuilds it and carries the state over through world poses.
 #include "puppet/reference/mujoco.h"
@@ -16,6 +17,7 @@
 #include <mutex>
 
 #include "pin_springs.h"
+#include "puppet/model/euler_box.h"
 #include "puppet/model/mjcf.h"
 
 namespace puppet::reference {
@@ -54,6 +56,7 @@ mjModel* compile(const std::string& xml) {
 }
 
 Vector3d vec3(const mjtNum* p) { return {p[0], p[1], p[2]}; }
+const EulerOrder kXyz{{0, 1, 2}};
 
 // the bytes of the solver stack MuJoCo 2.2.2's compiler sizes for the document write_mjcf gives
 // (user_model.cc: nstack = 5 (njmax + neq + nv)², njmax as mjcf_writer.cpp writes it with two
@@ -215,6 +218,12 @@ class MujocoSolver final : public Solver {
       mjtNum* qpos = d_->qpos + m_->jnt_qposadr[j];
       mjtNum* qvel = d_->qvel + m_->jnt_dofadr[j];
       const Vector3d relative_w = body.q.conjugate() * (body.w - wp);
+      if (m_->body_jntnum[b] == 3) {
+        // a box limit's three hinges (their coordinates are consecutive)
+        const Quaterniond q = quat4(m_->body_quat + 4 * b).conjugate() * qp.conjugate() * body.q;
+        set_hinge_triple(j, q, relative_w, qpos, qvel);
+        continue;
+      }
       switch (m_->jnt_type[j]) {
         case mjJNT_FREE: {
           std::copy_n(body.x.data(), 3, qpos);
@@ -387,6 +396,33 @@ class MujocoSolver final : public Solver {
     set_state(bodies_);
   }
 
+  // Three hinges about orthonormal axes a₀, a₁, a₂ of the body turn it by
+  // Q = R(a₀, θ₀) R(a₁, θ₁) R(a₂, θ₂) = A R_xyz(θ) A⁻¹ with A = [a₀ a₁ a₂] (right-handed; the
+  // third axis and angle negated if not), so θ are the xyz Euler angles of A⁻¹ Q A. MuJoCo turns
+  // hinge k about its axis after the earlier hinges' turns, so the body-frame relative angular
+  // velocity is ω = R₂ᵀR₁ᵀ a₀ θ̇₀ + R₂ᵀ a₁ θ̇₁ + a₂ θ̇₂, solved for θ̇.
+  void set_hinge_triple(int first, const Quaterniond& q, const Vector3d& relative_w, mjtNum* qpos,
+                        mjtNum* qvel) const {
+    Eigen::Matrix3d axes;
+    for (int k = 0; k < 3; ++k) axes.col(k) = vec3(m_->jnt_axis + 3 * (first + k));
+    const double handed = axes.determinant() < 0.0 ? -1.0 : 1.0;
+    axes.col(2) *= handed;
+    const Quaterniond a(axes);
+    Vector3d angles = euler_angles(kXyz, a.conjugate() * q * a);
+    angles.z() *= handed;
+    axes.col(2) *= handed;
+    const Eigen::AngleAxisd r1(angles.y(), axes.col(1)), r2(angles.z(), axes.col(2));
+    Eigen::Matrix3d rates;
+    rates.col(0) = (r1 * r2).inverse() * axes.col(0);
+    rates.col(1) = r2.inverse() * axes.col(1);
+    rates.col(2) = axes.col(2);
+    const Vector3d angle_rates = rates.partialPivLu().solve(relative_w);
+    for (int k = 0; k < 3; ++k) {
+      qpos[m_->jnt_qposadr[first + k] - m_->jnt_qposadr[first]] = angles[k];
+      qvel[m_->jnt_dofadr[first + k] - m_->jnt_dofadr[first]] = angle_rates[k];
+    }
+  }
+
   // positions and velocities of every body (mj_step leaves them at the start of the last step)
   void refresh() const {
     if (kinematics_current_) return;
@@ -441,7 +477,6 @@ bool have_mujoco() { return true; }
 
 std::unique_ptr<Solver> make_mujoco(const Model& model, const Environment& environment,
                                     const MujocoSettings& settings) {
-  // what write_mjcf cannot write (a box limit) would otherwise reach MuJoCo as something else
   if (std::string problem = mjcf_write_problem(model); !problem.empty()) {
     throw ModelError("mujoco: " + problem);
   }

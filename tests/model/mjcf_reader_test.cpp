@@ -6,11 +6,15 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include "puppet/compare/scenario.h"
 #include "puppet/compare/simulator.h"
+#include "puppet/model/euler_box.h"
 #include "puppet/model/mjcf.h"
 #include "puppet/model/model.h"
+#include "puppet/model/rotation.h"
+#include "support/random.h"
 
 namespace puppet {
 namespace {
@@ -97,6 +101,78 @@ TEST(MjcfReader, PinocchioRoundTripsBitForBit) {
     expect_same_vector(states[1][i].x, states[0][i].x, "x after 1 s");
     expect_same_quaternion(states[1][i].q, states[0][i].q, "q after 1 s");
   }
+}
+
+// A box limit is written as three hinges in the child's body and read back as the same box: with
+// user data bit for bit (order, ranges, frame); without it as the box of the three hinges' axes
+// in the order x, y, z of a frame made of them, which holds the same rotations: every rotation's
+// most outside angle is the same in both readings
+TEST(MjcfReader, ABoxLimitIsThreeHingesAndComesBack) {
+  const Model a = load_model(std::string(PUPPET_SOURCE_DIR) + "/tests/data/two_rods_box.json");
+  const std::string xml = write_mjcf(a);
+  EXPECT_NE(xml.find("<joint name=\"elbow:z\""), std::string::npos) << xml;
+  const Model b = parse_mjcf(xml, "box.xml");
+  ASSERT_EQ(b.joint_count(), 1);
+  const Joint &p = a.joints[0], &q = b.joints[0];
+  EXPECT_EQ(q.name, "elbow");
+  EXPECT_EQ(q.ball_limit, BallLimit::kEulerBox);
+  EXPECT_EQ(q.box_order, p.box_order);
+  expect_same_vector(q.box_lower, p.box_lower, "lower");
+  expect_same_vector(q.box_upper, p.box_upper, "upper");
+  expect_same_quaternion(q.frame_world, p.frame_world, "frame");
+  expect_same_vector(q.anchor_world, p.anchor_world, "anchor");
+
+  MjcfOptions bare;
+  bare.user_data = false;
+  const Model c = parse_mjcf(write_mjcf(a, bare), "bare.xml");
+  const Joint& r = c.joints[0];
+  EXPECT_EQ(r.ball_limit, BallLimit::kEulerBox);
+  EXPECT_EQ(euler_order_name(r.box_order), "xyz");
+  std::mt19937_64 rng(11);
+  for (int trial = 0; trial < 1000; ++trial) {
+    const Quaterniond parent = test::random_rotation(rng), child = test::random_rotation(rng);
+    EXPECT_NEAR(limit_violation(r, joint_relative_rotation(r, parent, child)),
+                limit_violation(p, joint_relative_rotation(p, parent, child)), 1e-9);
+  }
+}
+
+// Several joints in one body are read only as a box: three hinges at one point about orthogonal
+// axes
+TEST(MjcfReader, ABoxNeedsThreeOrthogonalHingesAtOnePoint) {
+  auto read = [](const std::string& joints) {
+    return "<mujoco><compiler angle=\"degree\"/><worldbody><body name=\"a\"><freejoint/>"
+           "<geom type=\"sphere\" size=\"0.1\"/><body name=\"b\" pos=\"0 0 -0.3\">" +
+           joints + "<geom type=\"sphere\" size=\"0.1\"/></body></body></worldbody></mujoco>";
+  };
+  auto hinge = [](const char* axis, const char* pos = "0 0 0.15") {
+    return std::string("<joint type=\"hinge\" limited=\"true\" range=\"-20 30\" axis=\"") + axis +
+           "\" pos=\"" + pos + "\"/>";
+  };
+  auto refused = [&](const std::string& joints, const std::string& message) {
+    try {
+      parse_mjcf(read(joints), "t.xml");
+      ADD_FAILURE() << "accepted: " << joints;
+    } catch (const ModelError& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  };
+  // left-handed axes: the third is turned round with its range
+  const Model m = parse_mjcf(read(hinge("1 0 0") + hinge("0 0 1") + hinge("0 1 0")), "t.xml");
+  const Joint& j = m.joints[0];
+  EXPECT_EQ(j.ball_limit, BallLimit::kEulerBox);
+  EXPECT_NEAR(j.box_lower[2], -30.0 * kPi / 180.0, 1e-15);
+  EXPECT_NEAR(j.box_upper[2], 20.0 * kPi / 180.0, 1e-15);
+  EXPECT_LT((j.frame_world * Vector3d::UnitZ() - Vector3d(0, -1, 0)).norm(), 1e-15);
+  refused(hinge("1 0 0") + hinge("0 1 0"), "a second joint in body \"b\"");
+  refused(hinge("1 0 0") + hinge("0 1 0") + hinge("0 0 1") + hinge("1 0 0"), "a second joint");
+  refused(hinge("1 0 0") + hinge("0 1 0") + hinge("1 1 0"), "orthogonal axes");
+  refused(hinge("1 0 0") + hinge("0 1 0") + hinge("0 0 1", "0 0 0.1"), "share one pos");
+  refused(hinge("1 0 0") + "<joint type=\"ball\" pos=\"0 0 0.15\"/>" + hinge("0 0 1"),
+          "only as three hinges");
+  // the middle angle within ±85°
+  refused(
+      hinge("1 0 0") + "<joint type=\"hinge\" axis=\"0 1 0\" pos=\"0 0 0.15\"/>" + hinge("0 0 1"),
+      "must contain 0 and lie within");
 }
 
 // Without user data the file is read in MuJoCo's terms: the same bodies to rounding, each ball

@@ -65,11 +65,13 @@ struct MjcfOptions {
 /// for a tree 96 segments deep (measured: MuJoCo builds chain:96, not chain:97)
 inline constexpr int kMjcfMaxDepth = 96;
 /// why the model cannot be written as MJCF that reads back (empty when it can): its depth, or a
-/// ball joint's box limit (three hinges in one body: not written yet)
+/// joint name that a box limit's hinges (`<joint>:x`, `:y`, `:z`) would repeat
 std::string mjcf_write_problem(const Model& model);
 
-/// the model as an MJCF document; a ball limit becomes MuJoCo's cone on the whole rotation angle,
-/// of the model's largest half-angle (swing or twist) so that it forbids nothing the model allows
+/// the model as an MJCF document. A box limit becomes three hinges in the child's body, which
+/// MuJoCo composes in the box's order: the same joint, each range enforced on its own angle. A
+/// swing–twist limit becomes MuJoCo's cone on the whole rotation angle, of the model's largest
+/// half-angle (swing or twist) so that it forbids nothing the model allows.
 std::string write_mjcf(const Model& model, const MjcfOptions& options = {});
 
 /// Reads an MJCF articulated body (docs/mjcf.md: what is read, what is refused). `source` names

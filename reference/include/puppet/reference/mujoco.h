@@ -14,8 +14,8 @@
 //     (exact for a flat impedance: a_ref = −b·(v − v_t) − k·(p − p_t) with b/k = 2τ). A
 //     compliant pin is a spring force, as in the Bullet references;
 //   - ground contact has the model's μ in an elliptic (exact Coulomb) cone, as stiff as pins;
-//   - a ball limit is MuJoCo's cone on the whole rotation angle (mjcf_ball_range), hinge limits
-//     the model's.
+//   - a swing–twist ball limit is MuJoCo's cone on the whole rotation angle (mjcf_ball_range); a
+//     box limit is exactly the model's, three hinges in one body; hinge limits the model's.
 // Compiled only when Debian's libmujoco-dev is installed (PUPPET_HAVE_MUJOCO).
 #pragma once
 
