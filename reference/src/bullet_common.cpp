@@ -49,15 +49,7 @@ void clear_contact_caches(btCollisionDispatcher& dispatcher) {
 
 }  // namespace detail
 
-std::string bullet_model_problem(const Model& model) {
-  for (const Joint& joint : model.joints) {
-    if (joint.type == JointType::kBall && joint.ball_limit == BallLimit::kEulerBox) {
-      return "joint \"" + joint.name +
-             "\" has a box limit, which Bullet's solvers do not build yet";
-    }
-  }
-  return {};
-}
+std::string bullet_model_problem(const Model& /*model*/) { return {}; }
 
 std::unique_ptr<Solver> make_solver(Kind kind, const Model& model, const Environment& environment,
                                     const Settings& settings) {

@@ -22,8 +22,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "ball_limit.h"
 #include "bullet_common.h"
-#include "swing_twist_limit.h"
 
 namespace puppet::reference::detail {
 namespace {
@@ -197,17 +197,19 @@ void MultibodySolver::build_links() {
   }
 }
 
-// Ball limits are the model's swing-twist limits (swing_twist_limit.cpp) unless Bullet's own
-// Euler-angle box is asked for; hinge limits are Bullet's. Limits of half a turn or more never
-// act and are not built.
+// Ball limits are the model's (ball_limit.cpp: a swing ellipse and twist, or a box) unless
+// Bullet's own Euler-angle box is asked for a swing–twist joint; hinge limits are Bullet's.
+// Limits of half a turn or more never act and are not built.
 void MultibodySolver::build_limits() {
   for (int j = 0; j < model_.joint_count(); ++j) {
     const Joint& joint = model_.joints[j];
     std::unique_ptr<btMultiBodyConstraint> limit;
-    if (joint.type == JointType::kBall) {
+    if (joint.type == JointType::kBall && joint.ball_limit == BallLimit::kEulerBox) {
+      limit = make_ball_limit(body_.get(), j, joint, joint_in_link_[j + 1]);
+    } else if (joint.type == JointType::kBall) {
       if (joint.swing_x >= kPi && joint.swing_y >= kPi && joint.twist >= kPi) continue;
       if (!euler_ball_limits_) {
-        limit = make_swing_twist_limit(body_.get(), j, joint, joint_in_link_[j + 1]);
+        limit = make_ball_limit(body_.get(), j, joint, joint_in_link_[j + 1]);
       } else {
         // a box of Euler angles about the link frame's axes (the joint frame's when it is
         // principal), agreeing with the model's ellipse only along the axes

@@ -10,9 +10,14 @@
 //   btHingeConstraint      hinge about z, getHingeAngle() is minus the right-handed angle
 //                          (its reference sign is −1) → limits [−upper, −lower]
 //   btFixedConstraint      the joint frame itself
+//   btGeneric6DofSpring2Constraint (a box limit)  the joint frame itself; its RO_abc angles
+//                          (α, β, γ) turn A⁻¹B by R_c(−γ)R_b(−β)R_a(−α), so the box's order
+//                          reversed with each angle negated: limits [−upper, −lower] per axis
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+
+#include <BulletDynamics/ConstraintSolver/btGeneric6DofSpring2Constraint.h>
 
 #include "bullet_common.h"
 
@@ -54,6 +59,9 @@ class RigidSolver final : public Solver {
  private:
   void build_bodies();
   void build_joints();
+  static std::unique_ptr<btTypedConstraint> make_box(btRigidBody& parent, btRigidBody& child,
+                                                     const Joint& joint, const btTransform& frame_a,
+                                                     const btTransform& frame_b);
   void place(int segment, const BodyState& body);
 
   const Model& model_;
@@ -134,7 +142,8 @@ void RigidSolver::build_joints() {
     btRigidBody& child = *bodies_[joint.child];
     Quaterniond in_parent = joint.frame_in_parent;
     Quaterniond in_child = joint.frame_in_child;
-    if (joint.type == JointType::kBall) {
+    const bool box = joint.type == JointType::kBall && joint.ball_limit == BallLimit::kEulerBox;
+    if (joint.type == JointType::kBall && !box) {
       in_parent = in_parent * relabel;
       in_child = in_child * relabel;
     } else if (joint.type == JointType::kHinge) {
@@ -149,6 +158,12 @@ void RigidSolver::build_joints() {
     frame_in_child_.push_back(frame_b);
 
     std::unique_ptr<btTypedConstraint> constraint;
+    if (box) {
+      constraint = make_box(parent, child, joint, frame_a, frame_b);
+      world_->addConstraint(constraint.get(), true);
+      joints_.push_back(std::move(constraint));
+      continue;
+    }
     switch (joint.type) {
       case JointType::kBall: {
         auto cone = std::make_unique<btConeTwistConstraint>(parent, child, frame_a, frame_b);
@@ -174,6 +189,32 @@ void RigidSolver::build_joints() {
     world_->addConstraint(constraint.get(), true);
     joints_.push_back(std::move(constraint));
   }
+}
+
+// a box limit as a 6-dof joint: the three translations locked, each angle within its range
+std::unique_ptr<btTypedConstraint> RigidSolver::make_box(btRigidBody& parent, btRigidBody& child,
+                                                         const Joint& joint,
+                                                         const btTransform& frame_a,
+                                                         const btTransform& frame_b) {
+  // RotateOrder lists the orders x y z, x z y, y x z, y z x, z x y, z y x: the reversed order's
+  // index
+  const auto& o = joint.box_order.axes;
+  constexpr int kOrders[3][3] = {{-1, 0, 1}, {2, -1, 3}, {4, 5, -1}};
+  const auto order = static_cast<RotateOrder>(kOrders[o[2]][o[1]]);
+  auto six =
+      std::make_unique<btGeneric6DofSpring2Constraint>(parent, child, frame_a, frame_b, order);
+  six->setLinearLowerLimit(btVector3(0, 0, 0));
+  six->setLinearUpperLimit(btVector3(0, 0, 0));
+  btVector3 lower, upper;
+  for (int k = 0; k < 3; ++k) {
+    const bool free = joint.box_lower[k] <= -kPi && joint.box_upper[k] >= kPi;
+    // lower above upper leaves an axis free
+    lower[o[k]] = free ? 1.0 : -joint.box_upper[k];
+    upper[o[k]] = free ? -1.0 : -joint.box_lower[k];
+  }
+  six->setAngularLowerLimit(lower);
+  six->setAngularUpperLimit(upper);
+  return six;
 }
 
 void RigidSolver::set_pins(std::span<const Pin> pins) {

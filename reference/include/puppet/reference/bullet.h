@@ -67,8 +67,10 @@ class Solver {
   virtual void joint_anchors(int joint, Vector3d* on_parent, Vector3d* on_child) const = 0;
 };
 
-// why Bullet cannot build the model (empty when it can), decided before anything runs: a ball
-// joint's box limit is not built in either Bullet solver yet
+// why Bullet cannot build the model (empty when it can), decided before anything runs: both
+// solvers build every joint and limit kind the model has (a box limit as the multibody's own
+// rows, ball_limit.cpp, and as the ragdoll's btGeneric6DofSpring2Constraint), so this is the
+// place a limitation would be stated
 std::string bullet_model_problem(const Model& model);
 
 // builds the model at rest in the environment (its ground, gravity and forces); the model must

@@ -1,11 +1,13 @@
-#include "swing_twist_limit.h"
+#include "ball_limit.h"
 
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
 
 #include "bullet_common.h"
+#include "puppet/model/euler_box.h"
 #include "puppet/model/rotation.h"
 
 namespace puppet::reference::detail {
@@ -13,22 +15,29 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// The model's own ball-joint limit (the one the procedural solver and the metrics use): twist
-// about the joint frame's z within ±twist, swing inside the ellipse of half-angles swing_x,
-// swing_y. Bullet's btMultiBodySphericalJointLimit bounds Euler angles instead, and with the
-// shoulders' 110° swing it blew up a free spinning puppet at 1.25 s while every joint was
-// inside its limits (Settings::euler_ball_limits keeps it available).
+// The model's own ball-joint limits (the ones the procedural solver and the metrics use), as
+// one-sided angular rows between the link (A) and its parent (B), each C ≤ 0 with
+// dC/dt = J · (ω_A − ω_B). Bullet's btMultiBodySphericalJointLimit bounds Euler angles whose x
+// and y turn with the twist, and with the shoulders' 110° swing it blew up a free spinning
+// puppet at 1.25 s while every joint was inside its limits (Settings::euler_ball_limits keeps it
+// available).
 //
-// Two one-sided angular rows between the link (A) and its parent (B), each C ≤ 0 with
-// dC/dt = J · (ω_A − ω_B):
+// A swing–twist limit: twist about the joint frame's z within ±twist, swing inside the ellipse
+// of half-angles swing_x, swing_y; two rows:
 //   swing  C = φ − φ_max(u)  J = the swing axis u in world (φ_max: the ellipse along u)
 //   twist  C = |τ| − τ_max    J = ± the twist rate's gradient (below)
+// A box limit (euler_box.h): q_rel = R(e₀, θ₀) R(e₁, θ₁) R(e₂, θ₂) in the parent's joint frame,
+// one row per angle with a range, against its nearer face:
+//   C = θₖ − upperₖ (or lowerₖ − θₖ)  J = ± the k-th row of N⁻¹
+// where ω_rel = N θ̇ with N's columns n₀ = e₀, n₁ = R₀ e₁, n₂ = R₀R₁ e₂, whose inverse's rows are
+// (n₁ × n₂, n₂ × n₀, n₀ × n₁) / det N, det N = ±cos θ₁ (the middle angle stays within ±85°).
 // Like Bullet's hinge limit the rows are speculative: inside the limit (C < 0) they allow the
 // joint to reach the limit in this step and no further; outside, Baumgarte (m_erp) pushes back.
-class SwingTwistLimit final : public btMultiBodyConstraint {
+class BallLimitRows final : public btMultiBodyConstraint {
  public:
-  SwingTwistLimit(btMultiBody* body, int link, const Joint& joint, const Quaterniond& joint_in_link)
-      : btMultiBodyConstraint(body, body, link, body->getLink(link).m_parent, 2, true,
+  BallLimitRows(btMultiBody* body, int link, const Joint& joint, const Quaterniond& joint_in_link)
+      : btMultiBodyConstraint(body, body, link, body->getLink(link).m_parent,
+                              joint.ball_limit == BallLimit::kEulerBox ? 3 : 2, true,
                               MULTIBODY_CONSTRAINT_SPHERICAL_LIMIT),
         joint_(joint),
         joint_in_link_(joint_in_link),
@@ -59,10 +68,15 @@ class SwingTwistLimit final : public btMultiBodyConstraint {
       q_rel = joint_in_link_.conjugate() * q_rel * joint_in_link_;
       child_frame = child_frame * joint_in_link_.toRotationMatrix();
     }
+    // the parent's joint frame in world
+    const Matrix3d parent_frame = child_frame * q_rel.conjugate().toRotationMatrix();
+    if (joint_.ball_limit == BallLimit::kEulerBox) {
+      box_rows(rows, data, info, q_rel, parent_frame);
+      return;
+    }
     const SwingTwist st = decompose_swing_twist(q_rel, Vector3d::UnitZ());
 
     // swing, applied in the parent's joint frame (q_rel = swing · twist)
-    const Matrix3d parent_frame = child_frame * q_rel.conjugate().toRotationMatrix();
     const Vector3d swing = quat_log(st.swing);
     const double phi = swing.norm();
     const Vector3d u = phi > 1e-12 ? Vector3d(swing / phi) : Vector3d::UnitX();
@@ -93,6 +107,26 @@ class SwingTwistLimit final : public btMultiBodyConstraint {
     return collider ? collider->getIslandTag() : -1;
   }
 
+  void box_rows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
+                const btContactSolverInfo& info, const Quaterniond& q_rel,
+                const Matrix3d& parent_frame) {
+    const auto& order = joint_.box_order.axes;
+    const Vector3d angles = euler_angles(joint_.box_order, q_rel);
+    const Eigen::AngleAxisd r0(angles[0], Vector3d::Unit(order[0]));
+    const Eigen::AngleAxisd r1(angles[1], Vector3d::Unit(order[1]));
+    const std::array<Vector3d, 3> n = {Vector3d::Unit(order[0]), r0 * Vector3d::Unit(order[1]),
+                                       r0 * (r1 * Vector3d::Unit(order[2]))};
+    const double det = n[0].dot(n[1].cross(n[2]));
+    for (int k = 0; k < 3; ++k) {
+      const double lower = joint_.box_lower[k], upper = joint_.box_upper[k];
+      if (lower <= -kPi && upper >= kPi) continue;
+      const Vector3d rate = n[(k + 1) % 3].cross(n[(k + 2) % 3]) / det;  // dθₖ/dt = rate · ω_rel
+      const bool towards_upper = angles[k] >= 0.5 * (lower + upper);
+      const double c = towards_upper ? angles[k] - upper : lower - angles[k];
+      add_row(rows, data, info, k, parent_frame * (towards_upper ? rate : Vector3d(-rate)), c);
+    }
+  }
+
   void add_row(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
                const btContactSolverInfo& info, int index, const Vector3d& normal, double c) {
     // Bullet aims at dC/dt = −m_erp·C/dt; inside the limit the aim is −C/dt (reach it, no
@@ -113,10 +147,10 @@ class SwingTwistLimit final : public btMultiBodyConstraint {
 
 }  // namespace
 
-std::unique_ptr<btMultiBodyConstraint> make_swing_twist_limit(btMultiBody* body, int link,
-                                                              const Joint& joint,
-                                                              const Quaterniond& joint_in_link) {
-  return std::make_unique<SwingTwistLimit>(body, link, joint, joint_in_link);
+std::unique_ptr<btMultiBodyConstraint> make_ball_limit(btMultiBody* body, int link,
+                                                       const Joint& joint,
+                                                       const Quaterniond& joint_in_link) {
+  return std::make_unique<BallLimitRows>(body, link, joint, joint_in_link);
 }
 
 }  // namespace puppet::reference::detail
