@@ -1,5 +1,7 @@
 #include "puppet/compare/sweep.h"
 
+#include "puppet/model/mjcf.h"
+
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -10,10 +12,7 @@
 namespace puppet::compare {
 namespace {
 
-// the dt of each truth slot: [0] the truth, [1] its check, [2] the second truth, [3] its check
-constexpr double kTruthSlotDts[4] = {kTruthDt, kTruthCheckDt, kSecondTruthDt, kSecondTruthCheckDt};
-
-bool is_truth_solver(const SolverConfig& config) { return config.solver == kTruthSolver; }
+bool is_pairwise_solver(const SolverConfig& config) { return config.solver == kPairwiseSolver; }
 
 std::unique_ptr<Simulator> make(const SolverConfig& config) {
   return make_simulator(config.solver, config.options);
@@ -23,17 +22,30 @@ double duration_of(const Scenario& scenario, const RunOptions& options) {
   return options.duration >= 0.0 ? options.duration : scenario.duration;
 }
 
+// a truth's three runs: [0] at h, [1] at h/2, [2] at 2h
+constexpr double kLevelScale[3] = {1.0, 0.5, 2.0};
+
 }  // namespace
 
-SolverOptions second_truth_options() {
-  SolverOptions options;
-  options.mujoco_integrator = reference::MujocoIntegrator::kRk4;
-  options.mujoco_time_constant = kSecondTruthTimeConstant;
-  return options;
-}
-
-bool have_second_truth(const Model& model) {
-  return reference::have_mujoco() && reference::mujoco_model_problem(model).empty();
+std::vector<Truth> truths_for(const Model& model) {
+  std::vector<Truth> out;
+  Truth mujoco{kMujocoTruthSolver, {}, kMujocoTruthDt, {}};
+  mujoco.options.mujoco_integrator = reference::MujocoIntegrator::kRk4;
+  const bool have_mujoco =
+      reference::have_mujoco() && reference::mujoco_model_problem(model).empty();
+  const bool have_bullet = reference::bullet_model_problem(model).empty();
+  const Truth bullet{kBulletTruthSolver, {}, kBulletTruthDt, {}};
+  if (have_mujoco && mjcf_inexact_joint(model).empty()) {
+    out.push_back(mujoco);
+    if (have_bullet) out.push_back(bullet);
+  } else {
+    if (have_bullet) out.push_back(bullet);
+    if (have_mujoco) out.push_back(mujoco);
+  }
+  for (size_t t = 0; t < out.size(); ++t) {
+    out[t].reference = t == 0 ? kTruthReference : kSecondTruthReference;
+  }
+  return out;
 }
 
 const std::vector<double>& sweep_dts() {
@@ -76,20 +88,22 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
                dt_count = spec.dts.size();
   auto judged = [&](double dt) { return spec.accuracy && divides_sample_interval(dt); };
   const bool any_judged = std::any_of(spec.dts.begin(), spec.dts.end(), judged);
-  const auto truth_config = std::find_if(spec.configs.begin(), spec.configs.end(), is_truth_solver);
-  const bool pairwise = truth_config != spec.configs.end();
-  const SolverConfig truth_solver{kTruthSolver, pairwise ? truth_config->options : SolverOptions{}};
+  const auto pairwise_config =
+      std::find_if(spec.configs.begin(), spec.configs.end(), is_pairwise_solver);
+  const bool pairwise = pairwise_config != spec.configs.end();
+  const std::vector<Truth> truth_list = any_judged ? truths_for(model) : std::vector<Truth>{};
+  const size_t truths = truth_list.size();
+  auto truth_config = [&](size_t t) {
+    return SolverConfig{truth_list[t].solver, truth_list[t].options};
+  };
 
-  const bool second = any_judged && have_second_truth(model);
-  const SolverConfig second_solver{kSecondTruthSolver, second_truth_options()};
-
-  // phases: [truths and their checks] → [the checks' rows, bullet-multibody runs] → [other runs];
+  // phases: [truths at three dts] → [the truths' rows, bullet-multibody runs] → [other runs];
   // each needs the trajectories of the one before
   const size_t run_count = scenario_count * config_count * dt_count;
-  const size_t truths = any_judged ? (second ? 2 : 1) : 0;  // per scenario
-  const size_t truth_jobs = 2 * truths * scenario_count;
-  const size_t check_rows_per_scenario = second ? 4 : 1;
-  const size_t check_jobs = any_judged ? check_rows_per_scenario * scenario_count : 0;
+  const size_t truth_jobs = 3 * truths * scenario_count;
+  // per scenario: each truth's h/2 and 2h against its h, and each against the other
+  const size_t check_rows_per_scenario = 2 * truths + (truths == 2 ? 2 : 0);
+  const size_t check_jobs = check_rows_per_scenario * scenario_count;
   const size_t timing_jobs = spec.run.timing ? run_count : 0;
   const size_t total = truth_jobs + check_jobs + run_count + timing_jobs;
   size_t done = 0;
@@ -98,22 +112,21 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
     if (spec.on_progress) spec.on_progress(done, total);
   };
 
-  // per scenario: [0] the truth, [1] its check, [2] the second truth, [3] its check
-  std::vector<std::array<Trajectory, 4>> truth(scenario_count);
-  if (any_judged) {
-    parallel_for(
-        truth_jobs, spec.jobs,
-        [&](size_t i) {
-          const size_t s = i / (2 * truths), k = i % (2 * truths);
-          // the longer check first
-          const size_t slot = k == 0 ? 1 : k == 1 ? 0 : k;
-          auto simulator = make(slot < 2 ? truth_solver : second_solver);
-          const double dt = kTruthSlotDts[slot];
-          const double duration = duration_of(spec.scenarios[s], spec.run);
-          truth[s][slot] = record_trajectory(*simulator, model, spec.scenarios[s], dt, duration);
-        },
-        progress);
-  }
+  // per scenario, truth and level (h, h/2, 2h)
+  std::vector<std::vector<std::array<Trajectory, 3>>> truth(
+      scenario_count, std::vector<std::array<Trajectory, 3>>(truths));
+  parallel_for(
+      truth_jobs, spec.jobs,
+      [&](size_t i) {
+        const size_t s = i / (3 * truths), t = i % (3 * truths) / 3;
+        // the finest first: the longest jobs start early
+        const size_t level = std::array<size_t, 3>{1, 0, 2}[i % 3];
+        auto simulator = make(truth_config(t));
+        const double dt = truth_list[t].dt * kLevelScale[level];
+        const double duration = duration_of(spec.scenarios[s], spec.run);
+        truth[s][t][level] = record_trajectory(*simulator, model, spec.scenarios[s], dt, duration);
+      },
+      progress);
 
   std::vector<RunResult> results(run_count + check_jobs);
   auto index = [&](size_t s, size_t c, size_t d) { return (s * config_count + c) * dt_count + d; };
@@ -135,12 +148,11 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
                                   reference, label);
         result.summary.insert(result.summary.end(), rows.begin(), rows.end());
       };
-      add(truth[s][0], "truth");
-      if (second) add(truth[s][2], kSecondTruthReference);
-      if (pairwise && !is_truth_solver(config)) add(paired[s * dt_count + d], "pairwise");
+      for (size_t t = 0; t < truths; ++t) add(truth[s][t][0], truth_list[t].reference.c_str());
+      if (pairwise && !is_pairwise_solver(config)) add(paired[s * dt_count + d], "pairwise");
     }
     if (spec.on_run) spec.on_run(result);
-    if (pairwise && is_truth_solver(config))
+    if (pairwise && is_pairwise_solver(config))
       paired[s * dt_count + d] = std::move(result.trajectory);
     result.trace = {};
     result.poses = {};
@@ -149,41 +161,45 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
   };
 
   // the truths' own errors and their agreement, and bullet-multibody at every dt
-  std::vector<size_t> truth_runs;
+  std::vector<size_t> pairwise_runs;
   for (size_t s = 0; s < scenario_count; ++s) {
     for (size_t d = 0; d < dt_count && pairwise; ++d) {
-      truth_runs.push_back(index(s, static_cast<size_t>(truth_config - spec.configs.begin()), d));
+      pairwise_runs.push_back(
+          index(s, static_cast<size_t>(pairwise_config - spec.configs.begin()), d));
     }
   }
   parallel_for(
-      check_jobs + truth_runs.size(), spec.jobs,
+      check_jobs + pairwise_runs.size(), spec.jobs,
       [&](size_t i) {
         if (i < check_jobs) {
           const size_t s = i / check_rows_per_scenario, k = i % check_rows_per_scenario;
-          // k: 0 the truth's check, 1 the second truth's check, 2 the second truth against the
-          // first, 3 the first against the second
-          const size_t run = k == 0 ? 1 : k == 1 ? 3 : k == 2 ? 2 : 0;
-          const size_t against = k == 0 || k == 2 ? 0 : 2;
-          const bool second_solver_run = run >= 2;
+          // k < 2·truths: truth k/2 at h/2 (even k) or 2h (odd k) against itself at h; then
+          // each truth at h against the other
+          const bool own = k < 2 * truths;
+          const size_t t = own ? k / 2 : k - 2 * truths;
+          const size_t level = own ? (k % 2 == 0 ? 1 : 2) : 0;
+          const size_t against = own ? t : 1 - t;
+          const Truth& run = truth_list[t];
+          const std::string& label = truth_list[against].reference;
           RunResult& r = results[run_count + i];
           r.scenario = spec.scenarios[s].name;
-          r.solver = second_solver_run ? kSecondTruthSolver : kTruthSolver;
-          r.dt = kTruthSlotDts[run];
-          r.diverged = truth[s][run].diverged;
-          auto simulator = make(second_solver_run ? second_solver : truth_solver);
-          const char* label = against == 0 ? "truth" : kSecondTruthReference;
-          r.summary = accuracy_rows(*simulator, model, spec.scenarios[s], r.dt, truth[s][run],
-                                    truth[s][against], label);
-          // how far the truth itself leaves the model's limits (MuJoCo's differ)
+          r.solver = run.solver;
+          r.dt = run.dt * kLevelScale[level];
+          r.diverged = truth[s][t][level].diverged;
+          auto simulator = make(truth_config(t));
+          r.summary = accuracy_rows(*simulator, model, spec.scenarios[s], r.dt, truth[s][t][level],
+                                    truth[s][against][0], label.c_str());
+          if (level == 2) return;
+          // how far the truth itself leaves the model's limits and holds its pins
           r.summary.push_back({"limit_violation_deg", "max",
-                               max_limit_violation_deg(model, truth[s][run]), "deg", label});
-          // and how well it holds its pins
-          const PinGaps pin = trajectory_pin_gaps(spec.scenarios[s], truth[s][run]);
+                               max_limit_violation_deg(model, truth[s][t][level]), "deg", label});
+          const PinGaps pin = trajectory_pin_gaps(spec.scenarios[s], truth[s][t][level]);
           r.summary.push_back({"pin_gap_m", "max", pin.max, "m", label});
           r.summary.push_back({"pin_gap_m", "rms", pin.rms, "m", label});
+          if (own) r.summary.push_back({"truth_dt", "h", run.dt, "s", label});
           return;
         }
-        const size_t k = truth_runs[i - check_jobs];
+        const size_t k = pairwise_runs[i - check_jobs];
         run_one(k / (config_count * dt_count), k / dt_count % config_count, k % dt_count);
       },
       progress);
@@ -191,7 +207,7 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
   // every other run
   std::vector<size_t> rest;
   for (size_t k = 0; k < run_count; ++k) {
-    if (!pairwise || !is_truth_solver(spec.configs[k / dt_count % config_count])) {
+    if (!pairwise || !is_pairwise_solver(spec.configs[k / dt_count % config_count])) {
       rest.push_back(k);
     }
   }

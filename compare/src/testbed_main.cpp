@@ -397,12 +397,13 @@ void check_run_size(const SweepSpec& spec, const Model& model) {
     throw UsageError(message.str());
   }
   // in flight per job: the trace, the poses kept and the trajectory for accuracy; held for the
-  // whole sweep: four truth trajectories per scenario and bullet-multibody's at every dt
+  // whole sweep: six truth trajectories per scenario (two truths at three dts) and
+  // bullet-multibody's at every dt
   const double samples = longest / kAccuracySampleInterval + 1;
   const double kept_poses = spec.run.sample_hz > 0.0 ? longest * spec.run.sample_hz + 1 : steps;
   const double per_job = steps * sizeof(StepMetrics) + kept_poses * n * sizeof(PoseSample) +
                          samples * n * sizeof(BodyState);
-  const double held = spec.accuracy ? (4.0 + spec.dts.size()) * spec.scenarios.size() * samples *
+  const double held = spec.accuracy ? (6.0 + spec.dts.size()) * spec.scenarios.size() * samples *
                                           n * sizeof(BodyState)
                                     : 0.0;
   const double memory = spec.jobs * per_job + held;
@@ -523,17 +524,18 @@ int command_run(const RunFlags& f) {
   }
   check_run_size(spec, model);
   apply_engine_verdicts(spec.configs, model, f);
-  // a model the first truth's engine cannot build has no accuracy rows
-  if (const std::string problem = engine_problem(kTruthSolver, model);
-      spec.accuracy && !problem.empty()) {
-    print_error("testbed: ", std::string("note: no truth for this model (") + kTruthSolver +
-                                 " cannot run it: " + problem + "); no accuracy rows");
-    spec.accuracy = false;
-  }
-  if (spec.accuracy && !have_second_truth(model)) {
-    std::fprintf(stderr, "testbed: no second truth (MuJoCo) for this model: %s\n",
-                 reference::have_mujoco() ? reference::mujoco_model_problem(model).c_str()
-                                          : "this build has no MuJoCo");
+  // the truths this model has (sweep.h): none, no accuracy rows; one, judged by it alone
+  if (spec.accuracy) {
+    const std::vector<Truth> truths = truths_for(model);
+    if (truths.empty()) {
+      print_error("testbed: ",
+                  "note: no truth for this model (neither MuJoCo nor bullet-multibody "
+                  "can run it); no accuracy rows");
+      spec.accuracy = false;
+    } else if (truths.size() == 1) {
+      print_error("testbed: ", "note: one truth for this model (" + truths[0].solver +
+                                   "): the other cannot run it");
+    }
   }
   OutputFolder folder("--out", f.out, {"summary.csv", "traces"});
   const std::filesystem::path traces = folder.staging() / "traces";
@@ -957,8 +959,8 @@ int run_command(int argc, char** argv) {
                   "SEED:INDEX: the random start of testbed robustness (pose, velocities, tilt, "
                   "grab point, circle frequency and phase)");
   run->add_flag("--no-accuracy", f.no_accuracy,
-                "skip the truths (bullet-multibody at 1/3840 s, mujoco RK4 at 1/7680 s) and the "
-                "accuracy rows");
+                "skip the truths (mujoco RK4 at 1/7680 s, bullet-multibody at 1/3840 s, each at "
+                "half and twice that too) and the accuracy rows");
 
   auto* frontier = app.add_subcommand(
       "frontier",

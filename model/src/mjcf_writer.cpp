@@ -1,5 +1,6 @@
 // write_mjcf (mjcf.h): the model as MJCF in MuJoCo's local coordinates (every body relative to
 // its parent, every joint in its body), numbers in their shortest exact decimal form.
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <numbers>
@@ -331,6 +332,16 @@ std::string mjcf_write_problem(const Model& model) {
   if (deepest <= kMjcfMaxDepth) return {};
   return "the model's tree is " + std::to_string(deepest) + " segments deep; MJCF (read with " +
          "tinyxml2, by MuJoCo and by this project) nests at most " + std::to_string(kMjcfMaxDepth);
+}
+
+std::string mjcf_inexact_joint(const Model& model) {
+  for (const Joint& joint : model.joints) {
+    if (joint.type == JointType::kBall && joint.ball_limit == BallLimit::kSwingTwist &&
+        std::min({joint.swing_x, joint.swing_y, joint.twist}) < kPi) {
+      return joint.name;
+    }
+  }
+  return {};
 }
 
 double mjcf_ball_range(const Joint& joint) {

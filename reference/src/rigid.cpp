@@ -327,6 +327,11 @@ void RigidSolver::joint_anchors(int joint, Vector3d* on_parent, Vector3d* on_chi
   btTransform a = btTransform::getIdentity(), b = btTransform::getIdentity();
   switch (j.type) {
     case JointType::kBall:
+      if (j.ball_limit == BallLimit::kEulerBox) {
+        a = static_cast<const btGeneric6DofSpring2Constraint&>(c).getFrameOffsetA();
+        b = static_cast<const btGeneric6DofSpring2Constraint&>(c).getFrameOffsetB();
+        break;
+      }
       a = static_cast<const btConeTwistConstraint&>(c).getAFrame();
       b = static_cast<const btConeTwistConstraint&>(c).getBFrame();
       break;

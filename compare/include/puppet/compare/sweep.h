@@ -11,23 +11,33 @@
 
 namespace puppet::compare {
 
-// the truth: bullet-multibody at 1/3840 s (it divides every dt of the sweep), checked against
-// 1/7680 s; rows against it have reference "truth"
-inline constexpr const char* kTruthSolver = "bullet-multibody";
-constexpr double kTruthDt = 1.0 / 3840.0;
-constexpr double kTruthCheckDt = 1.0 / 7680.0;
-// the second truth, when the build has MuJoCo: mujoco with RK4 at 1/7680 s, checked against
-// 1/15360 s, its constraints' time constant fixed at 2/3840 s so that both have the same
-// constraint model; rows against it have reference "mujoco-truth"
-inline constexpr const char* kSecondTruthSolver = "mujoco";
-inline constexpr const char* kSecondTruthReference = "mujoco-truth";
-constexpr double kSecondTruthDt = 1.0 / 7680.0;
-constexpr double kSecondTruthCheckDt = 1.0 / 15360.0;
-constexpr double kSecondTruthTimeConstant = 2.0 / 3840.0;
-SolverOptions second_truth_options();
-// whether this build has the second truth and MuJoCo can build the model
-// (reference::mujoco_model_problem); a sweep without it judges against the first truth alone
-bool have_second_truth(const Model& model);
+// A truth: an engine at a fine dt h, run at 2h, h and h/2 in every judged scenario. Its run at h
+// judges the others; the two differences (2h and h/2 against h) give its order of convergence
+// and so a bound on its own error (docs/design.md, "Metrics"). Each engine's constraint model is
+// refined with dt (MuJoCo's time constant 2·dt, Bullet's Baumgarte fraction per step), so the
+// bound includes the constraint model's own error.
+struct Truth {
+  std::string solver;
+  SolverOptions options;
+  double dt = 0.0;        // h
+  std::string reference;  // the rows' reference column: kTruthReference or kSecondTruthReference
+};
+inline constexpr const char* kTruthReference = "truth";
+inline constexpr const char* kSecondTruthReference = "second-truth";
+// the truths' engines and their h: MuJoCo with RK4 at 1/7680 s, bullet-multibody at 1/3840 s
+// (it divides every dt of the sweep)
+inline constexpr const char* kMujocoTruthSolver = "mujoco";
+constexpr double kMujocoTruthDt = 1.0 / 7680.0;
+inline constexpr const char* kBulletTruthSolver = "bullet-multibody";
+constexpr double kBulletTruthDt = 1.0 / 3840.0;
+// The truths for a model, the judging one first: MuJoCo RK4 where it builds every joint and
+// limit exactly (hinges, box limits, unlimited balls: mjcf_inexact_joint), since it is
+// the sharper of the two (its pins are exact or stiff springs, not iterated impulses); else
+// bullet-multibody, whose rows hold the model's swing–twist limits. The other follows when it can
+// build the model. Empty when neither can.
+std::vector<Truth> truths_for(const Model& model);
+// the engine and dt bullet-multibody's pairwise rows are measured against (the same dt)
+inline constexpr const char* kPairwiseSolver = "bullet-multibody";
 
 // the dts of the default sweep
 const std::vector<double>& sweep_dts();
@@ -54,13 +64,11 @@ struct SweepSpec {
   std::function<void(size_t done, size_t total)> on_progress;
 };
 
-// Results in scenario × config × dt order. With accuracy, one more result per scenario follows:
-// bullet-multibody at kTruthCheckDt against the truth, whose rows say how far the truth itself
-// can be trusted (it judges only errors more than ten times larger). With the second truth,
-// three more per scenario: mujoco (RK4) at kSecondTruthCheckDt against the second truth, the
-// second truth against the first (mujoco at kSecondTruthDt, reference "truth") and the first
-// against the second (bullet-multibody at kTruthDt, reference "mujoco-truth"). Every run is
-// judged against both truths.
+// Results in scenario × config × dt order. With accuracy, rows on the truths follow, per
+// scenario and truth: its run at h/2 and its run at 2h against its run at h (reference its own:
+// the two differences that bound its error; the h/2 row also carries its limit violation, its
+// pin gaps and a "truth_dt" row holding h), and with two truths each one's run at h against the
+// other (their agreement). Every run is judged against every truth.
 std::vector<RunResult> run_sweep(const SweepSpec& spec);
 
 // runs job(0) … job(count − 1) on `threads` threads (at most `count`), calling after_each (one

@@ -68,6 +68,10 @@ inline constexpr int kMjcfMaxDepth = 96;
 /// joint name that a box limit's hinges (`<joint>:x`, `:y`, `:z`) would repeat
 std::string mjcf_write_problem(const Model& model);
 
+/// the first joint whose limit MJCF holds only approximately (a swing–twist ball limit, written as
+/// MuJoCo's cone), empty when every joint is exact (hinges, box limits, unlimited balls)
+std::string mjcf_inexact_joint(const Model& model);
+
 /// the model as an MJCF document. A box limit becomes three hinges in the child's body, which
 /// MuJoCo composes in the box's order: the same joint, each range enforced on its own angle. A
 /// swing–twist limit becomes MuJoCo's cone on the whole rotation angle, of the model's largest
