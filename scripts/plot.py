@@ -70,10 +70,14 @@ def fmt(value, digits=2):
     return f"{value:.{digits}g}" if abs(value) < 1 else f"{value:.{max(digits, 3)}g}"
 
 
-# the truths (compare/include/puppet/compare/sweep.h): their references, solvers and dts
-SECOND_TRUTH = "mujoco-truth"
-TRUTH_SOLVERS = {"truth": "bullet-multibody", SECOND_TRUTH: "mujoco"}
-TRUTH_DTS = {"truth": (1 / 3840, 1 / 7680), SECOND_TRUTH: (1 / 7680, 1 / 15360)}
+# the truths (compare/include/puppet/compare/sweep.h): the rows' references; which engine each
+# one is and its dt h are read from the CSV's "truth_dt" rows
+TRUTH, SECOND_TRUTH = "truth", "second-truth"
+TRUTHS = (TRUTH, SECOND_TRUTH)
+# a truth's error bar: BAR_MARGIN × 2^p/(2^p − 1) × |x_h − x_{h/2}|, p its order read from its runs
+# at 2h, h and h/2, taken as at least MIN_ORDER (docs/design.md, "Metrics")
+BAR_MARGIN = 1.5
+MIN_ORDER = 0.5
 
 
 class Summary:
@@ -97,9 +101,9 @@ class Summary:
                     raise ReportError(f"{path}:{n}: {len(row)} fields, expected {len(self.HEADER)}")
                 r = dict(zip(self.HEADER, row))
                 dt = float(r["dt"])
-                for exact in (1 / 3840, 1 / 7680, 1 / 15360):  # the CSV keeps 9 digits
-                    if abs(dt - exact) <= 1e-6 * exact:
-                        dt = exact
+                exact = 1 / round(1 / dt)  # every dt is 1/n; the CSV keeps 9 digits
+                if abs(dt - exact) <= 1e-6 * exact:
+                    dt = exact
                 config = (r["solver"], r["rule"])
                 value = float(r["value"]) if r["value"] else math.nan
                 self.values[(r["scenario"], config, dt, r["metric"], r["stat"], r["reference"])] = value
@@ -126,28 +130,68 @@ class Summary:
     def table_dt(self):
         return min(self.dts, key=lambda dt: abs(math.log(dt / TABLE_DT)))
 
-    def truth_check(self, scenario, reference="truth", stat="reseeded_mean", metric="pose_err_m"):
-        """a truth's own error: its run at half its dt against it"""
-        solver = TRUTH_SOLVERS[reference]
-        return self.get(scenario, (solver, ""), TRUTH_DTS[reference][1], metric, stat, reference)
+    def truth_engine(self, reference=TRUTH):
+        """(solver, h) of a truth, from its truth_dt rows; None when the run had no such truth"""
+        for k, v in self.values.items():
+            if k[3] == "truth_dt" and k[5] == reference:
+                h = 1 / round(1 / v)
+                return k[1][0], h
+        return None
 
-    def truth_limit(self, scenario, reference="truth", stat="reseeded_mean", metric="pose_err_m"):
-        """the smallest error a truth can judge: ten times its own difference to dt/2."""
-        return 10 * self.truth_check(scenario, reference, stat, metric)
+    def truths(self):
+        return [r for r in TRUTHS if self.truth_engine(r)]
 
-    def truth_check_dt(self, reference="truth"):
-        dt = TRUTH_DTS[reference][1]
-        return dt if any(k[2] == dt and k[5] == reference for k in self.values) else math.nan
+    def truth_text(self, reference=TRUTH):
+        """"MuJoCo (RK4) at 1/7680 s": which engine a truth is"""
+        solver, h = self.truth_engine(reference)
+        return f"{'MuJoCo (RK4)' if solver == 'mujoco' else solver} at {dt_text(h)} s"
+
+    def truth_own(self, scenario, reference=TRUTH, scale=0.5, stat="reseeded_mean",
+                  metric="pose_err_m"):
+        """a truth's run at scale·h against its run at h"""
+        engine = self.truth_engine(reference)
+        if not engine:
+            return math.nan
+        solver, h = engine
+        return self.get(scenario, (solver, ""), 1 / round(1 / (scale * h)), metric, stat, reference)
+
+    def truth_check(self, scenario, reference=TRUTH, stat="reseeded_mean", metric="pose_err_m"):
+        """a truth's own difference: its run at h/2 against it"""
+        return self.truth_own(scenario, reference, 0.5, stat, metric)
+
+    def truth_order(self, scenario, reference=TRUTH, stat="reseeded_mean", metric="pose_err_m"):
+        """the order p of convergence: log2 of the 2h difference over the h/2 difference"""
+        fine = self.truth_check(scenario, reference, stat, metric)
+        coarse = self.truth_own(scenario, reference, 2.0, stat, metric)
+        if not (fine > 0 and coarse > 0):
+            return math.nan
+        return math.log2(coarse / fine)
+
+    def truth_bar(self, scenario, reference=TRUTH, stat="reseeded_mean", metric="pose_err_m"):
+        """a bound on a truth's own error: BAR_MARGIN × 2^p/(2^p − 1) × its h/2 difference"""
+        fine = self.truth_check(scenario, reference, stat, metric)
+        p = self.truth_order(scenario, reference, stat, metric)
+        p = MIN_ORDER if math.isnan(p) else max(p, MIN_ORDER)
+        return BAR_MARGIN * 2 ** p / (2 ** p - 1) * fine
+
+    def truths_agreement(self, scenario, stat, against=TRUTH, metric="pose_err_m"):
+        """the other truth's run at its h against this one"""
+        other = SECOND_TRUTH if against == TRUTH else TRUTH
+        engine = self.truth_engine(other)
+        if not engine or not self.truth_engine(against):
+            return math.nan
+        solver, h = engine
+        return self.get(scenario, (solver, ""), h, metric, stat, against)
+
+    def truth_limit(self, scenario, reference=TRUTH, stat="reseeded_mean", metric="pose_err_m"):
+        """the smallest error a truth can judge: its error bar, and never below the truths'
+        disagreement (either way)"""
+        agreement = [self.truths_agreement(scenario, stat, against, metric) for against in TRUTHS]
+        agreement = [a for a in agreement if not math.isnan(a)]
+        return max([self.truth_bar(scenario, reference, stat, metric)] + agreement)
 
     def has_second_truth(self):
-        return any(k[5] == SECOND_TRUTH for k in self.values)
-
-    def truths_agreement(self, scenario, stat, judged="mujoco", metric="pose_err_m"):
-        """one truth's run against the other: mujoco (RK4, 1/7680 s) against the first truth,
-        or bullet-multibody (1/3840 s) against the second"""
-        reference = "truth" if judged == "mujoco" else SECOND_TRUTH
-        dt = TRUTH_DTS[SECOND_TRUTH if judged == "mujoco" else "truth"][0]
-        return self.get(scenario, (judged, ""), dt, metric, stat, reference)
+        return self.truth_engine(SECOND_TRUTH) is not None
 
 
 def read_frontier(path):
@@ -250,7 +294,7 @@ def plot_error_vs_dt(s, out, metric, unit, name):
         ax.set_ylabel(f"re-seeded error ({unit})")
         ax.grid(True, which="major", alpha=0.3)
     fig.suptitle(f"Re-seeded {metric} against the truth (mean of 8 seeds, 0.5 s each); grey: "
-                 "below 10x the truth's own error")
+                 "within the truth's error bar")
     extra = [plt.Line2D([], [], ls="none", marker="o", mfc="none", mec="#ff7f0e", ms=9,
                         label="some seeds diverged")]
     legend_below(fig, s.configs, extra)
@@ -282,7 +326,7 @@ def plot_speed_accuracy(s, out):
         ax.set_ylabel("re-seeded pose error (m)")
         ax.grid(True, which="major", alpha=0.3)
     fig.suptitle("Speed against accuracy, one point per dt (labelled: the smallest); up-left is "
-                 "worse, down-right better; dashed: 10x the truth's own error")
+                 "worse, down-right better; dashed: the truth's error bar")
     legend_below(fig, s.configs)
     return save(fig, out, "speed_accuracy.png")
 
@@ -400,24 +444,25 @@ def open_limits_section(folder):
             return "div" if o.diverged(sc, c, dt) else "–"
         return f"{fmt(a)} / {fmt(b)}" + (" †" if o.diverged(sc, c, dt) else "")
 
-    pins = any(k[3] == "pin_gap_m" and k[5] in TRUTH_SOLVERS for k in o.values)
-    rows = [[sc] + [fmt(o.truth_check(sc)), fmt(o.truth_check(sc, SECOND_TRUTH)),
+    pins = any(k[3] == "pin_gap_m" and k[5] in TRUTHS for k in o.values)
+    rows = [[sc] + [fmt(o.truth_bar(sc)), fmt(o.truth_bar(sc, SECOND_TRUTH)),
                     fmt(o.truths_agreement(sc, "reseeded_mean"))] +
-            ([fmt(o.truths_agreement(sc, stat, judged, "pin_gap_m"))
-              for judged in ("bullet-multibody", "mujoco") for stat in ("max", "rms")]
+            ([fmt(o.truths_agreement(sc, stat, against, "pin_gap_m"))
+              for against in (SECOND_TRUTH, TRUTH) for stat in ("max", "rms")]
              if pins else []) for sc in o.scenarios]
     return ["## Both truths, limits opened", "",
             f"`truths-open-limits/`: `{o.model}` (every limit opened to ±175°), where the two "
-            "engines model the same bodies and nearly the same joints. Each truth's own error "
-            "(re-seeded at half its dt) and their agreement (re-seeded pose error, m)"
+            "engines model the same bodies and nearly the same joints: the truth is "
+            f"{o.truth_text()}, the second truth {o.truth_text(SECOND_TRUTH)}. Each truth's error "
+            "bar and their agreement (re-seeded pose error, m)"
             + ("; and how far each truth lets its pinned points from their targets (max and RMS "
-               "over the samples, m): where the agreement is far above both truths' own errors, "
+               "over the samples, m): where the agreement is far above both truths' error bars, "
                "the truth whose pins give is the one to doubt" if pins else "") + ":", "",
-            md_table(["scenario", "truth's own", "mujoco-truth's own", "truths' agreement"] +
-                     (["truth pin gap max", "rms", "mujoco-truth pin gap max", "rms"]
+            md_table(["scenario", "truth's bar", "second truth's bar", "truths' agreement"] +
+                     (["truth pin gap max", "rms", "second truth pin gap max", "rms"]
                       if pins else []), rows),
             "", f"Every solver against both truths: re-seeded pose error (m), truth / "
-            f"mujoco-truth, dt = {dt_text(dt)} s (†: the full run diverged):", "",
+            f"second truth, dt = {dt_text(dt)} s (†: the full run diverged):", "",
             md_table(["scenario"] + [label(c) for c in o.configs],
                      [[sc] + [cell(sc, c) for c in o.configs] for sc in o.scenarios]), ""]
 
@@ -448,13 +493,14 @@ def humanoid_section(folder):
            " (m), and the largest joint gap (m); `div@t`: the run diverged at t.", "",
            md_table(["scenario"] + [label(c) for c in h.configs],
                     [[sc] + [cell(sc, c) for c in h.configs] for sc in h.scenarios]), ""]
-    rows = [[sc, fmt(h.truth_check(sc))] +
-            ([fmt(h.truth_check(sc, SECOND_TRUTH)), fmt(h.truths_agreement(sc, "reseeded_mean"))]
+    rows = [[sc, fmt(h.truth_bar(sc))] +
+            ([fmt(h.truth_bar(sc, SECOND_TRUTH)), fmt(h.truths_agreement(sc, "reseeded_mean"))]
              if second else []) for sc in h.scenarios]
-    out += ["The truths on the humanoid: each one's own error and their agreement (re-seeded "
-            "pose error, m):", "",
-            md_table(["scenario", "truth's own"] +
-                     (["mujoco-truth's own", "truths' agreement"] if second else []), rows), ""]
+    out += [f"The truths on the humanoid ({h.truth_text()}"
+            + (f"; second {h.truth_text(SECOND_TRUTH)}" if second else "") + "): each one's "
+            "error bar and their agreement (re-seeded pose error, m):", "",
+            md_table(["scenario", "truth's bar"] +
+                     (["second truth's bar", "truths' agreement"] if second else []), rows), ""]
     return out
 
 
@@ -559,7 +605,7 @@ def section(s, frontier, folder, title):
 
 def report_lines(s, frontier, plots, folder):
     dt = s.table_dt()
-    check_dt = s.truth_check_dt()
+    truths = s.truths()
     now = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     out = ["# Report: the procedural solver against Bullet and MuJoCo", ""]
     out += [f"Generated {now} by `scripts/plot.py` from `{MAIN}/summary.csv`"
@@ -571,9 +617,11 @@ def report_lines(s, frontier, plots, folder):
             f"- Solvers: {', '.join(label(c) for c in s.configs)}.",
             f"- dt: {', '.join(dt_text(d) for d in s.dts)} s. Tables use dt = {dt_text(dt)} s "
             "unless they say otherwise.",
-            "- Truth: bullet-multibody at dt = 1/3840 s"
-            + ("; the second truth MuJoCo with RK4 at 1/7680 s" if s.has_second_truth()
-               else "") + ", sampled every 1/30 s. Errors: "
+            ("- Truth: " + s.truth_text()
+             + (f"; the second truth {s.truth_text(SECOND_TRUTH)}" if s.has_second_truth() else "")
+             + ", each run at h/2 and 2h too, sampled every 1/30 s. " if truths else
+             "- No truth: this model runs in neither truth engine. ") +
+            "Errors: "
             "`pose_err_m` (RMS over segments of the COM distance) and `joint_angle_err_deg` (RMS "
             "over joints of the angle between relative rotations). Re-seeded: from 8 truth "
             "states, each solver runs 0.5 s and is compared with the truth; the mean is the "
@@ -581,85 +629,83 @@ def report_lines(s, frontier, plots, folder):
             "multiple of 1/30 s after it.",
             "- Timing: medians of a separate pass that runs one job at a time.", ""]
 
-    # the truths' own errors and their agreement
+    # the truths' error bars and their agreement
     second = s.has_second_truth()
-    if not math.isnan(check_dt):
+    if truths:
         rows = []
         for sc in s.scenarios:
-            row = [sc, fmt(s.truth_check(sc, stat="at_1s")), fmt(s.truth_check(sc)),
-                   fmt(s.truth_check(sc, metric="joint_angle_err_deg"))]
-            if second:
-                row += [fmt(s.truth_check(sc, SECOND_TRUTH, stat="at_1s")),
-                        fmt(s.truth_check(sc, SECOND_TRUTH)),
-                        fmt(s.truth_check(sc, SECOND_TRUTH, metric="joint_angle_err_deg"))]
+            row = [sc]
+            for ref in truths:
+                p = s.truth_order(sc, ref)
+                row += [fmt(s.truth_own(sc, ref, 2.0)), fmt(s.truth_check(sc, ref)),
+                        "–" if math.isnan(p) else f"{p:.1f}", fmt(s.truth_bar(sc, ref))]
+            row += [fmt(s.truth_limit(sc))]
             rows.append(row)
-        header = ["scenario", "truth: pose m at 1 s", "re-seeded pose m", "re-seeded angle deg"]
-        if second:
-            header += ["mujoco-truth: pose m at 1 s", "re-seeded pose m", "re-seeded angle deg"]
+        header = ["scenario"]
+        for ref in truths:
+            name = "truth" if ref == TRUTH else "second truth"
+            header += [f"{name}: 2h vs h", "h/2 vs h", "order p", "error bar"]
+        header += ["floor"]
         out += ["## How far the truths can be trusted", "",
-                "Each truth run again at half its dt and compared with itself: the first truth is "
-                "bullet-multibody at 1/3840 s (checked at 1/7680 s)"
-                + (", the second (`mujoco-truth`) MuJoCo with RK4 at 1/7680 s (checked at "
-                   "1/15360 s), its constraints' time constant fixed at 2/3840 s so that both dts "
-                   "have the same constraint model"
-                   if second else "; the build had no MuJoCo, so there is no second truth")
-                + ". A truth judges only errors above ten times this difference: smaller ones "
-                "are shown as `≤ limit` below.", "",
+                f"The truth is {s.truth_text()}"
+                + (f", the second truth {s.truth_text(SECOND_TRUTH)}" if second else
+                   "; the second engine cannot run this model")
+                + ". Each is run at h/2 and at 2h too, its constraint model refined with dt "
+                "(MuJoCo's time constant 2·dt, Bullet's Baumgarte fraction per step), and "
+                "compared with itself at h (re-seeded pose error, m). The two differences give "
+                "its order of convergence p = log2(2h difference / h/2 difference) and so a bound "
+                f"on its own error: the error bar {BAR_MARGIN:g} × 2^p/(2^p − 1) × the h/2 "
+                f"difference (Richardson's estimate with a margin of {BAR_MARGIN:g}; p taken as at "
+                f"least {MIN_ORDER:g}). The floor is what the truth can judge: its error bar, and "
+                "never less than the two truths' disagreement (either way, below). Errors under "
+                "it are shown as `≤ floor`.", "",
                 md_table(header, rows), ""]
-    if second and not math.isnan(check_dt):
-        pin_rows = any(k[3] == "pin_gap_m" and k[5] in TRUTH_SOLVERS and k[2] not in s.dts
+    if second:
+        pin_rows = any(k[3] == "pin_gap_m" and k[5] in TRUTHS and k[2] not in s.dts
                        for k in s.values)
         rows = []
         for sc in s.scenarios:
             rows.append([sc] + [fmt(s.truths_agreement(sc, stat)) for stat in
                                 ("at_0.267s", "at_1s", "mean_1s", "reseeded_mean")] +
-                        [fmt(s.truths_agreement(sc, "reseeded_mean", "bullet-multibody")),
+                        [fmt(s.truths_agreement(sc, "reseeded_mean", SECOND_TRUTH)),
                          fmt(s.truths_agreement(sc, "reseeded_mean",
                                                 metric="joint_angle_err_deg")),
-                         fmt(s.truths_agreement(sc, "max", "bullet-multibody",
+                         fmt(s.truths_agreement(sc, "max", SECOND_TRUTH,
                                                 "limit_violation_deg"), 2),
                          fmt(s.truths_agreement(sc, "max", metric="limit_violation_deg"), 2)] +
-                        ([fmt(s.truths_agreement(sc, "max", "bullet-multibody", "pin_gap_m")),
+                        ([fmt(s.truths_agreement(sc, "max", SECOND_TRUTH, "pin_gap_m")),
                           fmt(s.truths_agreement(sc, "max", metric="pin_gap_m"))]
                          if pin_rows else []) +
                         [open_limits_agreement(folder, sc)])
         out += ["## Where the truths agree", "",
-                "MuJoCo (RK4, 1/7680 s) against bullet-multibody (1/3840 s), pose error (m): "
-                "along the whole run, and re-seeded both ways (MuJoCo from the first truth's "
-                "states against it, bullet-multibody from the second's against it). The last "
-                "column is the same re-seeded figure for Pinocchio with every limit opened to "
-                "±175° (`truths-open-limits/`), where the engines' limit models matter only when "
-                "a limb is flung round (MuJoCo's cone bounds the whole angle at 175°, where the "
-                "model allows 175° of swing and of twist).", "",
+                f"The second truth ({s.truth_text(SECOND_TRUTH)}) against the truth "
+                f"({s.truth_text()}), pose error (m): along the whole run, and re-seeded both "
+                "ways (the second from the truth's states against it, the truth from the "
+                "second's against it). The last column is the same re-seeded figure for "
+                "Pinocchio's swing–twist limits opened to ±175° (`truths-open-limits/`), where "
+                "the engines differ only in their pins, contacts and solvers.", "",
                 md_table(["scenario", "at 0.267 s", "at 1 s", "mean 1 s", "re-seeded",
                           "re-seeded (other way)", "re-seeded angle deg",
-                          "truth out of limits, deg", "mujoco-truth out of limits, deg"] +
-                         (["truth pin gap m", "mujoco-truth pin gap m"] if pin_rows else []) +
+                          "truth out of limits, deg", "second truth out of limits, deg"] +
+                         (["truth pin gap m", "second truth pin gap m"] if pin_rows else []) +
                          ["re-seeded, limits opened"], rows), "",
                 "Pin gap: the largest distance of a pinned point from its target along each "
                 "truth." if pin_rows else "",
-                "Out of limits: the largest violation of the model's limits (its swing ellipse "
-                "and twist, as the metrics measure them) along each truth. A solver that holds "
-                "the model's limits and is re-seeded from a state that far outside them is first "
-                "thrown back inside: against the second truth, re-seeded errors measure the limit "
-                "models as much as the solver, which is why the table of every solver against "
-                "both truths with the limits opened follows.", "",
-                "What differs between the engines, each difference documented in docs/mujoco.md: "
-                "MuJoCo 2.2.2 bounds a ball joint's whole rotation angle by one cone (here the "
-                "model's largest half-angle), where bullet-multibody holds the model's swing "
-                "ellipse and twist; MuJoCo's limits, contacts and moving pins are soft "
-                "(time constant 2/3840 s in the second truth), Bullet's are speculative "
-                "impulses; a contact's friction cone is elliptic in MuJoCo and Bullet's "
-                "impulses are clamped per direction. Where the agreement with limits opened is "
-                "close to the truths' own errors, the limit models make the rest of the "
-                "difference.", ""]
+                "Out of limits: the largest violation of the model's limits (as the metrics "
+                "measure them) along each truth.", "",
+                "What differs between the engines (docs/mujoco.md): a box limit is the same "
+                "joint in both (MuJoCo's three hinges, bullet-multibody's rows per angle); a "
+                "swing–twist limit is MuJoCo's cone on the whole rotation angle; MuJoCo's "
+                "limits, contacts and moving pins are soft (time constant 2·dt), Bullet's are "
+                "speculative or Baumgarte impulses iterated ten sweeps; a contact's friction "
+                "cone is elliptic in MuJoCo and Bullet's impulses are clamped per direction.", ""]
 
     def accuracy_cell(sc, config, d, metric="pose_err_m", reference="truth"):
         v = s.get(sc, config, d, metric, "reseeded_mean", reference)
         if math.isnan(v):
             return "div" if s.diverged(sc, config, d) else "–"
         cell = fmt(v)
-        if reference in TRUTH_SOLVERS and metric == "pose_err_m":
+        if reference in TRUTHS and metric == "pose_err_m":
             limit = s.truth_limit(sc, reference)
             if v < limit:
                 cell = f"≤ {fmt(limit)}"
@@ -681,7 +727,7 @@ def report_lines(s, frontier, plots, folder):
                      [[sc] + [accuracy_cell(sc, c, dt, "joint_angle_err_deg") for c in s.configs]
                       for sc in s.scenarios]), ""]
     if second:
-        out += ["Against the second truth (MuJoCo, RK4 at 1/7680 s): re-seeded pose error (m), "
+        out += [f"Against the second truth ({s.truth_text(SECOND_TRUTH)}): re-seeded pose error (m), "
                 f"dt = {dt_text(dt)} s:", "",
                 md_table(["scenario"] + [label(c) for c in s.configs],
                          [[sc] + [accuracy_cell(sc, c, dt, reference=SECOND_TRUTH)
@@ -915,8 +961,8 @@ def ablation_section(folder, frontier):
                     row.append(f"{cell}, pin {fmt(pin)}")
             rows.append(row)
         out += [f"Hard grab against the {by_name['compliant']['label']}; the truth is "
-                "bullet-multibody at 1/3840 s with the same grab (the Bullet references hold a "
-                "compliant grab as a spring force). Each cell adds the grab's RMS distance to its "
+                f"{hard.truth_text() if hard.truths() else 'none'} with the same grab (the "
+                "references hold a compliant grab as a spring force). Each cell adds the grab's RMS distance to its "
                 "target (m).", "",
                 md_table(["solver", "drag hard", "drag compliant", "yank hard", "yank compliant"],
                          rows), ""]
@@ -978,14 +1024,14 @@ def findings(s, frontier, dt, robustness=None):
                 f"{fmt(mean_at(best, coarse))} m at {dt_text(coarse)} s, while bullet-multibody "
                 f"goes from {fmt(mean_at(multibody, fine))} m to {fmt(mean_at(multibody, coarse))} "
                 "m (\"What made the difference\" finds where the floor comes from).")
-    limits = {sc: s.truth_limit(sc) for sc in s.scenarios}
-    loose = [sc for sc in s.scenarios if limits[sc] > 0.05]
+    limits = {sc: s.truth_limit(sc) for sc in s.scenarios} if s.truths() else {}
+    loose = [sc for sc in limits if limits[sc] > 0.01]
     if loose:
         found.append(
-            "The truth itself is uncertain in some scenarios: "
-            "re-seeded at half its dt, bullet-multibody differs from it by "
-            + ", ".join(f"{fmt(limits[sc] / 10)} m in {sc}" for sc in loose)
-            + ", so there only errors above ten times that are judged (the `≤` cells).")
+            "The truth cannot judge errors below a centimetre everywhere: its floor (its error "
+            "bar or the truths' disagreement, whichever is larger) is "
+            + ", ".join(f"{fmt(limits[sc])} m in {sc}" for sc in loose)
+            + " (the `≤` cells).")
     rigid = ("bullet-rigid", "")
     if rigid in s.configs:
         gaps = {sc: s.get(sc, rigid, dt, "joint_gap_m", "max") for sc in s.scenarios}

@@ -38,9 +38,9 @@ def headline(summary_path):
         lines.append(f"| {name} | {fmt(t)} | {fmt(base / t)} | {diverged} | {err_text} |")
     return (f"At dt = 1/{round(1 / dt)} s on {s.model}, from `results/main/summary.csv` (commit "
             f"`{s.git_sha}`, {s.machine}), printed by `scripts/readme_headline.py`. The error is "
-            "against the fine-step truth (bullet-multibody at 1/3840 s), the mean over the "
-            "re-seeded half-second runs; the truth judges only errors above ten times its own "
-            f"(`≤ {fmt(limit)}`). The full tables are in results/REPORT.md.\n\n"
+            f"against the fine-step truth ({s.truth_text()}), the mean over the "
+            "re-seeded half-second runs; errors within the truth's floor (its error bar, or "
+            f"the two truths' disagreement) read `≤ {fmt(limit)}`. The full tables are in results/REPORT.md.\n\n"
             + "\n".join(lines) + "\n")
 
 
