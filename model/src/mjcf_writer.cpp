@@ -161,11 +161,16 @@ class Writer {
   // meets only the plane's conaffinity. Stiff: MuJoCo's refsafe raises a time constant below
   // 2·timestep to 2·timestep, so 1e-6 asks for the stiffest spring it allows at any timestep;
   // 0.9999 is the largest impedance it accepts (the least constraint force given up as softness)
+  //
+  // A joint limit is damped at ratio kLimitDampingRatio, not 1: MuJoCo's limit spring acts once an
+  // angle is past it and bounces an impact back (mjcf.h), where the other engines' limits are
+  // near-inelastic. A larger ratio is a softer spring at the same τ (k = 1/(τζ)²).
   void write_defaults() {
-    const std::string solref =
-        (options_.constraint_time_constant > 0.0 ? num(options_.constraint_time_constant)
-                                                 : std::string("1e-6")) +
-        " 1";
+    const std::string tau = options_.constraint_time_constant > 0.0
+                                ? num(options_.constraint_time_constant)
+                                : std::string("1e-6");
+    const std::string solref = tau + " 1";
+    const std::string solreflimit = tau + " " + num(kLimitDampingRatio);
     out_ << "  <default>\n";
     out_ << "    <geom contype=\"1\" conaffinity=\"0\" condim=\"3\" friction=\""
          << num(options_.environment.friction) << " 0.005 0.0001\"";
@@ -175,7 +180,7 @@ class Writer {
     out_ << "/>\n";
     out_ << "    <joint armature=\"0\" damping=\"0\" frictionloss=\"0\"";
     if (options_.stiff_constraints) {
-      out_ << " solreflimit=\"" << solref << "\" solimplimit=\"0.9999 0.9999 0.001\"";
+      out_ << " solreflimit=\"" << solreflimit << "\" solimplimit=\"0.9999 0.9999 0.001\"";
     }
     out_ << "/>\n";
     if (options_.stiff_constraints) {

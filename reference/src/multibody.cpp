@@ -14,7 +14,6 @@
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
-#include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 #include <BulletDynamics/Featherstone/btMultiBodyPoint2Point.h>
 #include <BulletDynamics/Featherstone/btMultiBodySphericalJointLimit.h>
@@ -22,8 +21,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "ball_limit.h"
 #include "bullet_common.h"
+#include "limit_rows.h"
 
 namespace puppet::reference::detail {
 namespace {
@@ -136,9 +135,9 @@ MultibodySolver::MultibodySolver(const Model& model, const Environment& environm
   // multibody pins and limits read m_erp (not m_erp2): 0.2 closes a fifth of a gap per step
   info.m_erp = settings.erp;
   // Split impulse hands deep violations to a position pass that the multibody solver does not
-  // run: with it on, btMultiBodyJointLimitConstraint never corrects a hinge more than 0.04 rad
-  // (m_splitImpulsePenetrationThreshold) past its limit (measured: an elbow left 25° past its
-  // stop stayed there). Off, every row is Baumgarte-corrected with m_erp.
+  // run: with it on, Bullet's btMultiBodyJointLimitConstraint never corrected a hinge more than
+  // 0.04 rad (m_splitImpulsePenetrationThreshold) past its limit (measured: an elbow left 25°
+  // past its stop stayed there). Off, every row is Baumgarte-corrected with m_erp.
   info.m_splitImpulse = false;
   world_->addMultiBody(body_.get());
   build_colliders();
@@ -197,19 +196,19 @@ void MultibodySolver::build_links() {
   }
 }
 
-// Ball limits are the model's (ball_limit.cpp: a swing ellipse and twist, or a box) unless
-// Bullet's own Euler-angle box is asked for a swing–twist joint; hinge limits are Bullet's.
-// Limits of half a turn or more never act and are not built.
+// Limits are the model's (limit_rows.cpp: a hinge's range, a swing ellipse and twist, or a box)
+// unless Bullet's own Euler-angle box is asked for a swing–twist joint. Limits of half a turn or
+// more never act and are not built.
 void MultibodySolver::build_limits() {
   for (int j = 0; j < model_.joint_count(); ++j) {
     const Joint& joint = model_.joints[j];
     std::unique_ptr<btMultiBodyConstraint> limit;
     if (joint.type == JointType::kBall && joint.ball_limit == BallLimit::kEulerBox) {
-      limit = make_ball_limit(body_.get(), j, joint, joint_in_link_[j + 1]);
+      limit = make_limit(body_.get(), j, joint, joint_in_link_[j + 1]);
     } else if (joint.type == JointType::kBall) {
       if (joint.swing_x >= kPi && joint.swing_y >= kPi && joint.twist >= kPi) continue;
       if (!euler_ball_limits_) {
-        limit = make_ball_limit(body_.get(), j, joint, joint_in_link_[j + 1]);
+        limit = make_limit(body_.get(), j, joint, joint_in_link_[j + 1]);
       } else {
         // a box of Euler angles about the link frame's axes (the joint frame's when it is
         // principal), agreeing with the model's ellipse only along the axes
@@ -222,9 +221,7 @@ void MultibodySolver::build_limits() {
       }
     } else if (joint.type == JointType::kHinge) {
       if (joint.lower <= -kPi && joint.upper >= kPi) continue;
-      limit = std::make_unique<btMultiBodyJointLimitConstraint>(body_.get(), j, joint.lower,
-                                                                joint.upper);
-      limit->setMaxAppliedImpulse(kMaxImpulse);
+      limit = make_limit(body_.get(), j, joint, joint_in_link_[j + 1]);
     } else {
       continue;
     }

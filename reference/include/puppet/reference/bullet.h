@@ -69,7 +69,7 @@ class Solver {
 
 // why Bullet cannot build the model (empty when it can), decided before anything runs: both
 // solvers build every joint and limit kind the model has (a box limit as the multibody's own
-// rows, ball_limit.cpp, and as the ragdoll's btGeneric6DofSpring2Constraint), so this is the
+// rows, limit_rows.cpp, and as the ragdoll's btGeneric6DofSpring2Constraint), so this is the
 // place a limitation would be stated
 std::string bullet_model_problem(const Model& model);
 

@@ -1,4 +1,4 @@
-#include "ball_limit.h"
+#include "limit_rows.h"
 
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 
@@ -15,13 +15,16 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// The model's own ball-joint limits (the ones the procedural solver and the metrics use), as
+// The model's own joint limits (the ones the procedural solver and the metrics use), as
 // one-sided angular rows between the link (A) and its parent (B), each C ≤ 0 with
 // dC/dt = J · (ω_A − ω_B). Bullet's btMultiBodySphericalJointLimit bounds Euler angles whose x
 // and y turn with the twist, and with the shoulders' 110° swing it blew up a free spinning
 // puppet at 1.25 s while every joint was inside its limits (Settings::euler_ball_limits keeps it
-// available).
+// available); its btMultiBodyJointLimitConstraint acts on a hinge only at or past the limit, so
+// an impact bounces back a fraction of the speed that depends on where the step ends (0 to
+// m_erp, never converging with dt).
 //
+// A hinge: one row against its nearer end, C = θ − upper (or lower − θ), J = ± its axis.
 // A swing–twist limit: twist about the joint frame's z within ±twist, swing inside the ellipse
 // of half-angles swing_x, swing_y; two rows:
 //   swing  C = φ − φ_max(u)  J = the swing axis u in world (φ_max: the ellipse along u)
@@ -33,12 +36,13 @@ constexpr double kPi = std::numbers::pi;
 // (n₁ × n₂, n₂ × n₀, n₀ × n₁) / det N, det N = ±cos θ₁ (the middle angle stays within ±85°).
 // Like Bullet's hinge limit the rows are speculative: inside the limit (C < 0) they allow the
 // joint to reach the limit in this step and no further; outside, Baumgarte (m_erp) pushes back.
-class BallLimitRows final : public btMultiBodyConstraint {
+class LimitRows final : public btMultiBodyConstraint {
  public:
-  BallLimitRows(btMultiBody* body, int link, const Joint& joint, const Quaterniond& joint_in_link)
-      : btMultiBodyConstraint(body, body, link, body->getLink(link).m_parent,
-                              joint.ball_limit == BallLimit::kEulerBox ? 3 : 2, true,
-                              MULTIBODY_CONSTRAINT_SPHERICAL_LIMIT),
+  LimitRows(btMultiBody* body, int link, const Joint& joint, const Quaterniond& joint_in_link)
+      : btMultiBodyConstraint(
+            body, body, link, body->getLink(link).m_parent, row_count(joint), true,
+            joint.type == JointType::kHinge ? MULTIBODY_CONSTRAINT_LIMIT
+                                            : MULTIBODY_CONSTRAINT_SPHERICAL_LIMIT),
         joint_(joint),
         joint_in_link_(joint_in_link),
         identity_(joint_in_link.isApprox(Quaterniond::Identity(), 1e-15)) {
@@ -56,6 +60,16 @@ class BallLimitRows final : public btMultiBodyConstraint {
   void createConstraintRows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
                             const btContactSolverInfo& info) override {
     if (m_numDofsFinalized != m_jacSizeBoth) finalizeMultiDof();
+    if (joint_.type == JointType::kHinge) {
+      // θ is the model's right-handed angle about the link's axis (multibody.cpp)
+      const double angle = m_bodyA->getJointPos(m_linkA);
+      const bool towards_upper = angle >= 0.5 * (joint_.lower + joint_.upper);
+      const double c = towards_upper ? angle - joint_.upper : joint_.lower - angle;
+      const btVector3 axis =
+          m_bodyA->localDirToWorld(m_linkA, m_bodyA->getLink(m_linkA).getAxisTop(0));
+      add_row(rows, data, info, 0, towards_upper ? from_bt(axis) : Vector3d(-from_bt(axis)), c);
+      return;
+    }
     // the joint coordinate (x, y, z, w) is the model's q_rel seen in the link frame (A·q_rel·A⁻¹,
     // multibody.cpp), and the child's joint frame is the link frame turned by A
     const double* p = m_bodyA->getJointPosMultiDof(m_linkA);
@@ -107,6 +121,11 @@ class BallLimitRows final : public btMultiBodyConstraint {
     return collider ? collider->getIslandTag() : -1;
   }
 
+  static int row_count(const Joint& joint) {
+    if (joint.type == JointType::kHinge) return 1;
+    return joint.ball_limit == BallLimit::kEulerBox ? 3 : 2;
+  }
+
   void box_rows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
                 const btContactSolverInfo& info, const Quaterniond& q_rel,
                 const Matrix3d& parent_frame) {
@@ -147,10 +166,9 @@ class BallLimitRows final : public btMultiBodyConstraint {
 
 }  // namespace
 
-std::unique_ptr<btMultiBodyConstraint> make_ball_limit(btMultiBody* body, int link,
-                                                       const Joint& joint,
-                                                       const Quaterniond& joint_in_link) {
-  return std::make_unique<BallLimitRows>(body, link, joint, joint_in_link);
+std::unique_ptr<btMultiBodyConstraint> make_limit(btMultiBody* body, int link, const Joint& joint,
+                                                  const Quaterniond& joint_in_link) {
+  return std::make_unique<LimitRows>(body, link, joint, joint_in_link);
 }
 
 }  // namespace puppet::reference::detail
