@@ -143,6 +143,8 @@ class Summary:
 
     def truth_text(self, reference=TRUTH):
         """"MuJoCo (RK4) at 1/7680 s": which engine a truth is"""
+        if not self.truth_engine(reference):
+            return "none"
         solver, h = self.truth_engine(reference)
         return f"{'MuJoCo (RK4)' if solver == 'mujoco' else solver} at {dt_text(h)} s"
 

@@ -178,7 +178,7 @@ TEST(MjcfReader, ABoxNeedsThreeOrthogonalHingesAtOnePoint) {
 // Without user data the file is read in MuJoCo's terms: the same bodies to rounding, each ball
 // limit MuJoCo's cone (write_mjcf gives it the model's largest half-angle) on swing and twist
 TEST(MjcfReader, WithoutUserDataBallLimitsAreCones) {
-  const Model a = pinocchio();
+  const Model a = load_model(std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio-swing-twist.json");
   MjcfOptions options;
   options.user_data = false;
   const Model b = parse_mjcf(write_mjcf(a, options), "pinocchio.xml");

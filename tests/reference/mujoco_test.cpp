@@ -56,6 +56,7 @@ mjModel* compile_text(const std::string& xml, std::string* error) {
 Model without_limits(Model model) {
   model.name += "-free";
   for (Joint& j : model.joints) {
+    j.ball_limit = BallLimit::kSwingTwist;  // a box opens as a free ball
     j.swing_x = j.swing_y = j.twist = kPi;
     j.lower = -kPi;
     j.upper = kPi;
@@ -326,6 +327,19 @@ TEST(ExportMjcf, MujocosCompilerLoadsIt) {
       const int j = mj_name2id(m, mjOBJ_JOINT, joint.name.c_str());
       if (joint.type == JointType::kFixed) {
         EXPECT_LT(j, 0) << joint.name;  // welded: no joint
+        continue;
+      }
+      if (joint.type == JointType::kBall && joint.ball_limit == BallLimit::kEulerBox) {
+        // three hinges, named by the frame's axes, each with its angle's range
+        EXPECT_LT(j, 0) << joint.name;
+        for (int k = 0; k < 3; ++k) {
+          const std::string name = joint.name + ":" + "xyz"[joint.box_order.axes[k]];
+          const int h = mj_name2id(m, mjOBJ_JOINT, name.c_str());
+          ASSERT_GE(h, 0) << name;
+          EXPECT_EQ(m->jnt_type[h], mjJNT_HINGE) << name;
+          EXPECT_EQ(m->jnt_range[2 * h], joint.box_lower[k]) << name;
+          EXPECT_EQ(m->jnt_range[2 * h + 1], joint.box_upper[k]) << name;
+        }
         continue;
       }
       ASSERT_GE(j, 0) << joint.name;

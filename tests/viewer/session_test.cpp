@@ -88,6 +88,7 @@ TEST(Session, BadInputNamesTheProblem) {
 // by energy while the frame's last step looks calm)
 TEST(Session, ARunDivergesAtTheTestbedsStep) {
   SessionConfig c;
+  c.model = std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio-swing-twist.json";  // its start
   c.scenario = "drag";
   c.start = "1:36";
   Session session(c);
@@ -148,8 +149,11 @@ TEST(Session, AdvanceTakesWholeStepsAndCarriesTheRest) {
 }
 
 // the grabbed point follows its target in every solver, the ghost with the solver
+// (on the swing–twist Pinocchio: with the box limits relaxed holds this grab only within 0.18 m,
+// its shoulder against two faces of its box; REPORT.md's findings)
 TEST(Session, AGrabHoldsThePointAndTheGhostFollowsTheSameTarget) {
   SessionConfig c;
+  c.model = std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio-swing-twist.json";
   c.ghost = "bullet-multibody";
   Session session(c);
   const auto [forearm, tip, held] = grab_the_hand(session);
