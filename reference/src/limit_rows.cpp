@@ -65,6 +65,7 @@ class LimitRows final : public btMultiBodyConstraint {
       const double angle = m_bodyA->getJointPos(m_linkA);
       const bool towards_upper = angle >= 0.5 * (joint_.lower + joint_.upper);
       const double c = towards_upper ? angle - joint_.upper : joint_.lower - angle;
+      if (out_of_reach(c, std::abs(m_bodyA->getJointVel(m_linkA)), info)) return;
       const btVector3 axis =
           m_bodyA->localDirToWorld(m_linkA, m_bodyA->getLink(m_linkA).getAxisTop(0));
       add_row(rows, data, info, 0, towards_upper ? from_bt(axis) : Vector3d(-from_bt(axis)), c);
@@ -136,14 +137,27 @@ class LimitRows final : public btMultiBodyConstraint {
     const std::array<Vector3d, 3> n = {Vector3d::Unit(order[0]), r0 * Vector3d::Unit(order[1]),
                                        r0 * (r1 * Vector3d::Unit(order[2]))};
     const double det = n[0].dot(n[1].cross(n[2]));
+    // each angle turns at most |ω_rel| / |det N| (|n_i × n_j| ≤ 1)
+    const double* w = m_bodyA->getJointVelMultiDof(m_linkA);
+    const double speed = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) / std::abs(det);
     for (int k = 0; k < 3; ++k) {
       const double lower = joint_.box_lower[k], upper = joint_.box_upper[k];
       if (lower <= -kPi && upper >= kPi) continue;
-      const Vector3d rate = n[(k + 1) % 3].cross(n[(k + 2) % 3]) / det;  // dθₖ/dt = rate · ω_rel
       const bool towards_upper = angles[k] >= 0.5 * (lower + upper);
       const double c = towards_upper ? angles[k] - upper : lower - angles[k];
+      if (out_of_reach(c, speed, info)) continue;
+      const Vector3d rate = n[(k + 1) % 3].cross(n[(k + 2) % 3]) / det;  // dθₖ/dt = rate · ω_rel
       add_row(rows, data, info, k, parent_frame * (towards_upper ? rate : Vector3d(-rate)), c);
     }
+  }
+
+  // A speculative row far inside its limit never acts: it allows the joint −C/dt, more than it
+  // can turn in the step. Such rows are left out, which keeps the solver's sweeps to the rows
+  // that can act (every row in every sweep made a step 2.3 times slower). Out of reach: further
+  // than 4 times the step's travel at the joint's speed now, plus 3° for what forces and other
+  // rows add within the step.
+  static bool out_of_reach(double c, double speed, const btContactSolverInfo& info) {
+    return c < -(4.0 * speed * info.m_timeStep + 3.0 * kPi / 180.0);
   }
 
   void add_row(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,

@@ -349,9 +349,11 @@ TEST(ExportMjcf, MujocosCompilerLoadsIt) {
         if (range >= 0.0) {
           EXPECT_EQ(m->jnt_range[2 * j + 1], range) << joint.name;
         }
-      } else {
+      } else if (joint.lower > -kPi || joint.upper < kPi) {
         EXPECT_EQ(m->jnt_range[2 * j], joint.lower) << joint.name;
         EXPECT_EQ(m->jnt_range[2 * j + 1], joint.upper) << joint.name;
+      } else {
+        EXPECT_EQ(m->jnt_limited[j], 0) << joint.name;  // a whole turn: free
       }
     }
     mj_deleteModel(m);
