@@ -1,5 +1,7 @@
 #include "bench_support.h"
 
+#include <filesystem>
+
 #include "puppet/compare/metrics.h"
 #include "puppet/reference/mujoco.h"
 
@@ -34,7 +36,10 @@ Workload make_workload(const Model& model, const std::string& scenario, int batc
 }
 
 const Model& pinocchio() {
-  static const Model model = compare::load_named_model("pinocchio");
+  static const Model model = compare::load_named_model(
+      (std::filesystem::path(compare::builtin_model_path()).parent_path() /
+       "pinocchio-swing-twist.json")
+          .string());
   return model;
 }
 

@@ -91,8 +91,10 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
   const auto pairwise_config =
       std::find_if(spec.configs.begin(), spec.configs.end(), is_pairwise_solver);
   const bool pairwise = pairwise_config != spec.configs.end();
-  const std::vector<Truth> truth_list = any_judged ? truths_for(model) : std::vector<Truth>{};
+  std::vector<Truth> truth_list = any_judged ? truths_for(model) : std::vector<Truth>{};
+  if (spec.first_truth_only && truth_list.size() > 1) truth_list.resize(1);
   const size_t truths = truth_list.size();
+  const size_t levels = spec.first_truth_only ? 1 : 3;  // h, then h/2 and 2h
   auto truth_config = [&](size_t t) {
     return SolverConfig{truth_list[t].solver, truth_list[t].options};
   };
@@ -100,9 +102,11 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
   // phases: [truths at three dts] → [the truths' rows, bullet-multibody runs] → [other runs];
   // each needs the trajectories of the one before
   const size_t run_count = scenario_count * config_count * dt_count;
-  const size_t truth_jobs = 3 * truths * scenario_count;
-  // per scenario: each truth's h/2 and 2h against its h, and each against the other
-  const size_t check_rows_per_scenario = 2 * truths + (truths == 2 ? 2 : 0);
+  const size_t truth_jobs = levels * truths * scenario_count;
+  // per scenario: each truth's h/2 and 2h against its h, and each against the other; with the
+  // first truth alone, one result that names it (its truth_dt row)
+  const size_t check_rows_per_scenario =
+      spec.first_truth_only ? truths : 2 * truths + (truths == 2 ? 2 : 0);
   const size_t check_jobs = check_rows_per_scenario * scenario_count;
   const size_t timing_jobs = spec.run.timing ? run_count : 0;
   const size_t total = truth_jobs + check_jobs + run_count + timing_jobs;
@@ -118,9 +122,9 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
   parallel_for(
       truth_jobs, spec.jobs,
       [&](size_t i) {
-        const size_t s = i / (3 * truths), t = i % (3 * truths) / 3;
+        const size_t s = i / (levels * truths), t = i % (levels * truths) / levels;
         // the finest first: the longest jobs start early
-        const size_t level = std::array<size_t, 3>{1, 0, 2}[i % 3];
+        const size_t level = levels == 1 ? 0 : std::array<size_t, 3>{1, 0, 2}[i % 3];
         auto simulator = make(truth_config(t));
         const double dt = truth_list[t].dt * kLevelScale[level];
         const double duration = duration_of(spec.scenarios[s], spec.run);
@@ -171,6 +175,15 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
   parallel_for(
       check_jobs + pairwise_runs.size(), spec.jobs,
       [&](size_t i) {
+        if (i < check_jobs && spec.first_truth_only) {
+          RunResult& r = results[run_count + i];
+          r.scenario = spec.scenarios[i].name;
+          r.solver = truth_list[0].solver;
+          r.dt = truth_list[0].dt;
+          r.diverged = truth[i][0][0].diverged;
+          r.summary.push_back({"truth_dt", "h", r.dt, "s", truth_list[0].reference});
+          return;
+        }
         if (i < check_jobs) {
           const size_t s = i / check_rows_per_scenario, k = i % check_rows_per_scenario;
           // k < 2·truths: truth k/2 at h/2 (even k) or 2h (odd k) against itself at h; then

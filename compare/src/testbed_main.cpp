@@ -248,6 +248,7 @@ struct RunFlags {
   std::string mujoco_integrator = "euler";
   bool no_velocities = false, no_tremble = false, no_timing = false, bullet_euler_limits = false;
   bool no_accuracy = false;
+  bool first_truth_only = false;
   std::string start;  // run: SEED:INDEX, a random start (start.h)
   // robustness
   std::string starts = "100", seed = "1", shard;
@@ -502,6 +503,7 @@ int command_run(const RunFlags& f) {
   spec.run.sample_hz = parse_in("--sample-hz", f.sample_hz, 0.0, 1e4, " Hz");
   spec.run.timing = !f.no_timing;
   spec.accuracy = !f.no_accuracy;
+  spec.first_truth_only = f.first_truth_only;
   spec.jobs = f.jobs;
   const ScenarioOptions scenario_options = parse_scenario_options(f);
   spec.configs = parse_solver_configs(f);
@@ -958,6 +960,9 @@ int run_command(int argc, char** argv) {
   run->add_option("--start", f.start,
                   "SEED:INDEX: the random start of testbed robustness (pose, velocities, tilt, "
                   "grab point, circle frequency and phase)");
+  run->add_flag("--first-truth-only", f.first_truth_only,
+                "judge against the first truth alone, at its dt: no error bars, no second truth "
+                "(quicker, to compare configurations)");
   run->add_flag("--no-accuracy", f.no_accuracy,
                 "skip the truths (mujoco RK4 at 1/7680 s, bullet-multibody at 1/3840 s, each at "
                 "half and twice that too) and the accuracy rows");

@@ -248,7 +248,7 @@ double rebound(const Model& model, double upper, Advance&& advance) {
 
 // Every engine's limits are near-inelastic: a hinge driven into its end gives back at most 5% of
 // its speed (Bullet's speculative rows and its hinge without restitution, MuJoCo's limit spring
-// damped at kLimitDampingRatio 4: measured 2%, 0.9%, 0.3%; at ratio 1 MuJoCo gave back 4.2%,
+// damped at kLimitDampingRatio 2: measured 2%, 0.9%, 1.0%; at ratio 1 MuJoCo gave back 4.2%,
 // and Bullet's hinge at its default relaxation factor, which is its restitution, 30%). So the
 // truths and the solvers they judge share one impact law. A hinge, not a box: past a box's face the
 // rod slides along it into the next face, whose impact turns the first angle too. The procedural

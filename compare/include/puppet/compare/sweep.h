@@ -56,6 +56,9 @@ struct SweepSpec {
   RunOptions run;  // its dt is ignored: every dt of `dts` runs
   // truth rows where dt divides 1/30 s, and pairwise rows when bullet-multibody is a config
   bool accuracy = true;
+  // judge against the first truth alone, at its h: no second truth and no error-bar runs
+  // (quicker, for sweeps that only compare configurations, such as the ablation)
+  bool first_truth_only = false;
   int jobs = 1;  // worker threads for the runs; timing always runs alone
   // called once per finished run, on the thread that ran it (e.g. to write its trace), before
   // the trace and poses are dropped
