@@ -908,7 +908,7 @@ def ablation_findings(by_name):
                 ratios.append(f"{a / b:.1f}x in {sc}" + (" (diverged)" if diverged else ""))
             parts.append(f"{config[1]}'s by {', '.join(ratios)}")
         found.append(
-            f"With every limit opened to ±175° (the table below), from dt = {dt_text(coarse)} to "
+            f"With every joint free (the table below), from dt = {dt_text(coarse)} to "
             f"{dt_text(fine)} s the error shrinks: {'; '.join(parts)} (first order would be "
             f"{coarse / fine:.0f}x). So with the model's limits, the floor that tree's error sits on "
             "comes from the limits, which the procedural rules project hard and bullet-multibody "
@@ -948,7 +948,7 @@ def ablation_section(folder, frontier):
                          for e, dt in zip(errors, reversed(s.dts))]
                 ratios = [f"{a / b:.2f}" if b > 0 else "–" for a, b in zip(errors, errors[1:])]
                 rows.append([label(config), sc] + cells + [", ".join(ratios)])
-        out += [f"The same rules with every limit opened to ±175° (`{by_name['open-limits']['flags']}`"
+        out += [f"The same rules with every joint free (`{by_name['open-limits']['flags']}`"
                 "), against a truth of the same model: re-seeded pose error (m) per dt, and how "
                 "much it shrinks per halving of dt. †: the full run diverged.", "",
                 md_table(["solver", "scenario"] + [dt_text(dt) for dt in reversed(s.dts)] +

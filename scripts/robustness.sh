@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # The committed robustness results (results/robustness/): every rule, both Bullet solvers and
-# MuJoCo when the build has it, at dt = 1/60 and 1/240 s, 500 random starts per scenario (80,000
-# runs, about 20 minutes on 2 cores); then REPORT.md and the docs' generated blocks. Extra
-# arguments go to testbed robustness (--starts 100 for a quicker look, --shard I/N, ...).
+# MuJoCo when the build has it, at dt = 1/60 and 1/240 s, STARTS random starts per scenario (500
+# by default: 80,000 runs, about 20 minutes on 2 cores on the swing–twist model, more on the box
+# one); then REPORT.md and the docs' generated blocks. Extra arguments go to testbed robustness
+# (--shard I/N, ...).
+#   STARTS=100 scripts/robustness.sh     a quicker look (16,000 runs)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
@@ -10,7 +12,7 @@ cmake --preset release >/dev/null
 cmake --build --preset release
 solvers=procedural,bullet-multibody,bullet-rigid
 if ./build/release/testbed list | grep -qw mujoco; then solvers+=,mujoco; fi
-./build/release/testbed robustness --solver "$solvers" --rule all --dt 1/60,1/240 --starts 500 \
+./build/release/testbed robustness --solver "$solvers" --rule all --dt 1/60,1/240 --starts "${STARTS:-500}" \
   --out results/robustness "$@"
 /usr/bin/python3 scripts/plot.py results
 /usr/bin/python3 scripts/docs_tables.py
