@@ -55,10 +55,8 @@ std::vector<Engine> engines() {
   return out;
 }
 
-// the upper rod held still by three pins (its centre and two points 10 cm off its axis), no
-// gravity: the lower rod turns about the elbow alone
-std::unique_ptr<Solver> held(const Engine& engine, const Model& model) {
-  auto solver = engine.make(model, Environment{.gravity = Vector3d::Zero()});
+// three pins that hold the upper rod still: its centre and two points 10 cm off its axis
+std::vector<Pin> upper_rod_held(const Model& model) {
   const Segment& upper = model.segments[0];
   std::vector<Pin> pins;
   for (const Vector3d& local : {Vector3d(0, 0, 0), Vector3d(0.1, 0, 0), Vector3d(0, 0.1, 0)}) {
@@ -66,7 +64,13 @@ std::unique_ptr<Solver> held(const Engine& engine, const Model& model) {
                     .local_point = local,
                     .target = upper.rest_position + upper.rest_orientation * local});
   }
-  solver->set_pins(pins);
+  return pins;
+}
+
+// the upper rod held still, no gravity: the lower rod turns about the elbow alone
+std::unique_ptr<Solver> held(const Engine& engine, const Model& model) {
+  auto solver = engine.make(model, Environment{.gravity = Vector3d::Zero()});
+  solver->set_pins(upper_rod_held(model));
   return solver;
 }
 
@@ -281,14 +285,7 @@ TEST(LimitImpact, EveryEngineIsNearInelastic) {
     procedural::Settings settings;
     settings.rule = rule;
     procedural::Solver solver(model, settings, Environment{.gravity = Vector3d::Zero()});
-    const Segment& upper_rod = model.segments[0];
-    std::vector<Pin> pins;
-    for (const Vector3d& local : {Vector3d(0, 0, 0), Vector3d(0.1, 0, 0), Vector3d(0, 0.1, 0)}) {
-      pins.push_back({.segment = 0,
-                      .local_point = local,
-                      .target = upper_rod.rest_position + upper_rod.rest_orientation * local});
-    }
-    solver.set_pins(pins);
+    solver.set_pins(upper_rod_held(model));
     solver.reset(start);
     std::vector<BodyState> bodies;
     const double back = rebound(model, joint.upper, [&](int step) {
