@@ -11,6 +11,7 @@
 #include "puppet/model/euler_box.h"
 #include "puppet/model/rotation.h"
 #include "puppet/procedural/solver.h"
+#include "support/box_faces.h"
 #include "support/random.h"
 
 namespace puppet::procedural {
@@ -112,19 +113,7 @@ TEST(JointLimits, ABoxHoldsEachAngleAtItsFace) {
   }
 }
 
-// the box's six faces and eight corners, as directions in angle space
-std::vector<Vector3d> faces_and_corners() {
-  std::vector<Vector3d> out;
-  for (int k = 0; k < 3; ++k) {
-    for (double sign : {-1.0, 1.0}) out.push_back(sign * Vector3d::Unit(k));
-  }
-  for (double a : {-1.0, 1.0}) {
-    for (double b : {-1.0, 1.0}) {
-      for (double c : {-1.0, 1.0}) out.push_back(Vector3d(a, b, c));
-    }
-  }
-  return out;
-}
+using test::faces_and_corners;
 
 // a solver of `rule` without gravity, the base held where it rests
 std::unique_ptr<Solver> base_held(const Model& model, Rule rule) {

@@ -18,6 +18,7 @@
 #include "puppet/procedural/solver.h"
 #include "puppet/reference/bullet.h"
 #include "puppet/reference/mujoco.h"
+#include "support/box_faces.h"
 
 namespace puppet::reference {
 namespace {
@@ -128,19 +129,7 @@ TEST(BoxLimit, EveryEngineHoldsTheModelsAngles) {
   }
 }
 
-// the box's six faces and eight corners, as directions in angle space
-std::vector<Vector3d> faces_and_corners() {
-  std::vector<Vector3d> out;
-  for (int k = 0; k < 3; ++k) {
-    for (double sign : {-1.0, 1.0}) out.push_back(sign * Vector3d::Unit(k));
-  }
-  for (double a : {-1.0, 1.0}) {
-    for (double b : {-1.0, 1.0}) {
-      for (double c : {-1.0, 1.0}) out.push_back(Vector3d(a, b, c));
-    }
-  }
-  return out;
-}
+using test::faces_and_corners;
 
 constexpr double kStepDt = 1.0 / 960.0;
 
