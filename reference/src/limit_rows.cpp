@@ -15,9 +15,16 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
+// the island of a link's collider (every link has one, multibody.cpp), −1 without
+int island(const btMultiBody* body, int link) {
+  const btMultiBodyLinkCollider* collider =
+      link < 0 ? body->getBaseCollider() : body->getLink(link).m_collider;
+  return collider ? collider->getIslandTag() : -1;
+}
+
 // The model's own joint limits (the ones the procedural solver and the metrics use), as
-// one-sided angular rows between the link (A) and its parent (B), each C ≤ 0 with
-// dC/dt = J · (ω_A − ω_B). Bullet's btMultiBodySphericalJointLimit bounds Euler angles whose x
+// one-sided angular rows between the model's child segment (A) and parent segment (B), each
+// C ≤ 0 with dC/dt = J · (ω_A − ω_B). Bullet's btMultiBodySphericalJointLimit bounds Euler angles whose x
 // and y turn with the twist, and with the shoulders' 110° swing it blew up a free spinning
 // puppet at 1.25 s while every joint was inside its limits (Settings::euler_ball_limits keeps it
 // available); its btMultiBodyJointLimitConstraint acts on a hinge only at or past the limit, so
@@ -38,14 +45,13 @@ constexpr double kPi = std::numbers::pi;
 // joint to reach the limit in this step and no further; outside, Baumgarte (m_erp) pushes back.
 class LimitRows final : public btMultiBodyConstraint {
  public:
-  LimitRows(btMultiBody* body, int link, const Joint& joint, const Quaterniond& joint_in_link)
+  LimitRows(btMultiBody* body, const JointLinks& links, const Joint& joint)
       : btMultiBodyConstraint(
-            body, body, link, body->getLink(link).m_parent, row_count(joint), true,
+            body, body, links.child, links.parent, row_count(joint), true,
             joint.type == JointType::kHinge ? MULTIBODY_CONSTRAINT_LIMIT
                                             : MULTIBODY_CONSTRAINT_SPHERICAL_LIMIT),
         joint_(joint),
-        joint_in_link_(joint_in_link),
-        identity_(joint_in_link.isApprox(Quaterniond::Identity(), 1e-15)) {
+        coordinates_(links.coordinates) {
     m_maxAppliedImpulse = kMaxImpulse;
   }
 
@@ -53,40 +59,37 @@ class LimitRows final : public btMultiBodyConstraint {
     allocateJacobiansMultiDof();
     m_numDofsFinalized = m_jacSizeBoth;
   }
-  int getIslandIdA() const override { return island(m_linkA); }
-  int getIslandIdB() const override { return island(m_linkB); }
+  int getIslandIdA() const override { return island(m_bodyA, m_linkA); }
+  int getIslandIdB() const override { return island(m_bodyA, m_linkB); }
   void debugDraw(btIDebugDraw* /*drawer*/) override {}
 
+  // The joint is read from the two links' world frames (the link frames are the segments'), so
+  // a joint reads the same whichever of its segments is nearer the tree's root; only its speed
+  // is read from the coordinates, whose size does not depend on the direction.
   void createConstraintRows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
                             const btContactSolverInfo& info) override {
     if (m_numDofsFinalized != m_jacSizeBoth) finalizeMultiDof();
+    const Matrix3d child_frame = world_basis(m_linkA) * joint_.frame_in_child.toRotationMatrix();
+    const Matrix3d parent_frame = world_basis(m_linkB) * joint_.frame_in_parent.toRotationMatrix();
+    Quaterniond q_rel = Quaterniond(parent_frame.transpose() * child_frame).normalized();
+    if (q_rel.w() < 0.0) q_rel.coeffs() = -q_rel.coeffs();  // a matrix's quaternion has either sign
+    const double* w = m_bodyA->getJointVelMultiDof(coordinates_);
+    double speed = 0.0;
+    for (int k = 0; k < m_bodyA->getLink(coordinates_).m_dofCount; ++k) speed += w[k] * w[k];
+    speed = std::sqrt(speed);  // |ω_rel|, or |θ̇| for a hinge
     if (joint_.type == JointType::kHinge) {
-      // θ is the model's right-handed angle about the link's axis (multibody.cpp)
-      const double angle = m_bodyA->getJointPos(m_linkA);
+      const Vector3d& axis = joint_.hinge_axis;
+      double angle = 2.0 * std::atan2(q_rel.vec().dot(axis), q_rel.w());
+      if (angle > kPi) angle -= 2.0 * kPi;
       const bool towards_upper = angle >= 0.5 * (joint_.lower + joint_.upper);
       const double c = towards_upper ? angle - joint_.upper : joint_.lower - angle;
-      if (out_of_reach(c, std::abs(m_bodyA->getJointVel(m_linkA)), info)) return;
-      const btVector3 axis =
-          m_bodyA->localDirToWorld(m_linkA, m_bodyA->getLink(m_linkA).getAxisTop(0));
-      add_row(rows, data, info, 0, towards_upper ? from_bt(axis) : Vector3d(-from_bt(axis)), c);
+      if (out_of_reach(c, speed, info)) return;
+      const Vector3d normal = child_frame * axis;  // dθ/dt = normal · (ω_child − ω_parent)
+      add_row(rows, data, info, 0, towards_upper ? normal : Vector3d(-normal), c);
       return;
     }
-    // the joint coordinate (x, y, z, w) is the model's q_rel seen in the link frame (A·q_rel·A⁻¹,
-    // multibody.cpp), and the child's joint frame is the link frame turned by A
-    const double* p = m_bodyA->getJointPosMultiDof(m_linkA);
-    Quaterniond q_rel = Quaterniond(p[3], p[0], p[1], p[2]).normalized();
-    const btMatrix3x3 link_basis = m_bodyA->localFrameToWorld(m_linkA, btMatrix3x3::getIdentity());
-    Matrix3d child_frame;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) child_frame(r, c) = link_basis[r][c];
-    if (!identity_) {
-      q_rel = joint_in_link_.conjugate() * q_rel * joint_in_link_;
-      child_frame = child_frame * joint_in_link_.toRotationMatrix();
-    }
-    // the parent's joint frame in world
-    const Matrix3d parent_frame = child_frame * q_rel.conjugate().toRotationMatrix();
     if (joint_.ball_limit == BallLimit::kEulerBox) {
-      box_rows(rows, data, info, q_rel, parent_frame);
+      box_rows(rows, data, info, q_rel, parent_frame, speed);
       return;
     }
     const SwingTwist st = decompose_swing_twist(q_rel, Vector3d::UnitZ());
@@ -116,10 +119,12 @@ class LimitRows final : public btMultiBodyConstraint {
   }
 
  private:
-  int island(int link) const {
-    const btMultiBodyLinkCollider* collider =
-        link < 0 ? m_bodyA->getBaseCollider() : m_bodyA->getLink(link).m_collider;
-    return collider ? collider->getIslandTag() : -1;
+  Matrix3d world_basis(int link) const {
+    const btMatrix3x3 basis = m_bodyA->localFrameToWorld(link, btMatrix3x3::getIdentity());
+    Matrix3d out;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) out(r, c) = basis[r][c];
+    return out;
   }
 
   static int row_count(const Joint& joint) {
@@ -129,7 +134,7 @@ class LimitRows final : public btMultiBodyConstraint {
 
   void box_rows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
                 const btContactSolverInfo& info, const Quaterniond& q_rel,
-                const Matrix3d& parent_frame) {
+                const Matrix3d& parent_frame, double omega) {
     const auto& order = joint_.box_order.axes;
     const Vector3d angles = euler_angles(joint_.box_order, q_rel);
     const Eigen::AngleAxisd r0(angles[0], Vector3d::Unit(order[0]));
@@ -137,9 +142,7 @@ class LimitRows final : public btMultiBodyConstraint {
     const std::array<Vector3d, 3> n = {Vector3d::Unit(order[0]), r0 * Vector3d::Unit(order[1]),
                                        r0 * (r1 * Vector3d::Unit(order[2]))};
     const double det = n[0].dot(n[1].cross(n[2]));
-    // each angle turns at most |ω_rel| / |det N| (|n_i × n_j| ≤ 1)
-    const double* w = m_bodyA->getJointVelMultiDof(m_linkA);
-    const double speed = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) / std::abs(det);
+    const double speed = omega / std::abs(det);  // each angle's rate is at most this
     for (int k = 0; k < 3; ++k) {
       const double lower = joint_.box_lower[k], upper = joint_.box_upper[k];
       if (lower <= -kPi && upper >= kPi) continue;
@@ -174,15 +177,68 @@ class LimitRows final : public btMultiBodyConstraint {
   }
 
   const Joint& joint_;
-  Quaterniond joint_in_link_;
-  bool identity_;  // the link frame is the joint frame: nothing to turn
+  int coordinates_;
 };
 
 }  // namespace
 
-std::unique_ptr<btMultiBodyConstraint> make_limit(btMultiBody* body, int link, const Joint& joint,
-                                                  const Quaterniond& joint_in_link) {
-  return std::make_unique<LimitRows>(body, link, joint, joint_in_link);
+std::unique_ptr<btMultiBodyConstraint> make_limit(btMultiBody* body, const JointLinks& links,
+                                                  const Joint& joint) {
+  return std::make_unique<LimitRows>(body, links, joint);
+}
+
+PinRows::PinRows(btMultiBody* body, int link, const Vector3d& local_point, const Vector3d& target)
+    : btMultiBodyConstraint(body, nullptr, link, -1, 3, false, MULTIBODY_CONSTRAINT_POINT_TO_POINT),
+      local_point_(to_bt(local_point)),
+      target_(target),
+      previous_(target) {
+  m_maxAppliedImpulse = kMaxImpulse;
+}
+
+void PinRows::set_target(const Vector3d& target) {
+  previous_ = target_;
+  target_ = target;
+}
+
+void PinRows::restore(const Vector3d& target, const Vector3d& previous) {
+  target_ = target;
+  previous_ = previous;
+}
+
+void PinRows::finalizeMultiDof() {
+  allocateJacobiansMultiDof();
+  m_numDofsFinalized = m_jacSizeBoth;
+}
+
+int PinRows::getIslandIdA() const { return island(m_bodyA, m_linkA); }
+int PinRows::getIslandIdB() const { return island(m_bodyA, m_linkA); }
+
+// Row k: C = (p − T)·e_k with T the target, which moves at v_T = its travel over the step
+// divided by it. The row aims at dC/dt = −m_erp·C/dt with C taken at the start of the step (p
+// now, T where the step starts), that is at a point velocity v_T·e_k − m_erp·C/dt: on its
+// target the point moves with it. Bullet's own point-to-point row holds p to the target at the
+// end of the step at zero velocity, so a point dragged at speed v trails its target by
+// v·dt·(1/m_erp − 1).
+void PinRows::createConstraintRows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
+                                   const btContactSolverInfo& info) {
+  if (m_numDofsFinalized != m_jacSizeBoth) finalizeMultiDof();
+  const btVector3 point = m_bodyA->localPosToWorld(m_linkA, local_point_);
+  const btVector3 target = to_bt(previous_);
+  const Vector3d velocity = (target_ - previous_) / info.m_timeStep;
+  const btVector3 zero(0, 0, 0);
+  for (int k = 0; k < 3; ++k) {
+    btVector3 normal(0, 0, 0);
+    normal[k] = 1.0;
+    btMultiBodySolverConstraint& row = rows.expandNonInitializing();
+    row.m_orgConstraint = this;
+    row.m_orgDofIndex = k;
+    // the row's other side is the world: no body, no velocity of its own
+    row.m_solverBodyIdA = data.m_fixedBodyId;
+    row.m_solverBodyIdB = data.m_fixedBodyId;
+    fillMultiBodyConstraint(row, data, nullptr, nullptr, zero, normal, point, target,
+                            (point - target)[k], info, -m_maxAppliedImpulse, m_maxAppliedImpulse,
+                            false, 1.0, false, velocity[k]);
+  }
 }
 
 }  // namespace puppet::reference::detail

@@ -185,8 +185,9 @@ int Session::advance(double seconds, int max_steps) {
 void Session::step_frame(int steps) {
   using Clock = std::chrono::steady_clock;
   std::vector<double> seconds(runs_.size(), 0.0);
+  // a move of the mouse is spread over the frame's steps, as a hand moves, not taken in one
   for (int k = 0; k < steps; ++k) {
-    compute_targets(time_ + config_.dt);
+    compute_targets(time_ + config_.dt, static_cast<double>(k + 1) / steps);
     for (size_t i = 0; i < runs_.size(); ++i) {
       Run& run = runs_[i];
       if (run.diverged) continue;
@@ -198,6 +199,7 @@ void Session::step_frame(int steps) {
     }
     time_ += config_.dt;
   }
+  grab_from_ = grab_target_;
   for (size_t i = 0; i < runs_.size(); ++i) {
     Run& run = runs_[i];
     if (run.diverged) continue;
@@ -246,11 +248,11 @@ int Session::grab_index() const {
   return grab_anchors() ? 0 : kept;
 }
 
-void Session::compute_targets(double t) {
+void Session::compute_targets(double t, double along) {
   scenario_.targets_at(t, targets_);
   if (!grabbing()) return;
   if (released_pin_ >= 0) targets_.erase(targets_.begin() + released_pin_);
-  Vector3d target = grab_target_;
+  Vector3d target = grab_from_ + along * (grab_target_ - grab_from_);
   if (shake_) {
     const double phase = 2.0 * M_PI * config_.shake_hz * (t - shake_start_);
     target += config_.shake_amplitude * std::sin(phase) * shake_axis_;
@@ -283,6 +285,7 @@ void Session::grab(int segment, const Vector3d& local_point, const Vector3d& tar
   }
   grab_local_ = local_point;
   grab_target_ = target;
+  grab_from_ = target;
   shake_start_ = time_;
   compute_targets(time_);
   pins_changed();

@@ -130,7 +130,9 @@ class Session {
   void start_over();
   // builds the run's simulator for the current scenario and pins, and places it in `bodies`
   void rebuild(Run& run, std::span<const BodyState> bodies) const;
-  void compute_targets(double t);
+  // the pins' targets at time t, the grab's `along` of the way from where it was at the last
+  // frame to where the mouse has put it
+  void compute_targets(double t, double along = 1.0);
   // pins_ from the scenario's pins and the grab, at targets_
   void collect_pins();
   // collect_pins, and every run holds the new pins
@@ -150,6 +152,7 @@ class Session {
   int grab_segment_ = -1;
   int released_pin_ = -1;
   Vector3d grab_local_{0, 0, 0}, grab_target_{0, 0, 0};
+  Vector3d grab_from_{0, 0, 0};  // the grab's target at the end of the last frame
   bool shake_ = false;
   Vector3d shake_axis_{1, 0, 0};
   double shake_start_ = 0.0;
