@@ -496,6 +496,11 @@ def humanoid_section(folder):
            " (m), and the largest joint gap (m); `div@t`: the run diverged at t.", "",
            md_table(["scenario"] + [label(c) for c in h.configs],
                     [[sc] + [cell(sc, c) for c in h.configs] for sc in h.scenarios]), ""]
+    if all(math.isnan(h.truth_bar(sc)) for sc in h.scenarios):
+        return out + [f"The humanoid is judged against its first truth alone ({h.truth_text()}), "
+                      "at its own dt only (`--first-truth-only`): no error bar, no second truth. "
+                      "It shows the scenarios on a second model; the judging with error bars is "
+                      "Pinocchio's.", ""]
     rows = [[sc, fmt(h.truth_bar(sc))] +
             ([fmt(h.truth_bar(sc, SECOND_TRUTH)), fmt(h.truths_agreement(sc, "reseeded_mean"))]
              if second else []) for sc in h.scenarios]

@@ -24,8 +24,8 @@ int island(const btMultiBody* body, int link) {
 
 // The model's own joint limits (the ones the procedural solver and the metrics use), as
 // one-sided angular rows between the model's child segment (A) and parent segment (B), each
-// C ≤ 0 with dC/dt = J · (ω_A − ω_B). Bullet's btMultiBodySphericalJointLimit bounds Euler angles whose x
-// and y turn with the twist, and with the shoulders' 110° swing it blew up a free spinning
+// C ≤ 0 with dC/dt = J · (ω_A − ω_B). Bullet's btMultiBodySphericalJointLimit bounds Euler angles
+// whose x and y turn with the twist, and with the shoulders' 110° swing it blew up a free spinning
 // puppet at 1.25 s while every joint was inside its limits (Settings::euler_ball_limits keeps it
 // available); its btMultiBodyJointLimitConstraint acts on a hinge only at or past the limit, so
 // an impact bounces back a fraction of the speed that depends on where the step ends (0 to
@@ -46,10 +46,10 @@ int island(const btMultiBody* body, int link) {
 class LimitRows final : public btMultiBodyConstraint {
  public:
   LimitRows(btMultiBody* body, const JointLinks& links, const Joint& joint)
-      : btMultiBodyConstraint(
-            body, body, links.child, links.parent, row_count(joint), true,
-            joint.type == JointType::kHinge ? MULTIBODY_CONSTRAINT_LIMIT
-                                            : MULTIBODY_CONSTRAINT_SPHERICAL_LIMIT),
+      : btMultiBodyConstraint(body, body, links.child, links.parent, row_count(joint), true,
+                              joint.type == JointType::kHinge
+                                  ? MULTIBODY_CONSTRAINT_LIMIT
+                                  : MULTIBODY_CONSTRAINT_SPHERICAL_LIMIT),
         joint_(joint),
         coordinates_(links.coordinates) {
     m_maxAppliedImpulse = kMaxImpulse;
@@ -119,8 +119,11 @@ class LimitRows final : public btMultiBodyConstraint {
   }
 
  private:
+  // a link's orientation in world, as Bullet's forward kinematics left it at the start of the
+  // step (it runs before the constraints' rows are made)
   Matrix3d world_basis(int link) const {
-    const btMatrix3x3 basis = m_bodyA->localFrameToWorld(link, btMatrix3x3::getIdentity());
+    const btMatrix3x3 basis = link < 0 ? btMatrix3x3(m_bodyA->getWorldToBaseRot().inverse())
+                                       : m_bodyA->getLink(link).m_cachedWorldTransform.getBasis();
     Matrix3d out;
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) out(r, c) = basis[r][c];

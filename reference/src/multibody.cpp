@@ -108,8 +108,9 @@ class MultibodySolver final : public Solver {
   std::vector<std::unique_ptr<btCollisionShape>> shapes_;
   std::vector<std::unique_ptr<btMultiBodyLinkCollider>> colliders_;
   std::vector<std::unique_ptr<btMultiBodyConstraint>> limits_;
-  std::vector<std::unique_ptr<PinRows>> hard_;  // per hard pin; null for the one the tree hangs from
-  PinSprings springs_;                          // which pins are hard, and the compliant ones
+  std::vector<std::unique_ptr<PinRows>>
+      hard_;            // per hard pin; null for the one the tree hangs from
+  PinSprings springs_;  // which pins are hard, and the compliant ones
   Ground ground_;
   std::unique_ptr<btMultiBodyDynamicsWorld> world_;
 
@@ -180,9 +181,8 @@ void MultibodySolver::assemble() {
   // canSleep = false: a sleeping body stops moving and stops costing time, which would
   // falsify both motion and timings
   const Segment& root = model_.segments[0];
-  body_ = std::make_unique<btMultiBody>(links, hung ? 0.0 : root.mass,
-                                        hung ? btVector3(0, 0, 0) : to_bt(root.inertia), hung,
-                                        false);
+  body_ = std::make_unique<btMultiBody>(
+      links, hung ? 0.0 : root.mass, hung ? btVector3(0, 0, 0) : to_bt(root.inertia), hung, false);
   build_links();
   // Bullet defaults to 0.04 linear and angular damping on every link: the references must
   // conserve what the physics conserves, so no damping at all
@@ -374,8 +374,8 @@ void MultibodySolver::build_pins() {
       hard_.emplace_back();
       continue;
     }
-    auto rows = std::make_unique<PinRows>(body_.get(), link_of_[pin.segment], pin.local_point,
-                                          pin.target);
+    auto rows =
+        std::make_unique<PinRows>(body_.get(), link_of_[pin.segment], pin.local_point, pin.target);
     rows->finalizeMultiDof();
     world_->addMultiBodyConstraint(rows.get());
     hard_.push_back(std::move(rows));
@@ -414,8 +414,8 @@ void MultibodySolver::set_pins(std::span<const Pin> pins) {
     }
   }
   pins_.assign(pins.begin(), pins.end());
-  const bool same_tree = hang.segment == hang_.segment && hang.point == hang_.point &&
-                         hang.target == hang_.target;
+  const bool same_tree =
+      hang.segment == hang_.segment && hang.point == hang_.point && hang.target == hang_.target;
   hang_ = hang;
   if (same_tree) {
     build_pins();
@@ -519,8 +519,8 @@ void MultibodySolver::set_state(std::span<const BodyState> bodies) {
     const BodyState& body = bodies[segment_of_[link]];
     const int parent = parent_link_[link];
     const bool from_base = parent < 0 && link_of_[0] >= 0;  // the fixed base: still, unturned
-    const Quaterniond qp = from_base ? Quaterniond::Identity()
-                                     : bodies[parent < 0 ? 0 : segment_of_[parent]].q;
+    const Quaterniond qp =
+        from_base ? Quaterniond::Identity() : bodies[parent < 0 ? 0 : segment_of_[parent]].q;
     const Vector3d wp =
         from_base ? Vector3d::Zero() : bodies[parent < 0 ? 0 : segment_of_[parent]].w;
     const Quaterniond q_joint = (zero_[link] * qp.conjugate() * body.q).normalized();
