@@ -704,10 +704,13 @@ def report_lines(s, frontier, plots, folder):
                 "measure them) along each truth.", "",
                 "What differs between the engines (docs/mujoco.md): a box limit is the same "
                 "joint in both (MuJoCo's three hinges, bullet-multibody's rows per angle); a "
-                "swing–twist limit is MuJoCo's cone on the whole rotation angle; MuJoCo's "
-                "limits, contacts and moving pins are soft (time constant 2·dt), Bullet's are "
-                "speculative or Baumgarte impulses iterated ten sweeps; a contact's friction "
-                "cone is elliptic in MuJoCo and Bullet's impulses are clamped per direction.", ""]
+                "swing–twist limit is MuJoCo's cone on the whole rotation angle; both hang "
+                "the tree from a still pin, which then holds exactly; MuJoCo's limits, contacts "
+                "and moving pins are soft (time constant 2·dt, a limit damped at ratio 2 giving "
+                "back about 1% of an impact's speed), Bullet's are speculative or Baumgarte "
+                "impulses iterated ten sweeps (a limit giving back about 2%, a moving pin aimed "
+                "at its target's velocity); a contact's friction cone is elliptic in MuJoCo and "
+                "Bullet's impulses are clamped per direction.", ""]
 
     def accuracy_cell(sc, config, d, metric="pose_err_m", reference="truth"):
         v = s.get(sc, config, d, metric, "reseeded_mean", reference)

@@ -251,13 +251,13 @@ class Writer {
       const double range = mjcf_ball_range(joint);
       if (range >= 0.0) out_ << " limited=\"true\" range=\"0 " << num(range) << "\"";
     } else {
+      // from the parent's side the hinge turns the other way about the same line: about minus
+      // its axis by the model's angle, so the range is the model's
       const Quaterniond frame = forward ? joint.frame_in_child : joint.frame_in_parent;
       const Vector3d axis = frame * (forward ? joint.hinge_axis : Vector3d(-joint.hinge_axis));
-      const double lower = forward ? joint.lower : -joint.upper;
-      const double upper = forward ? joint.upper : -joint.lower;
       out_ << " type=\"hinge\" axis=\"" << vec(axis) << "\"";
-      if (lower > -kPi || upper < kPi) {
-        out_ << " limited=\"true\" range=\"" << nums({lower, upper}) << "\"";
+      if (joint.lower > -kPi || joint.upper < kPi) {
+        out_ << " limited=\"true\" range=\"" << nums({joint.lower, joint.upper}) << "\"";
       }
     }
     if (options_.user_data) {

@@ -289,5 +289,48 @@ TEST(LimitImpact, EveryEngineIsNearInelastic) {
   }
 }
 
+// A hinge between a hanging pin and the model's root is built from its child's side (MuJoCo
+// writes it in the upper rod's body under the lower rod's, bullet-multibody makes the upper rod
+// the lower rod's child link), and keeps the model's range: the tree hung from the lower rod at
+// the hinge, no gravity, the upper rod turned to 2° inside each end and spun towards it at
+// 1 rad/s stops at that end and no earlier.
+TEST(Rooting, AHingeBuiltFromItsChildsSideKeepsItsRange) {
+  const Model model = hinge_model();
+  const Joint& joint = model.joints[0];
+  const Segment& lower = model.segments[1];
+  const Vector3d axis = lower.rest_orientation * joint.frame_in_child * joint.hinge_axis;
+  for (const Engine& engine : engines()) {
+    for (const double end : {joint.lower, joint.upper}) {
+      SCOPED_TRACE(engine.name + (end > 0.0 ? " upper end" : " lower end"));
+      const double sign = end > 0.0 ? 1.0 : -1.0;
+      const double angle = end - sign * 2.0 * kDeg;
+      auto solver = engine.make(model, Environment{.gravity = Vector3d::Zero()});
+      const Pin pin{
+          .segment = 1, .local_point = joint.anchor_in_child, .target = joint.anchor_world};
+      solver->set_pins({&pin, 1});
+      // q_rel = R(a, θ) with the lower rod at rest: the upper rod at q_c F_c R(a, −θ) F_p⁻¹
+      std::vector<BodyState> bodies = rest_pose(model);
+      bodies[0].q = lower.rest_orientation * joint.frame_in_child *
+                    Quaterniond(Eigen::AngleAxisd(-angle, joint.hinge_axis)) *
+                    joint.frame_in_parent.conjugate();
+      bodies[0].x = joint.anchor_world - bodies[0].q * joint.anchor_in_parent;
+      bodies[0].w = -sign * 1.0 * axis;  // ω_child − ω_parent = sign · 1 rad/s about the axis
+      bodies[0].v = bodies[0].w.cross(bodies[0].x - joint.anchor_world);
+      solver->set_state(bodies);
+      solver->read_state(bodies);
+      EXPECT_NEAR(limited_angle(model, bodies), angle, 1e-9);
+      double furthest = angle;
+      for (int step = 0; step < 120; ++step) {
+        solver->step(kImpactDt);
+        solver->read_state(bodies);
+        furthest = sign > 0.0 ? std::max(furthest, limited_angle(model, bodies))
+                              : std::min(furthest, limited_angle(model, bodies));
+      }
+      EXPECT_NEAR(furthest, end, 1.0 * kDeg);
+      EXPECT_NEAR(limited_angle(model, bodies), end, 1.0 * kDeg);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace puppet::reference
