@@ -1,10 +1,9 @@
 #!/usr/bin/env bash
 # The committed robustness results (results/robustness/): every rule, both Bullet solvers and
 # MuJoCo when the build has it, at dt = 1/60 and 1/240 s, STARTS random starts per scenario (500
-# by default: 80,000 runs, about 20 minutes on 2 cores on the swing–twist model, more on the box
-# one); then REPORT.md and the docs' generated blocks. Extra arguments go to testbed robustness
-# (--shard I/N, ...).
-#   STARTS=100 scripts/robustness.sh     a quicker look (16,000 runs)
+# by default: 80,000 runs, about 30 minutes on 2 cores); then REPORT.md and the docs' generated
+# blocks. Extra arguments go to testbed robustness (--shard I/N, ...).
+#   STARTS=100 scripts/robustness.sh     the committed sweep (16,000 runs, 6 minutes on 2 cores)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
