@@ -79,8 +79,7 @@ class LimitRows final : public btMultiBodyConstraint {
     speed = std::sqrt(speed);  // |ω_rel|, or |θ̇| for a hinge
     if (joint_.type == JointType::kHinge) {
       const Vector3d& axis = joint_.hinge_axis;
-      double angle = 2.0 * std::atan2(q_rel.vec().dot(axis), q_rel.w());
-      if (angle > kPi) angle -= 2.0 * kPi;
+      const double angle = 2.0 * std::atan2(q_rel.vec().dot(axis), q_rel.w());  // w ≥ 0: |θ| ≤ π
       const bool towards_upper = angle >= 0.5 * (joint_.lower + joint_.upper);
       const double c = towards_upper ? angle - joint_.upper : joint_.lower - angle;
       if (out_of_reach(c, speed, info)) return;

@@ -19,6 +19,7 @@
 #include "pin_springs.h"
 #include "puppet/model/euler_box.h"
 #include "puppet/model/mjcf.h"
+#include "world_poses.h"
 
 namespace puppet::reference {
 namespace {
@@ -271,12 +272,7 @@ class MujocoSolver final : public Solver {
       out.insert(out.end(), previous_targets_[k].data(), previous_targets_[k].data() + 3);
     }
     // world poses, for a restore into another pin configuration
-    for (const BodyState& b : bodies_) {
-      out.insert(out.end(), b.x.data(), b.x.data() + 3);
-      out.insert(out.end(), b.q.coeffs().data(), b.q.coeffs().data() + 4);
-      out.insert(out.end(), b.v.data(), b.v.data() + 3);
-      out.insert(out.end(), b.w.data(), b.w.data() + 3);
-    }
+    detail::append_world_poses(bodies_, out);
     out.push_back(diverged_ ? 1.0 : 0.0);
     return out;
   }
@@ -310,14 +306,7 @@ class MujocoSolver final : public Solver {
     } else {
       // saved under another pin configuration: only the world state carries over (its layout
       // after the qpos part is sized by that configuration, so it is read from the end)
-      at = saved.size() - 1 - 13 * bodies_.size();
-      for (BodyState& b : bodies_) {
-        b.x = Vector3d(saved[at], saved[at + 1], saved[at + 2]);
-        b.q.coeffs() = Eigen::Vector4d(saved[at + 3], saved[at + 4], saved[at + 5], saved[at + 6]);
-        b.v = Vector3d(saved[at + 7], saved[at + 8], saved[at + 9]);
-        b.w = Vector3d(saved[at + 10], saved[at + 11], saved[at + 12]);
-        at += 13;
-      }
+      detail::read_world_poses(saved, bodies_);
       set_state(bodies_);
     }
     diverged_ = saved.back() != 0.0;

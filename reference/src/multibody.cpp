@@ -30,6 +30,7 @@
 
 #include "bullet_common.h"
 #include "limit_rows.h"
+#include "world_poses.h"
 
 namespace puppet::reference::detail {
 namespace {
@@ -575,12 +576,7 @@ std::vector<double> MultibodySolver::save() const {
   }
   for (const Pin& spring : springs_.springs) put(spring.target.data(), 3);
   read_state(bodies_);
-  for (const BodyState& b : bodies_) {
-    put(b.x.data(), 3);
-    put(b.q.coeffs().data(), 4);
-    put(b.v.data(), 3);
-    put(b.w.data(), 3);
-  }
+  append_world_poses(bodies_, saved);
   saved.push_back(diverged_ ? 1.0 : 0.0);
   return saved;
 }
@@ -588,15 +584,8 @@ std::vector<double> MultibodySolver::save() const {
 void MultibodySolver::load(std::span<const double> saved) {
   diverged_ = saved.back() != 0.0;
   if (static_cast<long>(saved[0]) != generation_) {
-    // saved under another assembly: only the world state carries over, read from the end
-    size_t at = saved.size() - 1 - 13 * bodies_.size();
-    for (BodyState& b : bodies_) {
-      b.x = Vector3d(saved[at], saved[at + 1], saved[at + 2]);
-      b.q.coeffs() = Eigen::Vector4d(saved[at + 3], saved[at + 4], saved[at + 5], saved[at + 6]);
-      b.v = Vector3d(saved[at + 7], saved[at + 8], saved[at + 9]);
-      b.w = Vector3d(saved[at + 10], saved[at + 11], saved[at + 12]);
-      at += 13;
-    }
+    // saved under another assembly: only the world state carries over
+    read_world_poses(saved, bodies_);
     set_state(bodies_);
     return;
   }
