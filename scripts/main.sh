@@ -1,17 +1,19 @@
 #!/usr/bin/env bash
 # The main job: set up, build (release), then on the built-in Pinocchio run every scenario in
-# every solver, rule and dt with accuracy against the truth (testbed run), the stability frontier
-# (testbed frontier), every solver against both truths with the limits opened (where the two
-# truths model the same joints), the scenarios on models/humanoid.xml against its first truth,
-# the ablation of the position-based rules (scripts/ablation.sh),
-# and the plots and REPORT.md (scripts/plot.py), all into results/. Extra arguments go to
-# testbed run.
+# every solver, rule and dt with accuracy against the truth (testbed run); the verdict, each
+# solver's cheapest configuration within 1 mm, 1 cm and 5 cm that survives 32 random starts
+# (testbed verdict); the stability frontier (testbed frontier); every solver against both
+# truths with the limits opened (where the two truths model the same joints); the scenarios on
+# models/humanoid.xml against its first truth; the ablation of the position-based rules
+# (scripts/ablation.sh); and the plots and REPORT.md (scripts/plot.py), all into results/.
+# Extra arguments go to testbed run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
 cmake --preset release >/dev/null
 cmake --build --preset release
 ./build/release/testbed run --model pinocchio --out results/main "$@"
+./build/release/testbed verdict --model pinocchio --out results/verdict
 ./build/release/testbed frontier --model pinocchio --out results/frontier
 ./build/release/testbed run --model models/pinocchio-open-limits.json --dt 1/240 --no-timing \
   --sample-hz 1 --out results/truths-open-limits

@@ -595,6 +595,272 @@ def plot_robustness(rows, out):
     return save(fig, out, "robustness.png", bottom=0.12)
 
 
+# the verdict (testbed verdict): per solver, scenario and budget, the cheapest configuration
+VERDICT = "verdict"  # testbed verdict: verdict.csv, candidates.csv
+# the budget of the README's headline
+HEADLINE_BUDGET = 0.01
+
+
+class Verdict:
+    """RESULTS/verdict/verdict.csv and candidates.csv (testbed verdict)"""
+
+    def __init__(self, folder):
+        path = os.path.join(folder, VERDICT, "verdict.csv")
+        with open(path, newline="") as f:
+            self.rows = list(csv.DictReader(f))
+        with open(os.path.join(folder, VERDICT, "candidates.csv"), newline="") as f:
+            self.candidates = list(csv.DictReader(f))
+        if not self.rows:
+            raise ReportError(f"{path}: no rows")
+        for r in self.rows:
+            for key in ("budget_m", "dt", "cost_us_per_s", "us_per_frame", "puppets_per_core",
+                        "error_m", "divergence_upper", "best_error_m", "truth_floor_m",
+                        "frame_hz"):
+                r[key] = float(r[key]) if r[key] else math.nan
+            r["config"] = (r["solver"], r["rule"])
+        for c in self.candidates:
+            for key in ("dt", "cost_us_per_s", "error_m", "truth_floor_m"):
+                c[key] = float(c[key]) if c[key] else math.nan
+            c["config"] = (c["solver"], c["rule"])
+            c["starts"], c["diverged_starts"] = int(c["starts"]), int(c["diverged_starts"])
+        first = self.rows[0]
+        self.model, self.git_sha, self.machine = first["model"], first["git_sha"], first["machine"]
+        self.truth, self.frame_hz = first["truth"], first["frame_hz"]
+        self.budgets = sorted({r["budget_m"] for r in self.rows})
+        self.scenarios = ordered({r["scenario"] for r in self.rows}, SCENARIOS)
+        self.configs = ordered({r["config"] for r in self.rows}, CONFIGS)
+        self.by_key = {(r["scenario"], r["config"], r["view"], r["budget_m"]): r
+                       for r in self.rows}
+        self.starts = max((int(r["starts"]) for r in self.rows if r["starts"]), default=0)
+        self.floor = {r["scenario"]: r["truth_floor_m"] for r in self.rows}
+
+    def row(self, scenario, config, view, budget):
+        return self.by_key.get((scenario, config, view, budget))
+
+    def judged(self, scenario, budget):
+        """a budget the truth can judge in this scenario (at or above its floor)"""
+        return budget >= self.floor[scenario]
+
+    def cheapest_reference(self, scenario, view, budget):
+        """the met row of the cheapest reference engine (not the procedural solver), or None"""
+        met = [self.row(scenario, c, view, budget) for c in self.configs if c[0] != "procedural"]
+        met = [r for r in met if r and r["verdict"] == "met"]
+        return min(met, key=lambda r: r["cost_us_per_s"]) if met else None
+
+    def cheapest_procedural(self, scenario, view, budget):
+        met = [self.row(scenario, c, view, budget) for c in self.configs if c[0] == "procedural"]
+        met = [r for r in met if r and r["verdict"] == "met"]
+        return min(met, key=lambda r: r["cost_us_per_s"]) if met else None
+
+
+def ordered(names, known):
+    """the names in the order of `known`, any others after them, sorted"""
+    return [n for n in known if n in names] + sorted(n for n in names if n not in known)
+
+
+def read_verdict(folder):
+    if not os.path.exists(os.path.join(folder, VERDICT, "verdict.csv")):
+        return None
+    return Verdict(folder)
+
+
+WHY = {"diverges": "diverges", "error-floor": "error floor", "not-robust": "not robust",
+       "not-measured": "not measured", "refused": "refused"}
+
+
+def setting_text(row):
+    """a chosen configuration in a few words: 1/120 s × 8 substeps"""
+    text = dt_text(row["dt"]) + " s"
+    flags = row["setting"].split()
+    for flag, value in zip(flags[::2], flags[1::2]):
+        words = {"--substeps": "substeps", "--iterations": "sweeps",
+                 "--bullet-iterations": "sweeps", "--mujoco-integrator": ""}.get(flag, flag)
+        text += f", {value.upper() if not words else value + ' ' + words}" if value else ""
+    return text
+
+
+def verdict_cell(v, scenario, config, view, budget, show_setting=False):
+    r = v.row(scenario, config, view, budget)
+    if r is None:
+        return "–"
+    if r["verdict"] != "met":
+        text = WHY.get(r["verdict"], r["verdict"])
+        if r["verdict"] == "error-floor":
+            text += f" ({fmt(r['best_error_m'])} m)"
+        return text
+    cost = r["us_per_frame"] if view == "frame" else r["cost_us_per_s"]
+    text = f"{cost:,.0f}" if cost >= 100 else fmt(cost, 2)
+    reference = v.cheapest_reference(scenario, view, budget)
+    if reference and config[0] == "procedural":
+        ratio = reference["cost_us_per_s"] / r["cost_us_per_s"]
+        text += f" ({ratio:.1f}×)" if ratio < 9.5 else f" ({ratio:.0f}×)"
+    elif reference and r is reference:
+        text += " (ref)"
+    if show_setting:
+        text += f"<br>{setting_text(r)}"
+    return text
+
+
+def verdict_table(v, view, budget, show_setting=False):
+    scenarios = [sc for sc in v.scenarios if v.judged(sc, budget)]
+    rows = [[label(c)] + [verdict_cell(v, sc, c, view, budget, show_setting) for sc in scenarios]
+            for c in v.configs]
+    return md_table(["solver"] + scenarios, rows), [sc for sc in v.scenarios if sc not in scenarios]
+
+
+def refused_text(v, refused):
+    if not refused:
+        return ""
+    return ("Not judged at this budget, because it is finer than the truth's floor there: "
+            + ", ".join(f"{sc} (floor {fmt(v.floor[sc])} m)" for sc in refused) + ".")
+
+
+def verdict_headline(folder, budget=HEADLINE_BUDGET):
+    """the README's headline: µs per simulated second at one budget, per solver and scenario"""
+    v = Verdict(folder)
+    table, refused = verdict_table(v, "second", budget)
+    return (f"CPU µs per simulated second to keep Pinocchio within {fmt(budget * 100, 2)} cm of "
+            f"the truth ({v.truth}) and never diverge in {v.starts} random starts, with the "
+            "cheapest configuration each solver has (dt from 1/30 to 1/960 s, its substeps or "
+            "sweeps); in brackets, how many times cheaper than the cheapest reference engine "
+            "(`(ref)`: that engine). From `results/verdict/verdict.csv` (commit "
+            f"`{v.git_sha}`, {v.machine}), printed by `scripts/readme_headline.py`. "
+            + refused_text(v, refused) + "\n\n" + table + "\n")
+
+
+def family_findings(v, view="second"):
+    """where the procedural family wins and loses, per budget"""
+    out = []
+    for budget in v.budgets:
+        wins, losses, none = [], [], []
+        for sc in v.scenarios:
+            if not v.judged(sc, budget):
+                continue
+            p = v.cheapest_procedural(sc, view, budget)
+            r = v.cheapest_reference(sc, view, budget)
+            if p and r:
+                ratio = r["cost_us_per_s"] / p["cost_us_per_s"]
+                (wins if ratio >= 1 else losses).append(
+                    f"{sc} ({p['rule']}, {ratio:.2g}× {label(r['config'])}'s speed)")
+            elif p:
+                wins.append(f"{sc} ({p['rule']}; no reference meets it)")
+            elif r:
+                losses.append(f"{sc} (no procedural rule meets it; {label(r['config'])} does)")
+            else:
+                none.append(sc)
+        parts = []
+        if wins:
+            parts.append("the procedural family is cheaper in " + ", ".join(wins))
+        if losses:
+            parts.append("dearer in " + ", ".join(losses))
+        if none:
+            parts.append("no solver meets it in " + ", ".join(none))
+        if parts:
+            out.append(f"Within {fmt(budget * 100, 2)} cm: " + "; ".join(parts) + ".")
+    return out
+
+
+def verdict_section(v):
+    if v is None:
+        return []
+    budgets = ", ".join(f"{fmt(b * 100, 2)} cm" for b in v.budgets)
+    out = ["## The verdict: cost at equal accuracy and robustness", "",
+           f"`{VERDICT}/`: `testbed verdict`. For every solver and scenario, every configuration "
+           "was measured: dt from 1/30 to 1/960 s, and xpbd's and tree's substeps, relaxed's "
+           "sweeps, Bullet's sweeps and MuJoCo's integrator (`candidates.csv`). Each was timed "
+           "through the whole scenario in one thread, the configurations of a scenario in turn "
+           "a quarter of a simulated second at a time, as CPU µs per simulated second; and "
+           f"judged by its re-seeded pose error against the truth ({v.truth}); a configuration "
+           "whose scenario run or any re-seeded run diverged is out. For each budget "
+           f"({budgets}), the configurations within it were put, cheapest first, through "
+           f"{v.starts} random starts (docs/robustness.md) until one survived them all: no "
+           f"divergence in {v.starts} starts, a divergence rate below "
+           f"{fmt(wilson_upper(0, v.starts), 2)} at 95 % (Wilson). A budget below the truth's "
+           "floor in a scenario is refused there. Cells: CPU µs per simulated second of the "
+           "chosen configuration, and for the procedural rules how many times cheaper than the "
+           "cheapest reference engine (`(ref)`); otherwise why none: `diverges` (every "
+           "configuration), `error floor` (its least error, m), `not robust` (within the "
+           "budget only where a random start diverged).", ""]
+    out += ["Where the procedural family wins and where it loses (its cheapest rule against the "
+            "cheapest reference, per simulated second):", ""]
+    out += [f"- {line}" for line in family_findings(v)] + [""]
+    for budget in v.budgets:
+        table, refused = verdict_table(v, "second", budget, show_setting=True)
+        out += [f"### Within {fmt(budget * 100, 2)} cm, any dt", "", table, "",
+                refused_text(v, refused), ""]
+    for budget in v.budgets:
+        table, refused = verdict_table(v, "frame", budget, show_setting=True)
+        hz = f"{v.frame_hz:g}"
+        puppets = frame_puppets(v, budget)
+        out += [f"### Within {fmt(budget * 100, 2)} cm at {hz} Hz", "",
+                f"µs per {hz} Hz frame, the frame taken in whole steps (dt = 1/{hz} s or a "
+                f"divisor of it). A core keeps 10⁶/({hz} × µs per frame) puppets at {hz} Hz"
+                + (": in drag " + ", ".join(f"{label(c)} {n:,.0f}" for c, n in puppets)
+                   if puppets else "") + ".", "", table, "", refused_text(v, refused), ""]
+    return out
+
+
+def frame_puppets(v, budget, scenario="drag"):
+    out = []
+    for c in v.configs:
+        r = v.row(scenario, c, "frame", budget)
+        if r and r["verdict"] == "met":
+            out.append((c, r["puppets_per_core"]))
+    return out
+
+
+def wilson_upper(k, n, z=1.959963984540054):
+    """the upper end of the 95 % Wilson score interval of k in n"""
+    p = k / n
+    centre = p + z * z / (2 * n)
+    spread = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n))
+    return (centre + spread) / (1 + z * z / n)
+
+
+def plot_verdict(v, out):
+    """cost against error budget per solver and scenario: the cheapest candidate within each
+    error (its scenario run and re-seeded runs finished; random starts not required), and the
+    verdict's choices (which survived them) as filled markers"""
+    if v is None:
+        return None
+    fig, axes = grid(len(v.scenarios))
+    for ax, scenario in zip(axes, v.scenarios):
+        floor = v.floor[scenario]
+        for config in v.configs:
+            mine = [c for c in v.candidates if c["scenario"] == scenario and c["config"] == config
+                    and c["status"] == "ok" and not math.isnan(c["error_m"])]
+            if not mine:
+                continue
+            mine.sort(key=lambda c: c["error_m"])
+            xs, ys = [], []
+            # the cheapest within each error: a staircase falling as the budget grows
+            front = []
+            for c in mine:
+                cost = min(x["cost_us_per_s"] for x in mine if x["error_m"] <= c["error_m"])
+                front.append((c["error_m"], cost))
+            for e, cost in front:
+                xs.append(e)
+                ys.append(cost)
+            colour, marker = STYLE.get(config, ("grey", "o"))
+            ax.step(xs, ys, where="post", color=colour, lw=1.1)
+            chosen = [v.row(scenario, config, "second", b) for b in v.budgets]
+            chosen = [r for r in chosen if r and r["verdict"] == "met"]
+            ax.plot([r["budget_m"] for r in chosen], [r["cost_us_per_s"] for r in chosen],
+                    ls="none", marker=marker, color=colour, ms=6)
+        ax.axvspan(1e-6, floor, color="0.85", zorder=0)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlim(1e-4, 1.0)
+        ax.set_title(scenario)
+        ax.set_xlabel("error budget (m)")
+        ax.set_ylabel("CPU µs per simulated second")
+        ax.grid(True, which="major", alpha=0.3)
+    fig.suptitle("Cost against error budget: lines, the cheapest configuration within each error; "
+                 f"markers, the verdict's choice at each budget (survived {v.starts} random "
+                 "starts); grey: below the truth's floor")
+    legend_below(fig, v.configs)
+    return save(fig, out, "verdict.png")
+
 def report(s, frontier, plots, folder):
     text = "\n".join(report_lines(s, frontier, plots, folder))
     write_atomically(os.path.join(folder, "REPORT.md"), text)
@@ -636,6 +902,7 @@ def report_lines(s, frontier, plots, folder):
             "headline figure. The 0.25 s figure is the sample at 8/30 s = 0.267 s, the first "
             "multiple of 1/30 s after it.",
             "- Timing: medians of a separate pass that runs one job at a time.", ""]
+    out += verdict_section(read_verdict(folder))
 
     # the truths' error bars and their agreement
     second = s.has_second_truth()
@@ -1155,6 +1422,7 @@ def main(argv):
         s = Summary(summary_path)
         frontier = read_frontier(os.path.join(folder, FRONTIER, "frontier.csv"))
         read_robustness(folder)  # checked here; the report reads it again
+        read_verdict(folder)
     except (ReportError, ValueError, KeyError) as error:
         print(f"plot.py: {error}", file=sys.stderr)
         return 2
@@ -1177,6 +1445,7 @@ def main(argv):
         ("Procedural stages", plot_stage_time(s, out)),
         ("Stability frontier", plot_frontier(frontier, out)),
         ("Robustness over random starts", plot_robustness(read_robustness(folder), out)),
+        ("Cost against error budget", plot_verdict(read_verdict(folder), out)),
     ]
     report(s, frontier, plots, folder)
     written = [p for _, p in plots if p]

@@ -1,15 +1,20 @@
 #!/usr/bin/env python3
-"""Prints the README's headline table from results/main/summary.csv and nothing else.
+"""Prints the README's headline table and nothing else.
 
-  scripts/readme_headline.py [results/main/summary.csv]
+  scripts/readme_headline.py [results]                   the verdict: CPU µs per simulated
+                                                         second within 1 cm, from
+                                                         results/verdict/verdict.csv
+  scripts/readme_headline.py --per-step results/main/summary.csv
+                                                         µs per step at one dt (docs/performance.md)
 
-The README holds it as a generated block that scripts/docs_tables.py rewrites (and checks).
+The README and docs/performance.md hold them as generated blocks that scripts/docs_tables.py
+rewrites (and checks).
 """
 import math
 import os
 import sys
 
-from plot import SCENARIOS, Summary, fmt
+from plot import SCENARIOS, Summary, fmt, verdict_headline
 
 def headline(summary_path):
     s = Summary(summary_path)
@@ -40,17 +45,22 @@ def headline(summary_path):
             f"`{s.git_sha}`, {s.machine}), printed by `scripts/readme_headline.py`. The error is "
             f"against the fine-step truth ({s.truth_text()}), the mean over the "
             "re-seeded half-second runs; errors within the truth's floor (its error bar, or "
-            f"the two truths' disagreement) read `≤ {fmt(limit)}`. The full tables are in results/REPORT.md.\n\n"
+            f"the two truths' disagreement) read `≤ {fmt(limit)}`. The full tables are in "
+            "results/REPORT.md.\n\n"
             + "\n".join(lines) + "\n")
 
 
 def main(argv):
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+    if argv and argv[0] == "--per-step" and len(argv) <= 2:
+        summary = argv[1] if len(argv) == 2 else os.path.join(root, "results", "main",
+                                                              "summary.csv")
+        sys.stdout.write(headline(summary))
+        return 0
     if len(argv) > 1 or (argv and argv[0].startswith("-")):
         print(__doc__.strip(), file=sys.stderr)
         return 2
-    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
-    summary = argv[0] if argv else os.path.join(root, "results", "main", "summary.csv")
-    sys.stdout.write(headline(summary))
+    sys.stdout.write(verdict_headline(argv[0] if argv else os.path.join(root, "results")))
     return 0
 
 

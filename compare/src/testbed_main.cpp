@@ -23,6 +23,7 @@
 
 #include "puppet/compare/cancel.h"
 #include "puppet/compare/frontier.h"
+#include "puppet/compare/verdict.h"
 #include "puppet/compare/gate.h"
 #include "puppet/compare/number.h"
 #include "puppet/compare/output.h"
@@ -252,6 +253,8 @@ struct RunFlags {
   std::string start;  // run: SEED:INDEX, a random start (start.h)
   // robustness
   std::string starts = "100", seed = "1", shard;
+  // verdict
+  std::string budget = "1mm,1cm,5cm", frame_hz = "60";
 
   static int default_jobs() {
     return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
@@ -605,6 +608,137 @@ int command_frontier(const RunFlags& f) {
                 r.reason.c_str());
   }
   std::printf("\nwrote %s/frontier.csv\n", folder.path().c_str());
+  return 0;
+}
+
+// error budgets: lengths with a unit (50um, 1mm, 1cm, 0.05m) or plain metres, from 1 µm to 10 m
+std::vector<double> parse_budgets(const std::string& text) {
+  std::vector<double> out;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    double scale = 1.0;
+    std::string number = item;
+    for (const auto& [unit, factor] : {std::pair{"um", 1e-6}, {"mm", 1e-3}, {"cm", 1e-2}, {"m", 1.0}}) {
+      const std::string u = unit;
+      if (number.size() > u.size() && number.ends_with(u)) {
+        number.resize(number.size() - u.size());
+        scale = factor;
+        break;
+      }
+    }
+    double value = 0.0;
+    if (!parse_finite(number, &value) || number.find_first_of(" \t") != std::string::npos) {
+      throw UsageError("--budget: expected a length such as 1mm, 1cm or 0.05m, got " +
+                       shown(item));
+    }
+    value *= scale;
+    if (!(value >= 1e-6 && value <= 10.0)) {
+      throw UsageError("--budget: " + shown(item) + " is out of range (from 1 um to 10 m)");
+    }
+    for (double other : out) {
+      if (std::abs(other - value) <= 1e-12 * value) {
+        throw UsageError("--budget: " + shown(item) + " is listed already");
+      }
+    }
+    out.push_back(value);
+  }
+  if (out.empty() || text.back() == ',') throw UsageError("--budget: empty item in " + shown(text));
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// a budget as the table shows it
+std::string budget_label(double m) {
+  char text[32];
+  if (m >= 0.01 - 1e-12) {
+    std::snprintf(text, sizeof text, "%gcm", m * 100);
+  } else {
+    std::snprintf(text, sizeof text, "%gmm", m * 1000);
+  }
+  return text;
+}
+
+int command_verdict(const RunFlags& f) {
+  VerdictSpec spec;
+  spec.scenarios = expand("--scenario", f.scenario, scenario_names());
+  spec.scenario = parse_scenario_options(f);
+  spec.solvers = parse_solver_configs(f);
+  spec.dts = parse_dts(f.dt);
+  for (double dt : spec.dts) {
+    if (!divides_sample_interval(dt)) {
+      throw UsageError("--dt: " + format_dt(dt) + " s does not divide the error's sample "
+                       "interval of 1/30 s");
+    }
+  }
+  spec.budgets_m = parse_budgets(f.budget);
+  spec.frame_hz = parse_in("--frame-hz", f.frame_hz, 1.0, 1000.0, " Hz");
+  spec.starts = std::llround(parse_in("--starts", f.starts, 1.0, 10000.0, ""));
+  if (std::to_string(spec.starts) != f.starts) {
+    throw UsageError("--starts: expected a whole number, got " + shown(f.starts));
+  }
+  if (!parse_whole(f.seed, &spec.seed)) {
+    throw UsageError("--seed: expected a whole number of at most 18 digits, got " + shown(f.seed));
+  }
+  spec.jobs = f.jobs;
+  const Model model = parse_model(f);
+  spec.model = &model;
+  apply_engine_verdicts(spec.solvers, model, f);
+  if (truths_for(model).empty()) {
+    throw UsageError("--model: " + shown(f.model) +
+                     ": no truth can run it (neither MuJoCo nor bullet-multibody)");
+  }
+  for (const std::string& name : spec.scenarios) {
+    ScenarioOptions options = spec.scenario;
+    make_scenario(name, model, options);  // a bad --grab or --pin fails here, before any run
+    options.start = random_start(model, spec.seed, 0);
+    make_scenario(name, model, options);
+  }
+  OutputFolder folder("--out", f.out, {"candidates.csv", "verdict.csv"});
+  Progress bar("verdict");
+  std::string shown_phase;
+  spec.on_progress = [&](const char* phase, size_t done, size_t total) {
+    if (shown_phase != phase) {
+      shown_phase = phase;
+      bar = Progress(std::string("verdict: ") + phase);
+    }
+    bar(done, total);
+  };
+  const VerdictResult result = run_verdict(spec);
+  const OutputContext context{model.name, current_git_sha(), machine_description()};
+  write_file_atomically((folder.staging() / "candidates.csv").string(),
+                        verdict_candidates_csv(result, context));
+  write_file_atomically((folder.staging() / "verdict.csv").string(),
+                        verdict_csv(result, spec, context));
+  folder.commit();
+
+  std::printf("\nthe cheapest configuration within each budget that survives %lld random starts: "
+              "CPU us per simulated second (any dt)\n",
+              static_cast<long long>(spec.starts));
+  std::printf("%-8s %-16s %-9s", "scenario", "solver", "rule");
+  for (double b : spec.budgets_m) std::printf(" %14s", budget_label(b).c_str());
+  std::printf("\n");
+  for (size_t i = 0; i < result.rows.size();) {
+    const VerdictRow& first = result.rows[i];
+    if (first.view != "second") {
+      i += spec.budgets_m.size();
+      continue;
+    }
+    std::printf("%-8s %-16s %-9s", first.scenario.c_str(), first.solver.c_str(),
+                first.rule.empty() ? "-" : first.rule.c_str());
+    for (size_t b = 0; b < spec.budgets_m.size(); ++b, ++i) {
+      const VerdictRow& r = result.rows[i];
+      char cell[32];
+      if (r.chosen >= 0) {
+        std::snprintf(cell, sizeof cell, "%.0f", result.candidates[r.chosen].cost_us_per_s);
+      } else {
+        std::snprintf(cell, sizeof cell, "%s", r.verdict.c_str());
+      }
+      std::printf(" %14s", cell);
+    }
+    std::printf("\n");
+  }
+  std::printf("\nwrote %s: candidates.csv, verdict.csv\n", folder.path().c_str());
   return 0;
 }
 
@@ -983,6 +1117,40 @@ int run_command(int argc, char** argv) {
       "the divergence rates with 95 % Wilson intervals and the worst starts as replay commands");
   add_robustness_flags(robustness, rf);
 
+  RunFlags vf;
+  vf.dt = "1/30,1/60,1/120,1/240,1/480,1/960";
+  vf.out = "results/verdict";
+  vf.starts = "32";
+  auto* verdict = app.add_subcommand(
+      "verdict",
+      "per solver and scenario, the cheapest configuration (dt, substeps, sweeps) within each "
+      "error budget against the truth that survives N random starts; write candidates.csv and "
+      "verdict.csv");
+  verdict->add_option("--model", vf.model, "model file, pinocchio, or chain:N")
+      ->capture_default_str();
+  verdict->add_option("--scenario", vf.scenario, "scenario name, comma list, or all")
+      ->capture_default_str();
+  verdict->add_option("--solver", vf.solver, "solver name, comma list, or all")
+      ->capture_default_str();
+  verdict->add_option("--rule", vf.rule, "adjust rule (procedural), comma list, or all")
+      ->capture_default_str();
+  verdict->add_option("--dt", vf.dt, "time steps searched, comma list (each divides 1/30 s)")
+      ->capture_default_str();
+  verdict->add_option("--budget", vf.budget, "error budgets, comma list (1mm, 1cm, 0.05m)")
+      ->capture_default_str();
+  verdict->add_option("--starts", vf.starts,
+                      "random starts a chosen configuration must survive without diverging")
+      ->capture_default_str();
+  verdict->add_option("--seed", vf.seed, "the starts' seed")->capture_default_str();
+  verdict->add_option("--frame-hz", vf.frame_hz,
+                      "the frame rate of the per-frame view (a whole number of steps per frame)")
+      ->capture_default_str();
+  verdict->add_option("--out", vf.out, "output folder")->capture_default_str();
+  verdict->add_option("--jobs", vf.jobs, "worker threads (the timing runs alone)")
+      ->check(kWholeNumber)
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+
   std::vector<std::string> merge_folders;
   std::string merge_out = "results/robustness";
   auto* merge = app.add_subcommand(
@@ -1050,6 +1218,7 @@ int run_command(int argc, char** argv) {
     if (app.got_subcommand("gate")) return command_gate(gate_files, gate_thresholds, gate_csv);
     if (app.got_subcommand("robustness")) return command_robustness(rf);
     if (app.got_subcommand("merge")) return command_merge(merge_folders, merge_out);
+    if (app.got_subcommand("verdict")) return command_verdict(vf);
     return command_run(f);
   } catch (const Cancelled&) {
     const int signal = cancel_signal();

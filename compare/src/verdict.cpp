@@ -1,10 +1,36 @@
 #include "puppet/compare/verdict.h"
 
-#include <cstdio>
+#include <time.h>
 
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+#include <numeric>
+#include <sstream>
+
+#include "puppet/compare/accuracy.h"
+#include "puppet/compare/cancel.h"
 #include "puppet/compare/robustness.h"
+#include "puppet/compare/run.h"
+#include "puppet/compare/start.h"
 
 namespace puppet::compare {
+
+const char* verdict_name(Verdict verdict) {
+  switch (verdict) {
+    case Verdict::kMet:
+      return "met";
+    case Verdict::kDiverges:
+      return "diverges";
+    case Verdict::kErrorFloor:
+      return "error-floor";
+    case Verdict::kNotRobust:
+      return "not-robust";
+    case Verdict::kNotMeasured:
+      return "not-measured";
+  }
+  return "not-measured";
+}
 
 Choice cheapest(std::span<const Candidate> candidates, double budget_m, double robustness_ceiling) {
   Choice out;
@@ -44,9 +70,24 @@ Choice cheapest(std::span<const Candidate> candidates, double budget_m, double r
   return out;
 }
 
+double no_divergence_ceiling(int64_t starts) {
+  // halfway between the bounds of 0 and of 1 divergence in `starts`: exact comparisons are safe
+  const double none = wilson_interval(0, starts).high, one = wilson_interval(1, starts).high;
+  return 0.5 * (none + one);
+}
+
+double truth_floor(double half_difference, double double_difference, double agreement) {
+  double p = kMinOrder;
+  if (half_difference > 0.0 && double_difference > 0.0) {
+    p = std::max(kMinOrder, std::log2(double_difference / half_difference));
+  }
+  const double bar = kBarMargin * std::exp2(p) / (std::exp2(p) - 1.0) * half_difference;
+  return std::isnan(agreement) ? bar : std::max(bar, agreement);
+}
+
 std::string budget_problem(double budget_m, double truth_floor_m) {
   if (!(budget_m > 0.0) || !std::isfinite(budget_m)) return "a budget must be a positive length";
-  if (budget_m < truth_floor_m) {
+  if (!(budget_m >= truth_floor_m)) {
     char text[160];
     std::snprintf(text, sizeof text,
                   "a budget of %.3g m is below the truth's floor of %.3g m: finer than the truth "
@@ -63,6 +104,411 @@ FrameCost at_frame_rate(double cost_us_per_s, double hz) {
   // a frame lasts 1e6/hz µs of the core's time; each puppet takes us_per_frame of it
   out.puppets_per_core = (1e6 / hz) / out.us_per_frame;
   return out;
+}
+
+int steps_per_frame(double dt, double hz) {
+  const double n = std::round(1.0 / (hz * dt));
+  return n >= 1.0 && std::abs(n * dt * hz - 1.0) < 1e-9 ? static_cast<int>(n) : 0;
+}
+
+std::vector<Setting> settings_searched(const SolverConfig& solver) {
+  std::vector<Setting> out;
+  auto add = [&](const std::string& flags, auto&& change) {
+    Setting s{flags, solver.options};
+    change(s.options);
+    out.push_back(std::move(s));
+  };
+  if (solver.solver == "procedural") {
+    switch (solver.options.rule) {
+      case procedural::Rule::kXpbd:
+        for (int n : {1, 2, 4, 8, 16}) {
+          add("--substeps " + std::to_string(n), [n](SolverOptions& o) { o.substeps = n; });
+        }
+        return out;
+      case procedural::Rule::kTree:
+        for (int n : {1, 2, 4, 8}) {
+          add("--substeps " + std::to_string(n), [n](SolverOptions& o) { o.substeps = n; });
+        }
+        return out;
+      case procedural::Rule::kRelaxed:
+        for (int n : {4, 16}) {
+          add("--iterations " + std::to_string(n), [n](SolverOptions& o) { o.iterations = n; });
+        }
+        return out;
+      default:
+        out.push_back({"", solver.options});  // one pass: dt is all there is to choose
+        return out;
+    }
+  }
+  if (solver.solver == "mujoco") {
+    add("--mujoco-integrator euler",
+        [](SolverOptions& o) { o.mujoco_integrator = reference::MujocoIntegrator::kEuler; });
+    add("--mujoco-integrator rk4",
+        [](SolverOptions& o) { o.mujoco_integrator = reference::MujocoIntegrator::kRk4; });
+    return out;
+  }
+  // the Bullet solvers: Bullet's default sweeps, and enough for its limits to converge
+  for (int n : {10, 50}) {
+    add("--bullet-iterations " + std::to_string(n),
+        [n](SolverOptions& o) { o.bullet_iterations = n; });
+  }
+  return out;
+}
+
+const std::vector<double>& verdict_dts() {
+  static const std::vector<double> dts{1.0 / 30,  1.0 / 60,  1.0 / 120,
+                                       1.0 / 240, 1.0 / 480, 1.0 / 960};
+  return dts;
+}
+
+namespace {
+
+std::string rule_of(const SolverConfig& config) {
+  return config.solver == "procedural" ? std::string(procedural::rule_name(config.options.rule))
+                                       : std::string();
+}
+
+// this thread's CPU time (s): the timing runs alone, and time another process takes from the
+// core is not the solver's
+double thread_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+struct Job {
+  size_t scenario, solver;
+  Setting setting;
+  double dt;
+};
+
+// the scenario's run diverges from its own start (index < 0) or from the random start `index`
+// (seed `seed`)
+bool start_diverges(const Model& model, const std::string& name, ScenarioOptions options,
+                    const SolverOptions& solver_options, const std::string& solver, double dt,
+                    uint64_t seed, int64_t index) {
+  if (index >= 0) options.start = random_start(model, seed, index);
+  const Scenario scenario = make_scenario(name, model, options);
+  auto simulator = make_simulator(solver, solver_options);
+  RunOptions run;
+  run.dt = dt;
+  run.timing = false;
+  run.sample_hz = 1e-3;  // the divergence is all it keeps
+  return run_scenario(*simulator, model, scenario, run).diverged;
+}
+
+}  // namespace
+
+VerdictResult run_verdict(const VerdictSpec& spec) {
+  const Model& model = *spec.model;
+  std::vector<Truth> truths = truths_for(model);
+  if (truths.empty()) throw ScenarioError("no engine can build this model as a truth", "model");
+  const Truth& truth = truths[0];
+  VerdictResult out;
+  out.truth = truth.solver;
+  out.truth_dt = truth.dt;
+  auto progress = [&](const char* phase) {
+    return [&spec, phase](size_t done, size_t total) {
+      if (spec.on_progress) spec.on_progress(phase, done, total);
+    };
+  };
+  const size_t scenario_count = spec.scenarios.size();
+  std::vector<Scenario> scenarios;
+  for (const std::string& name : spec.scenarios) {
+    scenarios.push_back(make_scenario(name, model, spec.scenario));
+  }
+
+  // the truth at h in every scenario, then its floor: its runs at h/2 and 2h and the other
+  // truth, each re-seeded from it
+  std::vector<Trajectory> truth_runs(scenario_count);
+  {
+    size_t done = 0;
+    auto tick = progress("truth");
+    const size_t per_scenario = truths.size() > 1 ? 3 : 2;
+    const size_t total = scenario_count * (1 + per_scenario);
+    parallel_for(scenario_count, spec.jobs, [&](size_t s) {
+      auto simulator = make_simulator(truth.solver, truth.options);
+      truth_runs[s] = record_trajectory(*simulator, model, scenarios[s], truth.dt,
+                                        scenarios[s].duration);
+    }, [&] { tick(++done, total); });
+    out.floors.resize(scenario_count);
+    std::vector<double> values(scenario_count * 3, NAN);
+    parallel_for(scenario_count * per_scenario, spec.jobs, [&](size_t i) {
+      const size_t s = i / per_scenario, k = i % per_scenario;
+      const Truth& judged = k < 2 ? truth : truths[1];
+      const double dt = k == 0 ? truth.dt / 2 : k == 1 ? truth.dt * 2 : judged.dt;
+      auto simulator = make_simulator(judged.solver, judged.options);
+      values[3 * s + k] =
+          reseeded_error(*simulator, model, scenarios[s], truth_runs[s], dt).mean_pose_m;
+    }, [&] { tick(++done, total); });
+    for (size_t s = 0; s < scenario_count; ++s) {
+      TruthFloor& f = out.floors[s];
+      f.scenario = spec.scenarios[s];
+      f.half_difference = values[3 * s];
+      f.double_difference = values[3 * s + 1];
+      f.agreement = values[3 * s + 2];
+      f.floor = truth_floor(f.half_difference, f.double_difference, f.agreement);
+    }
+  }
+
+  // every candidate, scenario × solver × setting × dt
+  std::vector<Job> jobs;
+  for (size_t s = 0; s < scenario_count; ++s) {
+    for (size_t k = 0; k < spec.solvers.size(); ++k) {
+      for (const Setting& setting : settings_searched(spec.solvers[k])) {
+        for (double dt : spec.dts) {
+          jobs.push_back({s, k, setting, dt});
+          Candidate c;
+          c.scenario = spec.scenarios[s];
+          c.solver = spec.solvers[k].solver;
+          c.rule = rule_of(spec.solvers[k]);
+          c.setting = setting.flags;
+          c.dt = dt;
+          out.candidates.push_back(std::move(c));
+        }
+      }
+    }
+  }
+
+  // Cost: one thread, one scenario at a time, every candidate of it alive at once and stepped
+  // through the scenario in slices of kSlice simulated seconds taken in turn, so that whatever
+  // slows the machine for a while slows them all alike. A candidate that meets a non-finite value
+  // is not timed further (its cost is left unknown: it is not a candidate).
+  {
+    constexpr double kSlice = 0.25;
+    auto tick = progress("cost");
+    size_t done = 0;
+    std::vector<Vector3d> targets;
+    for (size_t s = 0; s < scenario_count; ++s) {
+      const Scenario& scenario = scenarios[s];
+      std::vector<size_t> mine;
+      for (size_t j = 0; j < jobs.size(); ++j) {
+        if (jobs[j].scenario == s) mine.push_back(j);
+      }
+      std::vector<std::unique_ptr<Simulator>> simulators;
+      std::vector<double> seconds(mine.size(), 0.0);
+      std::vector<int> steps_taken(mine.size(), 0);
+      for (size_t j : mine) {
+        const SolverConfig& solver = spec.solvers[jobs[j].solver];
+        simulators.push_back(make_simulator(solver.solver, jobs[j].setting.options));
+        simulators.back()->reset(model, scenario);
+      }
+      const int slices = static_cast<int>(std::ceil(scenario.duration / kSlice - 1e-9));
+      for (int slice = 0; slice < slices; ++slice) {
+        for (size_t m = 0; m < mine.size(); ++m) {
+          Simulator& simulator = *simulators[m];
+          const double dt = jobs[mine[m]].dt;
+          const int total = static_cast<int>(std::lround(scenario.duration / dt));
+          const int end = std::min(total, static_cast<int>(std::lround((slice + 1) * kSlice / dt)));
+          if (simulator.diverged()) continue;
+          const double begin = thread_seconds();
+          for (int k = steps_taken[m]; k < end; ++k) {
+            throw_if_cancelled();
+            scenario.targets_at((k + 1) * dt, targets);
+            simulator.set_pin_targets(targets);
+            simulator.step(dt);
+          }
+          seconds[m] += thread_seconds() - begin;
+          steps_taken[m] = end;
+        }
+      }
+      for (size_t m = 0; m < mine.size(); ++m) {
+        if (!simulators[m]->diverged()) {
+          out.candidates[mine[m]].cost_us_per_s = 1e6 * seconds[m] / scenario.duration;
+        }
+      }
+      done += mine.size();
+      tick(done, jobs.size());
+    }
+  }
+
+  // error: the re-seeded pose error against the truth, the finest dts first so that the longest
+  // jobs start early; a re-seeded run that diverges puts the candidate out
+  {
+    std::vector<size_t> order(jobs.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return jobs[a].dt < jobs[b].dt; });
+    size_t done = 0;
+    auto tick = progress("error");
+    parallel_for(order.size(), spec.jobs, [&](size_t i) {
+      const Job& job = jobs[order[i]];
+      Candidate& c = out.candidates[order[i]];
+      const SolverConfig& solver = spec.solvers[job.solver];
+      auto simulator = make_simulator(solver.solver, job.setting.options);
+      const ReseededError e =
+          reseeded_error(*simulator, model, scenarios[job.scenario], truth_runs[job.scenario],
+                         job.dt);
+      const auto lost = std::count_if(e.pose_m.begin(), e.pose_m.end(),
+                                      [](double v) { return std::isnan(v); });
+      if (lost > 0 || e.pose_m.empty()) {
+        c.diverged = true;
+        c.reason = std::to_string(lost) + " of " + std::to_string(e.pose_m.size()) +
+                   " re-seeded runs diverged";
+        return;
+      }
+      c.error_m = e.mean_pose_m;
+    }, [&] { tick(++done, order.size()); });
+  }
+
+  // the search, per scenario and solver: for each view and budget, the candidates within budget
+  // in order of cost, each put through the random starts until one survives them all
+  {
+    const double ceiling = no_divergence_ceiling(spec.starts);
+    const size_t pairs = scenario_count * spec.solvers.size();
+    std::vector<std::vector<VerdictRow>> rows(pairs);
+    size_t done = 0;
+    auto tick = progress("starts");
+    parallel_for(pairs, spec.jobs, [&](size_t p) {
+      const size_t s = p / spec.solvers.size(), k = p % spec.solvers.size();
+      std::vector<size_t> mine;
+      for (size_t j = 0; j < jobs.size(); ++j) {
+        if (jobs[j].scenario == s && jobs[j].solver == k) mine.push_back(j);
+      }
+      for (const char* view : {"second", "frame"}) {
+        const bool frame = view[0] == 'f';
+        std::vector<size_t> in_view;
+        for (size_t j : mine) {
+          if (!frame || steps_per_frame(jobs[j].dt, spec.frame_hz) > 0) in_view.push_back(j);
+        }
+        for (double budget : spec.budgets_m) {
+          VerdictRow row;
+          row.scenario = spec.scenarios[s];
+          row.solver = spec.solvers[k].solver;
+          row.rule = rule_of(spec.solvers[k]);
+          row.view = view;
+          row.budget_m = budget;
+          row.truth_floor_m = out.floors[s].floor;
+          const std::string problem = budget_problem(budget, row.truth_floor_m);
+          if (!problem.empty()) {
+            row.verdict = "refused";
+            row.why = problem;
+            rows[p].push_back(row);
+            continue;
+          }
+          std::vector<size_t> within;
+          for (size_t j : in_view) {
+            const Candidate& c = out.candidates[j];
+            if (!c.diverged && c.error_m <= budget && std::isfinite(c.cost_us_per_s)) {
+              within.push_back(j);
+            }
+          }
+          std::stable_sort(within.begin(), within.end(), [&](size_t a, size_t b) {
+            const Candidate &x = out.candidates[a], &y = out.candidates[b];
+            return x.cost_us_per_s != y.cost_us_per_s ? x.cost_us_per_s < y.cost_us_per_s
+                                                      : x.dt > y.dt;
+          });
+          for (size_t j : within) {
+            Candidate& c = out.candidates[j];
+            if (c.starts == 0 && !c.diverged) {
+              const SolverConfig& solver = spec.solvers[k];
+              // the scenario's own start, then the random ones
+              if (start_diverges(model, spec.scenarios[s], spec.scenario, jobs[j].setting.options,
+                                 solver.solver, c.dt, spec.seed, -1)) {
+                c.diverged = true;
+                c.reason = "its run of the scenario diverged";
+                continue;
+              }
+              for (int64_t i = 0; i < spec.starts; ++i) {
+                c.starts = i + 1;
+                if (start_diverges(model, spec.scenarios[s], spec.scenario,
+                                   jobs[j].setting.options, solver.solver, c.dt, spec.seed, i)) {
+                  c.diverged_starts = 1;
+                  break;
+                }
+              }
+            }
+            if (!c.diverged && c.diverged_starts == 0) break;
+          }
+          std::vector<Candidate> view_candidates;
+          for (size_t j : in_view) view_candidates.push_back(out.candidates[j]);
+          const Choice choice = cheapest(view_candidates, budget, ceiling);
+          row.verdict = verdict_name(choice.verdict);
+          row.best_error_m = choice.best_error_m;
+          row.divergence_upper = choice.divergence_upper;
+          if (choice.verdict == Verdict::kMet) {
+            row.chosen = static_cast<int>(in_view[choice.index]);
+          } else {
+            std::ostringstream why;
+            why.precision(3);
+            switch (choice.verdict) {
+              case Verdict::kDiverges:
+                why << "every configuration diverges";
+                break;
+              case Verdict::kErrorFloor:
+                why << "its least error is " << choice.best_error_m << " m";
+                break;
+              case Verdict::kNotRobust:
+                why << "every configuration within the budget diverged from a random start";
+                break;
+              default:
+                why << "nothing was both timed and judged";
+            }
+            row.why = why.str();
+          }
+          rows[p].push_back(row);
+        }
+      }
+    }, [&] { tick(++done, pairs); });
+    for (auto& r : rows) out.rows.insert(out.rows.end(), r.begin(), r.end());
+  }
+  return out;
+}
+
+namespace {
+
+const char* status_of(const Candidate& c) {
+  if (c.diverged) return "diverged";
+  if (std::isnan(c.cost_us_per_s)) return "not-timed";
+  return "ok";
+}
+
+}  // namespace
+
+std::string verdict_candidates_csv(const VerdictResult& result, const OutputContext& context) {
+  std::ostringstream out;
+  out << "scenario,solver,rule,setting,dt,cost_us_per_s,error_m,status,reason,starts,"
+         "diverged_starts,truth_floor_m,truth,model,git_sha,machine\n";
+  for (const Candidate& c : result.candidates) {
+    double floor = NAN;
+    for (const TruthFloor& f : result.floors) {
+      if (f.scenario == c.scenario) floor = f.floor;
+    }
+    out << csv_field(c.scenario) << ',' << csv_field(c.solver) << ',' << csv_field(c.rule) << ','
+        << csv_field(c.setting) << ',' << format_dt(c.dt) << ',' << csv_number(c.cost_us_per_s)
+        << ',' << csv_number(c.error_m) << ',' << status_of(c) << ',' << csv_field(c.reason) << ','
+        << c.starts << ',' << c.diverged_starts << ',' << csv_number(floor) << ','
+        << csv_field(result.truth) << ',' << csv_field(context.model) << ','
+        << csv_field(context.git_sha) << ',' << csv_field(context.machine) << '\n';
+  }
+  return out.str();
+}
+
+std::string verdict_csv(const VerdictResult& result, const VerdictSpec& spec,
+                        const OutputContext& context) {
+  std::ostringstream out;
+  out << "scenario,solver,rule,view,frame_hz,budget_m,verdict,setting,dt,steps_per_frame,"
+         "cost_us_per_s,us_per_frame,puppets_per_core,error_m,starts,divergence_upper,"
+         "best_error_m,truth_floor_m,why,truth,model,git_sha,machine\n";
+  for (const VerdictRow& r : result.rows) {
+    const Candidate* c = r.chosen >= 0 ? &result.candidates[r.chosen] : nullptr;
+    const bool frame = r.view == "frame";
+    FrameCost cost;
+    if (c) cost = at_frame_rate(c->cost_us_per_s, spec.frame_hz);
+    out << csv_field(r.scenario) << ',' << csv_field(r.solver) << ',' << csv_field(r.rule) << ','
+        << r.view << ',' << csv_number(spec.frame_hz) << ',' << csv_number(r.budget_m) << ','
+        << r.verdict << ',' << (c ? csv_field(c->setting) : "") << ','
+        << (c ? format_dt(c->dt) : "") << ','
+        << (c && frame ? std::to_string(steps_per_frame(c->dt, spec.frame_hz)) : "") << ','
+        << csv_number(c ? c->cost_us_per_s : NAN) << ','
+        << csv_number(c && frame ? cost.us_per_frame : NAN) << ','
+        << csv_number(c ? cost.puppets_per_core : NAN) << ',' << csv_number(c ? c->error_m : NAN)
+        << ',' << (c ? std::to_string(c->starts) : "") << ',' << csv_number(r.divergence_upper)
+        << ',' << csv_number(r.best_error_m) << ',' << csv_number(r.truth_floor_m) << ','
+        << csv_field(r.why) << ',' << csv_field(result.truth) << ',' << csv_field(context.model)
+        << ',' << csv_field(context.git_sha) << ',' << csv_field(context.machine) << '\n';
+  }
+  return out.str();
 }
 
 }  // namespace puppet::compare

@@ -455,6 +455,19 @@ TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
   expect_bad("robustness --scenario swim" + o, "--scenario");
   expect_bad("robustness --shard 0/2 --model \"$(printf '/tmp/caf\\303\\251.json')\"" + o,
              "printable ASCII");
+  expect_bad("verdict --budget 1furlong" + o, "--budget");
+  expect_bad("verdict --budget 0mm" + o, "--budget");
+  expect_bad("verdict --budget 1cm,10mm" + o, "listed already");
+  expect_bad("verdict --budget 1cm," + o, "--budget");
+  expect_bad("verdict --budget nan" + o, "--budget");
+  expect_bad("verdict --budget ' 1mm'" + o, "--budget");
+  expect_bad("verdict --budget 1e3m" + o, "--budget");
+  expect_bad("verdict --dt 1/100" + o, "1/30 s");
+  expect_bad("verdict --starts 0" + o, "--starts");
+  expect_bad("verdict --starts 2.5" + o, "--starts");
+  expect_bad("verdict --frame-hz 0" + o, "--frame-hz");
+  expect_bad("verdict --scenario swim" + o, "--scenario");
+  expect_bad("verdict --substeps 4" + o, "--substeps");
   expect_bad("run --start 1" + o, "--start");
   expect_bad("run --start x:2" + o, "--start");
   expect_bad("run --start 1:-2" + o, "--start");
@@ -508,6 +521,40 @@ TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
   EXPECT_TRUE(fs::exists(mine / "thesis.tex"));
   fs::remove_all(mine);
   EXPECT_FALSE(fs::exists(out));
+}
+
+// a small verdict end to end: both files, a row per scenario × solver × view × budget, a budget
+// below the truth's floor refused with its reason, the chosen rows naming a candidate that was
+// put through every start
+TEST(TestbedCli, AVerdictWritesEveryRowAndRefusesABudgetBelowTheFloor) {
+  const fs::path out = fresh_folder("verdict");
+  const Outcome o = testbed(
+      "verdict --model chain:3 --scenario hang --solver procedural,bullet-rigid --rule xpbd,literal "
+      "--dt 1/30,1/60,1/120 --budget 1um,5cm --starts 3 --out " + out.string());
+  ASSERT_EQ(o.status, 0) << o.output;
+  std::ifstream in(out / "verdict.csv");
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  ASSERT_EQ(lines.size(), 1u + 3 * 2 * 2) << "header, then 3 solvers x 2 views x 2 budgets";
+  int refused = 0, met = 0;
+  for (size_t i = 1; i < lines.size(); ++i) {
+    if (lines[i].find(",1e-06,refused,") != std::string::npos) {
+      ++refused;
+      EXPECT_NE(lines[i].find("below the truth's floor"), std::string::npos) << lines[i];
+    }
+    if (lines[i].find(",met,") != std::string::npos) {
+      ++met;
+      EXPECT_NE(lines[i].find(",3,"), std::string::npos) << "survived 3 starts: " << lines[i];
+    }
+  }
+  EXPECT_EQ(refused, 6);
+  EXPECT_GE(met, 2) << "bullet-rigid and xpbd hold a 3-link chain within 5 cm";
+  std::ifstream candidates(out / "candidates.csv");
+  size_t rows = 0;
+  for (std::string line; std::getline(candidates, line);) ++rows;
+  // xpbd: 5 substep counts, literal: 1, bullet-rigid: 2 sweep counts; 3 dts each
+  EXPECT_EQ(rows, 1u + (5 + 1 + 2) * 3);
+  fs::remove_all(out);
 }
 
 TEST(TestbedCli, ShortRunWritesSummaryAndTraces) {

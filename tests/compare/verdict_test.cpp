@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
 #include <vector>
 
 namespace puppet::compare {
@@ -17,7 +18,7 @@ std::vector<Candidate> table() {
       c.solver = "procedural";
       c.rule = "xpbd";
       c.dt = dts[i];
-      c.substeps = substeps;
+      c.setting = "--substeps " + std::to_string(substeps);
       c.cost_us_per_s = 100.0 * substeps / dts[i];  // µs per simulated second
       c.error_m = 0.1 * dts[i] * 30.0 / substeps;   // first order in dt / substeps
       c.starts = 100;
@@ -35,7 +36,7 @@ TEST(Verdict, FindsThePlantedOptimum) {
   const Choice before = cheapest(c, 0.01, 0.05);
   ASSERT_EQ(before.verdict, Verdict::kMet);
   EXPECT_DOUBLE_EQ(c[before.index].dt, 1.0 / 120);
-  EXPECT_EQ(c[before.index].substeps, 4);
+  EXPECT_EQ(c[before.index].setting, "--substeps 4");
   Candidate planted = c[0];
   planted.dt = 1.0 / 90;
   planted.cost_us_per_s = 20000.0;

@@ -1,24 +1,31 @@
-// The verdict: per solver and scenario, the cheapest measured configuration that meets an
-// error budget against the truth and a robustness bar, and why none does when none does.
+// The verdict (`testbed verdict`): per solver and scenario, the cheapest configuration that
+// simulates the scenario within an error budget against the truth without diverging in N random
+// starts, its cost per simulated second, and why none does when none does (docs/verdict.md).
 #pragma once
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
+#include <vector>
+
+#include "puppet/compare/output.h"
+#include "puppet/compare/sweep.h"
 
 namespace puppet::compare {
 
 /// one configuration of one solver in one scenario, as measured
 struct Candidate {
-  std::string solver, rule;
+  std::string scenario, solver, rule;
+  std::string setting;  ///< the testbed flags beyond the dt ("--substeps 4"); empty: none
   double dt = 0.0;
-  int substeps = 1;             ///< the rule's substeps or iterations; 1 where it has none
   double cost_us_per_s = NAN;   ///< CPU time per simulated second (µs); NaN: not timed
   double error_m = NAN;         ///< re-seeded pose error against the truth; NaN: not judged
-  bool diverged = false;        ///< the scenario's own run diverged
-  int64_t starts = 0;           ///< random starts run (robustness)
-  int64_t diverged_starts = 0;  ///< of them, diverged
+  bool diverged = false;        ///< the scenario's run, or a re-seeded run, diverged
+  std::string reason;           ///< why it diverged
+  int64_t starts = 0;           ///< random starts run (robustness); 0: not run
+  int64_t diverged_starts = 0;  ///< of them, diverged (the run stops at the first)
 };
 
 /// what a search found
@@ -29,6 +36,7 @@ enum class Verdict {
   kNotRobust,    ///< some come within the budget, none with the robustness bar
   kNotMeasured,  ///< no configuration was both timed and judged
 };
+const char* verdict_name(Verdict verdict);
 
 struct Choice {
   Verdict verdict = Verdict::kNotMeasured;
@@ -42,8 +50,19 @@ struct Choice {
 /// starts never meets a bar below 1). Ties in cost go to the larger dt.
 Choice cheapest(std::span<const Candidate> candidates, double budget_m, double robustness_ceiling);
 
-/// empty when a budget can be judged; else why not: a budget below the truth's floor (its
-/// error bar, or the two truths' disagreement) is finer than the truth can tell
+/// the ceiling that "no divergence in `starts` random starts" sets: the Wilson upper bound of
+/// 0 of `starts`, which 1 of `starts` exceeds
+double no_divergence_ceiling(int64_t starts);
+
+/// A truth's floor: the smallest error it can judge. Its own error bar, BAR_MARGIN ×
+/// 2^p/(2^p − 1) × its h/2 difference with p the order its 2h and h/2 differences give (at least
+/// kMinOrder), and never below the other truth's error against it (NaN when there is none).
+inline constexpr double kBarMargin = 1.5;
+inline constexpr double kMinOrder = 0.5;
+double truth_floor(double half_difference, double double_difference, double agreement);
+
+/// empty when a budget can be judged; else why not: a budget below the truth's floor is finer
+/// than the truth can tell
 std::string budget_problem(double budget_m, double truth_floor_m);
 
 /// a cost per simulated second seen at a frame rate: µs per frame, and puppets one core keeps
@@ -53,5 +72,70 @@ struct FrameCost {
   double puppets_per_core = NAN;
 };
 FrameCost at_frame_rate(double cost_us_per_s, double hz = 60.0);
+
+/// whether a step of dt fits a frame of 1/hz a whole number of times (steps per frame, else 0)
+int steps_per_frame(double dt, double hz);
+
+/// the settings searched for one solver besides dt: the rule's substeps (xpbd, tree) or sweeps
+/// (relaxed), Bullet's sequential-impulse sweeps, MuJoCo's integrator; each with the flags that
+/// set it
+struct Setting {
+  std::string flags;
+  SolverOptions options;
+};
+std::vector<Setting> settings_searched(const SolverConfig& solver);
+
+/// the dts searched by default: 1/30 to 1/960 s, each dividing the error's sample interval
+const std::vector<double>& verdict_dts();
+
+struct VerdictSpec {
+  const Model* model = nullptr;
+  std::vector<std::string> scenarios;
+  ScenarioOptions scenario;           // the base; a random start adds its own
+  std::vector<SolverConfig> solvers;  // one per solver, procedural once per rule
+  std::vector<double> dts;
+  std::vector<double> budgets_m;
+  double frame_hz = 60.0;
+  int64_t starts = 32;  // random starts a chosen configuration must survive
+  uint64_t seed = 1;
+  int jobs = 1;  // worker threads; the timing runs alone
+  std::function<void(const char* phase, size_t done, size_t total)> on_progress;
+};
+
+/// one row of the verdict: a solver in a scenario at a budget, in one view
+struct VerdictRow {
+  std::string scenario, solver, rule;
+  std::string view;  ///< "second" (any dt) or "frame" (a whole number of steps per frame)
+  double budget_m = 0.0;
+  std::string verdict;      ///< met, refused, diverges, error-floor, not-robust, not-measured
+  std::string why;          ///< one line, empty when met
+  int chosen = -1;          ///< index into VerdictResult::candidates when met
+  double divergence_upper = NAN;
+  double best_error_m = NAN;
+  double truth_floor_m = NAN;
+};
+
+struct TruthFloor {
+  std::string scenario;
+  double half_difference = NAN, double_difference = NAN, agreement = NAN, floor = NAN;
+};
+
+struct VerdictResult {
+  std::string truth;                 ///< the judging truth's engine
+  double truth_dt = 0.0;
+  std::vector<TruthFloor> floors;    ///< per scenario
+  std::vector<Candidate> candidates; ///< scenario × solver × setting × dt
+  std::vector<VerdictRow> rows;      ///< scenario × solver × view × budget
+};
+
+/// Measures every candidate (cost in one thread, interleaved; error and divergence on `jobs`
+/// threads) and searches each solver's for each budget, running the random starts of the cheapest
+/// candidates within budget until one survives them all. Throws ScenarioError when the model has
+/// no truth.
+VerdictResult run_verdict(const VerdictSpec& spec);
+
+std::string verdict_candidates_csv(const VerdictResult& result, const OutputContext& context);
+std::string verdict_csv(const VerdictResult& result, const VerdictSpec& spec,
+                        const OutputContext& context);
 
 }  // namespace puppet::compare
