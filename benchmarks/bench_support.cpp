@@ -23,14 +23,16 @@ std::vector<SolverConfig> solver_configs() {
   return configs;
 }
 
-Workload make_workload(const Model& model, const std::string& scenario, int batch_steps) {
+Workload make_workload(const Model& model, const std::string& scenario, int batch_steps,
+                       double dt) {
   Workload workload;
   workload.model = &model;
   workload.scenario = compare::make_scenario(scenario, model);
-  workload.warm_up_steps = static_cast<int>(kWarmUpSeconds / kDt + 0.5);
+  workload.dt = dt;
+  workload.warm_up_steps = static_cast<int>(kWarmUpSeconds / dt + 0.5);
   workload.batch_targets.resize(batch_steps);
   for (int k = 0; k < batch_steps; ++k) {
-    workload.scenario.targets_at((workload.warm_up_steps + k + 1) * kDt, workload.batch_targets[k]);
+    workload.scenario.targets_at((workload.warm_up_steps + k + 1) * dt, workload.batch_targets[k]);
   }
   return workload;
 }
@@ -83,10 +85,10 @@ bool warm_up(benchmark::State& state, compare::Simulator& simulator, const Workl
   std::vector<BodyState> bodies(workload.model->segment_count());
   std::vector<Vector3d> targets;
   for (int k = 0; k < workload.warm_up_steps; ++k) {
-    const double t = (k + 1) * kDt;
+    const double t = (k + 1) * workload.dt;
     workload.scenario.targets_at(t, targets);
     simulator.set_pin_targets(targets);
-    simulator.step(kDt);
+    simulator.step(workload.dt);
     simulator.read_state(bodies);
     if (const char* reason = divergence(probe, t, bodies, targets, simulator.diverged())) {
       skip_diverged(state, reason);
@@ -126,7 +128,8 @@ std::unique_ptr<procedural::Solver> warmed_up_solver(benchmark::State& state,
   return solver;
 }
 
-void run_batches(benchmark::State& state, compare::Simulator& simulator, const Workload& workload) {
+void run_batches(benchmark::State& state, compare::Simulator& simulator, const Workload& workload,
+                 int64_t items_per_batch) {
   if (!warm_up(state, simulator, workload)) return;
   const std::unique_ptr<compare::Snapshot> snapshot = simulator.snapshot();
   const int steps = static_cast<int>(workload.batch_targets.size());
@@ -135,12 +138,12 @@ void run_batches(benchmark::State& state, compare::Simulator& simulator, const W
     state.SetIterationTime(seconds_of([&] {
       for (int k = 0; k < steps; ++k) {
         simulator.set_pin_targets(workload.batch_targets[k]);
-        simulator.step(kDt);
+        simulator.step(workload.dt);
       }
     }));
   }
   if (simulator.diverged()) state.SkipWithError("diverged in a timed batch");
-  state.SetItemsProcessed(state.iterations() * steps);
+  state.SetItemsProcessed(state.iterations() * (items_per_batch > 0 ? items_per_batch : steps));
 }
 
 }  // namespace puppet::bench

@@ -37,14 +37,16 @@ std::vector<SolverConfig> solver_configs();
 // landing (the lowest point starts 1 m up: it lands at 0.45 s), so contacts are timed
 inline constexpr double kWarmUpSeconds = 1.0;
 
-// a scenario on a model, with the pin targets of one batch of steps from the warm-up instant
+// a scenario on a model, with the pin targets of one batch of steps of dt from the warm-up instant
 struct Workload {
   const Model* model = nullptr;
   compare::Scenario scenario;
+  double dt = kDt;
   int warm_up_steps = 0;
   std::vector<std::vector<Vector3d>> batch_targets;  // [step of the batch][pin]
 };
-Workload make_workload(const Model& model, const std::string& scenario, int batch_steps);
+Workload make_workload(const Model& model, const std::string& scenario, int batch_steps,
+                       double dt = kDt);
 
 // Pinocchio with its swing–twist limits (models/pinocchio-swing-twist.json), loaded once: the
 // figure the gate's thresholds (results/gate.json) were measured on. The main model's box limits
@@ -73,7 +75,9 @@ double seconds_of(Body&& body) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
 }
 
-// The standard loop: restore, then one timed batch of the workload's steps per iteration.
-void run_batches(benchmark::State& state, compare::Simulator& simulator, const Workload& workload);
+// The standard loop: restore, then one timed batch of the workload's steps per iteration. Items
+// are steps, or with `items_per_batch` > 0 that many per batch.
+void run_batches(benchmark::State& state, compare::Simulator& simulator, const Workload& workload,
+                 int64_t items_per_batch = 0);
 
 }  // namespace puppet::bench

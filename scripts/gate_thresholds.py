@@ -101,6 +101,18 @@ def main():
                           "min"))
         gates.append(gate(times, f"{scenario}: relaxed speedup over mujoco",
                           f"step/{scenario}/mujoco", f"step/{scenario}/relaxed", 1, "min"))
+    # the verdict (bench_verdict, from results/verdict/verdict.csv): per scenario and budget, the
+    # cheapest reference engine's cost per simulated second over the cheapest procedural rule's,
+    # each in the configuration the verdict chose. The floor is the family's claim, at least as
+    # cheap as the engines at equal accuracy and robustness; where it is not reached the gate
+    # guards the measured ratio
+    verdict = sorted({name.rsplit("/", 1)[0] for t in times.values() for name in t
+                      if name.startswith("verdict/") and name.endswith("/procedural")})
+    for pair in verdict:
+        _, scenario, budget = pair.split("/")
+        gates.append(gate(times, f"{scenario} within {budget}: procedural over the cheapest "
+                          "reference (verdict)", f"{pair}/reference", f"{pair}/procedural", 1,
+                          "min"))
     for rule in ONE_PASS:
         gates.append(gate(times, f"hang: {rule} step / floor (free bodies)", f"step/hang/{rule}",
                           "floor/hang", 3, "max"))

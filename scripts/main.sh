@@ -13,7 +13,10 @@ scripts/setup.sh
 cmake --preset release >/dev/null
 cmake --build --preset release
 ./build/release/testbed run --model pinocchio --out results/main "$@"
-./build/release/testbed verdict --model pinocchio --out results/verdict
+# the verdict reads the truths' floors from the run above (the same code): it measures them again
+# otherwise
+./build/release/testbed verdict --model pinocchio --floors-from results/main/summary.csv \
+  --out results/verdict
 ./build/release/testbed frontier --model pinocchio --out results/frontier
 ./build/release/testbed run --model models/pinocchio-open-limits.json --dt 1/240 --no-timing \
   --sample-hz 1 --out results/truths-open-limits

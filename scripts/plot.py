@@ -668,14 +668,22 @@ WHY = {"diverges": "diverges", "error-floor": "error floor", "not-robust": "not 
        "not-measured": "not measured", "refused": "refused"}
 
 
+def budget_name(budget):
+    """1 mm, 1 cm, 5 cm"""
+    return f"{budget * 100:g} cm" if budget >= 0.01 - 1e-12 else f"{budget * 1000:g} mm"
+
+
 def setting_text(row):
-    """a chosen configuration in a few words: 1/120 s × 8 substeps"""
+    """a chosen configuration in a few words: 1/120 s, 8 substeps"""
     text = dt_text(row["dt"]) + " s"
     flags = row["setting"].split()
     for flag, value in zip(flags[::2], flags[1::2]):
-        words = {"--substeps": "substeps", "--iterations": "sweeps",
-                 "--bullet-iterations": "sweeps", "--mujoco-integrator": ""}.get(flag, flag)
-        text += f", {value.upper() if not words else value + ' ' + words}" if value else ""
+        if flag == "--mujoco-integrator":
+            text += ", " + {"rk4": "RK4", "euler": "Euler"}.get(value, value)
+            continue
+        noun = {"--substeps": "substep", "--iterations": "sweep",
+                "--bullet-iterations": "sweep"}.get(flag, flag)
+        text += f", {value} {noun}{'' if value == '1' else 's'}"
     return text
 
 
@@ -719,19 +727,20 @@ def verdict_headline(folder, budget=HEADLINE_BUDGET):
     """the README's headline: µs per simulated second at one budget, per solver and scenario"""
     v = Verdict(folder)
     table, refused = verdict_table(v, "second", budget)
-    return (f"CPU µs per simulated second to keep Pinocchio within {fmt(budget * 100, 2)} cm of "
+    return (f"CPU µs per simulated second to keep Pinocchio within {budget_name(budget)} of "
             f"the truth ({v.truth}) and never diverge in {v.starts} random starts, with the "
             "cheapest configuration each solver has (dt from 1/30 to 1/960 s, its substeps or "
             "sweeps); in brackets, how many times cheaper than the cheapest reference engine "
             "(`(ref)`: that engine). From `results/verdict/verdict.csv` (commit "
             f"`{v.git_sha}`, {v.machine}), printed by `scripts/readme_headline.py`. "
-            + refused_text(v, refused) + "\n\n" + table + "\n")
+            + refused_text(v, refused) + "\n\n" + table + "\n\n"
+            + "\n".join(f"- {line}" for line in family_findings(v, budgets=[budget])) + "\n")
 
 
-def family_findings(v, view="second"):
+def family_findings(v, view="second", budgets=None):
     """where the procedural family wins and loses, per budget"""
     out = []
-    for budget in v.budgets:
+    for budget in budgets or v.budgets:
         wins, losses, none = [], [], []
         for sc in v.scenarios:
             if not v.judged(sc, budget):
@@ -756,14 +765,14 @@ def family_findings(v, view="second"):
         if none:
             parts.append("no solver meets it in " + ", ".join(none))
         if parts:
-            out.append(f"Within {fmt(budget * 100, 2)} cm: " + "; ".join(parts) + ".")
+            out.append(f"Within {budget_name(budget)}: " + "; ".join(parts) + ".")
     return out
 
 
 def verdict_section(v):
     if v is None:
         return []
-    budgets = ", ".join(f"{fmt(b * 100, 2)} cm" for b in v.budgets)
+    budgets = ", ".join(budget_name(b) for b in v.budgets)
     out = ["## The verdict: cost at equal accuracy and robustness", "",
            f"`{VERDICT}/`: `testbed verdict`. For every solver and scenario, every configuration "
            "was measured: dt from 1/30 to 1/960 s, and xpbd's and tree's substeps, relaxed's "
@@ -786,13 +795,13 @@ def verdict_section(v):
     out += [f"- {line}" for line in family_findings(v)] + [""]
     for budget in v.budgets:
         table, refused = verdict_table(v, "second", budget, show_setting=True)
-        out += [f"### Within {fmt(budget * 100, 2)} cm, any dt", "", table, "",
+        out += [f"### Within {budget_name(budget)}, any dt", "", table, "",
                 refused_text(v, refused), ""]
     for budget in v.budgets:
         table, refused = verdict_table(v, "frame", budget, show_setting=True)
         hz = f"{v.frame_hz:g}"
         puppets = frame_puppets(v, budget)
-        out += [f"### Within {fmt(budget * 100, 2)} cm at {hz} Hz", "",
+        out += [f"### Within {budget_name(budget)} at {hz} Hz", "",
                 f"µs per {hz} Hz frame, the frame taken in whole steps (dt = 1/{hz} s or a "
                 f"divisor of it). A core keeps 10⁶/({hz} × µs per frame) puppets at {hz} Hz"
                 + (": in drag " + ", ".join(f"{label(c)} {n:,.0f}" for c, n in puppets)

@@ -23,7 +23,6 @@
 
 #include "puppet/compare/cancel.h"
 #include "puppet/compare/frontier.h"
-#include "puppet/compare/verdict.h"
 #include "puppet/compare/gate.h"
 #include "puppet/compare/number.h"
 #include "puppet/compare/output.h"
@@ -35,6 +34,7 @@
 #include "puppet/compare/simulator.h"
 #include "puppet/compare/start.h"
 #include "puppet/compare/sweep.h"
+#include "puppet/compare/verdict.h"
 #include "puppet/model/euler_box.h"
 #include "puppet/model/file.h"
 #include "puppet/model/mjcf.h"
@@ -254,7 +254,7 @@ struct RunFlags {
   // robustness
   std::string starts = "100", seed = "1", shard;
   // verdict
-  std::string budget = "1mm,1cm,5cm", frame_hz = "60";
+  std::string budget = "1mm,1cm,5cm", frame_hz = "60", floors_from;
 
   static int default_jobs() {
     return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
@@ -619,7 +619,8 @@ std::vector<double> parse_budgets(const std::string& text) {
   while (std::getline(in, item, ',')) {
     double scale = 1.0;
     std::string number = item;
-    for (const auto& [unit, factor] : {std::pair{"um", 1e-6}, {"mm", 1e-3}, {"cm", 1e-2}, {"m", 1.0}}) {
+    for (const auto& [unit, factor] :
+         {std::pair{"um", 1e-6}, {"mm", 1e-3}, {"cm", 1e-2}, {"m", 1.0}}) {
       const std::string u = unit;
       if (number.size() > u.size() && number.ends_with(u)) {
         number.resize(number.size() - u.size());
@@ -629,8 +630,7 @@ std::vector<double> parse_budgets(const std::string& text) {
     }
     double value = 0.0;
     if (!parse_finite(number, &value) || number.find_first_of(" \t") != std::string::npos) {
-      throw UsageError("--budget: expected a length such as 1mm, 1cm or 0.05m, got " +
-                       shown(item));
+      throw UsageError("--budget: expected a length such as 1mm, 1cm or 0.05m, got " + shown(item));
     }
     value *= scale;
     if (!(value >= 1e-6 && value <= 10.0)) {
@@ -648,17 +648,6 @@ std::vector<double> parse_budgets(const std::string& text) {
   return out;
 }
 
-// a budget as the table shows it
-std::string budget_label(double m) {
-  char text[32];
-  if (m >= 0.01 - 1e-12) {
-    std::snprintf(text, sizeof text, "%gcm", m * 100);
-  } else {
-    std::snprintf(text, sizeof text, "%gmm", m * 1000);
-  }
-  return text;
-}
-
 int command_verdict(const RunFlags& f) {
   VerdictSpec spec;
   spec.scenarios = expand("--scenario", f.scenario, scenario_names());
@@ -667,7 +656,8 @@ int command_verdict(const RunFlags& f) {
   spec.dts = parse_dts(f.dt);
   for (double dt : spec.dts) {
     if (!divides_sample_interval(dt)) {
-      throw UsageError("--dt: " + format_dt(dt) + " s does not divide the error's sample "
+      throw UsageError("--dt: " + format_dt(dt) +
+                       " s does not divide the error's sample "
                        "interval of 1/30 s");
     }
   }
@@ -687,6 +677,19 @@ int command_verdict(const RunFlags& f) {
   if (truths_for(model).empty()) {
     throw UsageError("--model: " + shown(f.model) +
                      ": no truth can run it (neither MuJoCo nor bullet-multibody)");
+  }
+  if (!f.floors_from.empty()) {
+    std::ifstream in(f.floors_from, std::ios::binary);
+    std::stringstream text;
+    text << in.rdbuf();
+    if (!in || in.bad())
+      throw UsageError("--floors-from: " + shown(f.floors_from) + ": cannot read");
+    try {
+      spec.floors =
+          floors_from_summary(text.str(), f.floors_from, model, spec.scenarios, current_git_sha());
+    } catch (const std::runtime_error& e) {
+      throw UsageError(std::string("--floors-from: ") + e.what());
+    }
   }
   for (const std::string& name : spec.scenarios) {
     ScenarioOptions options = spec.scenario;
@@ -712,11 +715,12 @@ int command_verdict(const RunFlags& f) {
                         verdict_csv(result, spec, context));
   folder.commit();
 
-  std::printf("\nthe cheapest configuration within each budget that survives %lld random starts: "
-              "CPU us per simulated second (any dt)\n",
-              static_cast<long long>(spec.starts));
+  std::printf(
+      "\nthe cheapest configuration within each budget that survives %lld random starts: "
+      "CPU us per simulated second (any dt)\n",
+      static_cast<long long>(spec.starts));
   std::printf("%-8s %-16s %-9s", "scenario", "solver", "rule");
-  for (double b : spec.budgets_m) std::printf(" %14s", budget_label(b).c_str());
+  for (double b : spec.budgets_m) std::printf(" %14s", budget_text(b).c_str());
   std::printf("\n");
   for (size_t i = 0; i < result.rows.size();) {
     const VerdictRow& first = result.rows[i];
@@ -1138,13 +1142,18 @@ int run_command(int argc, char** argv) {
       ->capture_default_str();
   verdict->add_option("--budget", vf.budget, "error budgets, comma list (1mm, 1cm, 0.05m)")
       ->capture_default_str();
-  verdict->add_option("--starts", vf.starts,
-                      "random starts a chosen configuration must survive without diverging")
+  verdict
+      ->add_option("--starts", vf.starts,
+                   "random starts a chosen configuration must survive without diverging")
       ->capture_default_str();
   verdict->add_option("--seed", vf.seed, "the starts' seed")->capture_default_str();
-  verdict->add_option("--frame-hz", vf.frame_hz,
-                      "the frame rate of the per-frame view (a whole number of steps per frame)")
+  verdict
+      ->add_option("--frame-hz", vf.frame_hz,
+                   "the frame rate of the per-frame view (a whole number of steps per frame)")
       ->capture_default_str();
+  verdict->add_option("--floors-from", vf.floors_from,
+                      "the truths' floors from this summary.csv of testbed run (the same model "
+                      "and commit, both truths at three dts) instead of measuring them");
   verdict->add_option("--out", vf.out, "output folder")->capture_default_str();
   verdict->add_option("--jobs", vf.jobs, "worker threads (the timing runs alone)")
       ->check(kWholeNumber)

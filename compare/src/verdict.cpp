@@ -4,12 +4,15 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <numeric>
 #include <sstream>
+#include <tuple>
 
 #include "puppet/compare/accuracy.h"
 #include "puppet/compare/cancel.h"
+#include "puppet/compare/number.h"
 #include "puppet/compare/robustness.h"
 #include "puppet/compare/run.h"
 #include "puppet/compare/start.h"
@@ -68,6 +71,21 @@ Choice cheapest(std::span<const Candidate> candidates, double budget_m, double r
     out.verdict = Verdict::kNotRobust;
   }
   return out;
+}
+
+Choice cheapest_per_frame(std::span<const Candidate> candidates, double budget_m,
+                          double robustness_ceiling, double hz) {
+  std::vector<Candidate> in_frames;
+  std::vector<int> index;
+  for (int i = 0; i < static_cast<int>(candidates.size()); ++i) {
+    if (steps_per_frame(candidates[i].dt, hz) > 0) {
+      in_frames.push_back(candidates[i]);
+      index.push_back(i);
+    }
+  }
+  Choice choice = cheapest(in_frames, budget_m, robustness_ceiling);
+  if (choice.index >= 0) choice.index = index[choice.index];
+  return choice;
 }
 
 double no_divergence_ceiling(int64_t starts) {
@@ -155,6 +173,32 @@ std::vector<Setting> settings_searched(const SolverConfig& solver) {
   return out;
 }
 
+SolverOptions candidate_options(const std::string& solver, const std::string& rule,
+                                const std::string& setting) {
+  SolverConfig base{solver, {}};
+  if (solver == "procedural") {
+    const auto parsed = procedural::parse_rule(rule);
+    if (!parsed) throw ScenarioError("unknown rule " + rule, "rule");
+    base.options.rule = *parsed;
+  }
+  for (const Setting& s : settings_searched(base)) {
+    if (s.flags == setting) return s.options;
+  }
+  throw ScenarioError("no setting \"" + setting + "\" is searched for " + solver, "setting");
+}
+
+std::string budget_text(double budget_m) {
+  char text[32];
+  if (budget_m >= 0.01 - 1e-12) {
+    std::snprintf(text, sizeof text, "%gcm", budget_m * 100);
+  } else if (budget_m >= 0.001 - 1e-12) {
+    std::snprintf(text, sizeof text, "%gmm", budget_m * 1000);
+  } else {
+    std::snprintf(text, sizeof text, "%gum", budget_m * 1e6);
+  }
+  return text;
+}
+
 const std::vector<double>& verdict_dts() {
   static const std::vector<double> dts{1.0 / 30,  1.0 / 60,  1.0 / 120,
                                        1.0 / 240, 1.0 / 480, 1.0 / 960};
@@ -218,36 +262,47 @@ VerdictResult run_verdict(const VerdictSpec& spec) {
     scenarios.push_back(make_scenario(name, model, spec.scenario));
   }
 
-  // the truth at h in every scenario, then its floor: its runs at h/2 and 2h and the other
-  // truth, each re-seeded from it
+  // the truth at h in every scenario, then (unless the spec has them) its floor: its runs at h/2
+  // and 2h and the other truth, each re-seeded from it
   std::vector<Trajectory> truth_runs(scenario_count);
   {
+    const bool measure_floors = spec.floors.empty();
     size_t done = 0;
     auto tick = progress("truth");
-    const size_t per_scenario = truths.size() > 1 ? 3 : 2;
+    const size_t per_scenario = !measure_floors ? 0 : truths.size() > 1 ? 3 : 2;
     const size_t total = scenario_count * (1 + per_scenario);
-    parallel_for(scenario_count, spec.jobs, [&](size_t s) {
-      auto simulator = make_simulator(truth.solver, truth.options);
-      truth_runs[s] = record_trajectory(*simulator, model, scenarios[s], truth.dt,
-                                        scenarios[s].duration);
-    }, [&] { tick(++done, total); });
-    out.floors.resize(scenario_count);
-    std::vector<double> values(scenario_count * 3, NAN);
-    parallel_for(scenario_count * per_scenario, spec.jobs, [&](size_t i) {
-      const size_t s = i / per_scenario, k = i % per_scenario;
-      const Truth& judged = k < 2 ? truth : truths[1];
-      const double dt = k == 0 ? truth.dt / 2 : k == 1 ? truth.dt * 2 : judged.dt;
-      auto simulator = make_simulator(judged.solver, judged.options);
-      values[3 * s + k] =
-          reseeded_error(*simulator, model, scenarios[s], truth_runs[s], dt).mean_pose_m;
-    }, [&] { tick(++done, total); });
-    for (size_t s = 0; s < scenario_count; ++s) {
-      TruthFloor& f = out.floors[s];
-      f.scenario = spec.scenarios[s];
-      f.half_difference = values[3 * s];
-      f.double_difference = values[3 * s + 1];
-      f.agreement = values[3 * s + 2];
-      f.floor = truth_floor(f.half_difference, f.double_difference, f.agreement);
+    parallel_for(
+        scenario_count, spec.jobs,
+        [&](size_t s) {
+          auto simulator = make_simulator(truth.solver, truth.options);
+          truth_runs[s] =
+              record_trajectory(*simulator, model, scenarios[s], truth.dt, scenarios[s].duration);
+        },
+        [&] { tick(++done, total); });
+    if (!measure_floors) {
+      out.floors = spec.floors;
+    } else {
+      out.floors.resize(scenario_count);
+      std::vector<double> values(scenario_count * 3, NAN);
+      parallel_for(
+          scenario_count * per_scenario, spec.jobs,
+          [&](size_t i) {
+            const size_t s = i / per_scenario, k = i % per_scenario;
+            const Truth& judged = k < 2 ? truth : truths[1];
+            const double dt = k == 0 ? truth.dt / 2 : k == 1 ? truth.dt * 2 : judged.dt;
+            auto simulator = make_simulator(judged.solver, judged.options);
+            values[3 * s + k] =
+                reseeded_error(*simulator, model, scenarios[s], truth_runs[s], dt).mean_pose_m;
+          },
+          [&] { tick(++done, total); });
+      for (size_t s = 0; s < scenario_count; ++s) {
+        TruthFloor& f = out.floors[s];
+        f.scenario = spec.scenarios[s];
+        f.half_difference = values[3 * s];
+        f.double_difference = values[3 * s + 1];
+        f.agreement = values[3 * s + 2];
+        f.floor = truth_floor(f.half_difference, f.double_difference, f.agreement);
+      }
     }
   }
 
@@ -331,24 +386,26 @@ VerdictResult run_verdict(const VerdictSpec& spec) {
                      [&](size_t a, size_t b) { return jobs[a].dt < jobs[b].dt; });
     size_t done = 0;
     auto tick = progress("error");
-    parallel_for(order.size(), spec.jobs, [&](size_t i) {
-      const Job& job = jobs[order[i]];
-      Candidate& c = out.candidates[order[i]];
-      const SolverConfig& solver = spec.solvers[job.solver];
-      auto simulator = make_simulator(solver.solver, job.setting.options);
-      const ReseededError e =
-          reseeded_error(*simulator, model, scenarios[job.scenario], truth_runs[job.scenario],
-                         job.dt);
-      const auto lost = std::count_if(e.pose_m.begin(), e.pose_m.end(),
-                                      [](double v) { return std::isnan(v); });
-      if (lost > 0 || e.pose_m.empty()) {
-        c.diverged = true;
-        c.reason = std::to_string(lost) + " of " + std::to_string(e.pose_m.size()) +
-                   " re-seeded runs diverged";
-        return;
-      }
-      c.error_m = e.mean_pose_m;
-    }, [&] { tick(++done, order.size()); });
+    parallel_for(
+        order.size(), spec.jobs,
+        [&](size_t i) {
+          const Job& job = jobs[order[i]];
+          Candidate& c = out.candidates[order[i]];
+          const SolverConfig& solver = spec.solvers[job.solver];
+          auto simulator = make_simulator(solver.solver, job.setting.options);
+          const ReseededError e = reseeded_error(*simulator, model, scenarios[job.scenario],
+                                                 truth_runs[job.scenario], job.dt);
+          const auto lost = std::count_if(e.pose_m.begin(), e.pose_m.end(),
+                                          [](double v) { return std::isnan(v); });
+          if (lost > 0 || e.pose_m.empty()) {
+            c.diverged = true;
+            c.reason = std::to_string(lost) + " of " + std::to_string(e.pose_m.size()) +
+                       " re-seeded runs diverged";
+            return;
+          }
+          c.error_m = e.mean_pose_m;
+        },
+        [&] { tick(++done, order.size()); });
   }
 
   // the search, per scenario and solver: for each view and budget, the candidates within budget
@@ -359,98 +416,167 @@ VerdictResult run_verdict(const VerdictSpec& spec) {
     std::vector<std::vector<VerdictRow>> rows(pairs);
     size_t done = 0;
     auto tick = progress("starts");
-    parallel_for(pairs, spec.jobs, [&](size_t p) {
-      const size_t s = p / spec.solvers.size(), k = p % spec.solvers.size();
-      std::vector<size_t> mine;
-      for (size_t j = 0; j < jobs.size(); ++j) {
-        if (jobs[j].scenario == s && jobs[j].solver == k) mine.push_back(j);
-      }
-      for (const char* view : {"second", "frame"}) {
-        const bool frame = view[0] == 'f';
-        std::vector<size_t> in_view;
-        for (size_t j : mine) {
-          if (!frame || steps_per_frame(jobs[j].dt, spec.frame_hz) > 0) in_view.push_back(j);
-        }
-        for (double budget : spec.budgets_m) {
-          VerdictRow row;
-          row.scenario = spec.scenarios[s];
-          row.solver = spec.solvers[k].solver;
-          row.rule = rule_of(spec.solvers[k]);
-          row.view = view;
-          row.budget_m = budget;
-          row.truth_floor_m = out.floors[s].floor;
-          const std::string problem = budget_problem(budget, row.truth_floor_m);
-          if (!problem.empty()) {
-            row.verdict = "refused";
-            row.why = problem;
-            rows[p].push_back(row);
-            continue;
+    parallel_for(
+        pairs, spec.jobs,
+        [&](size_t p) {
+          const size_t s = p / spec.solvers.size(), k = p % spec.solvers.size();
+          std::vector<size_t> mine;
+          for (size_t j = 0; j < jobs.size(); ++j) {
+            if (jobs[j].scenario == s && jobs[j].solver == k) mine.push_back(j);
           }
-          std::vector<size_t> within;
-          for (size_t j : in_view) {
-            const Candidate& c = out.candidates[j];
-            if (!c.diverged && c.error_m <= budget && std::isfinite(c.cost_us_per_s)) {
-              within.push_back(j);
+          for (const char* view : {"second", "frame"}) {
+            const bool frame = view[0] == 'f';
+            std::vector<size_t> in_view;
+            for (size_t j : mine) {
+              if (!frame || steps_per_frame(jobs[j].dt, spec.frame_hz) > 0) in_view.push_back(j);
             }
-          }
-          std::stable_sort(within.begin(), within.end(), [&](size_t a, size_t b) {
-            const Candidate &x = out.candidates[a], &y = out.candidates[b];
-            return x.cost_us_per_s != y.cost_us_per_s ? x.cost_us_per_s < y.cost_us_per_s
-                                                      : x.dt > y.dt;
-          });
-          for (size_t j : within) {
-            Candidate& c = out.candidates[j];
-            if (c.starts == 0 && !c.diverged) {
-              const SolverConfig& solver = spec.solvers[k];
-              // the scenario's own start, then the random ones
-              if (start_diverges(model, spec.scenarios[s], spec.scenario, jobs[j].setting.options,
-                                 solver.solver, c.dt, spec.seed, -1)) {
-                c.diverged = true;
-                c.reason = "its run of the scenario diverged";
+            for (double budget : spec.budgets_m) {
+              VerdictRow row;
+              row.scenario = spec.scenarios[s];
+              row.solver = spec.solvers[k].solver;
+              row.rule = rule_of(spec.solvers[k]);
+              row.view = view;
+              row.budget_m = budget;
+              row.truth_floor_m = out.floors[s].floor;
+              const std::string problem = budget_problem(budget, row.truth_floor_m);
+              if (!problem.empty()) {
+                row.verdict = "refused";
+                row.why = problem;
+                rows[p].push_back(row);
                 continue;
               }
-              for (int64_t i = 0; i < spec.starts; ++i) {
-                c.starts = i + 1;
-                if (start_diverges(model, spec.scenarios[s], spec.scenario,
-                                   jobs[j].setting.options, solver.solver, c.dt, spec.seed, i)) {
-                  c.diverged_starts = 1;
-                  break;
+              std::vector<size_t> within;
+              for (size_t j : in_view) {
+                const Candidate& c = out.candidates[j];
+                if (!c.diverged && c.error_m <= budget && std::isfinite(c.cost_us_per_s)) {
+                  within.push_back(j);
                 }
               }
+              std::stable_sort(within.begin(), within.end(), [&](size_t a, size_t b) {
+                const Candidate &x = out.candidates[a], &y = out.candidates[b];
+                return x.cost_us_per_s != y.cost_us_per_s ? x.cost_us_per_s < y.cost_us_per_s
+                                                          : x.dt > y.dt;
+              });
+              for (size_t j : within) {
+                Candidate& c = out.candidates[j];
+                if (c.starts == 0 && !c.diverged) {
+                  const SolverConfig& solver = spec.solvers[k];
+                  // the scenario's own start, then the random ones
+                  if (start_diverges(model, spec.scenarios[s], spec.scenario,
+                                     jobs[j].setting.options, solver.solver, c.dt, spec.seed, -1)) {
+                    c.diverged = true;
+                    c.reason = "its run of the scenario diverged";
+                    continue;
+                  }
+                  for (int64_t i = 0; i < spec.starts; ++i) {
+                    c.starts = i + 1;
+                    if (start_diverges(model, spec.scenarios[s], spec.scenario,
+                                       jobs[j].setting.options, solver.solver, c.dt, spec.seed,
+                                       i)) {
+                      c.diverged_starts = 1;
+                      break;
+                    }
+                  }
+                }
+                if (!c.diverged && c.diverged_starts == 0) break;
+              }
+              std::vector<Candidate> all;
+              for (size_t j : mine) all.push_back(out.candidates[j]);
+              const Choice choice = frame ? cheapest_per_frame(all, budget, ceiling, spec.frame_hz)
+                                          : cheapest(all, budget, ceiling);
+              row.verdict = verdict_name(choice.verdict);
+              row.best_error_m = choice.best_error_m;
+              row.divergence_upper = choice.divergence_upper;
+              if (choice.verdict == Verdict::kMet) {
+                row.chosen = static_cast<int>(mine[choice.index]);
+              } else {
+                std::ostringstream why;
+                why.precision(3);
+                switch (choice.verdict) {
+                  case Verdict::kDiverges:
+                    why << "every configuration diverges";
+                    break;
+                  case Verdict::kErrorFloor:
+                    why << "its least error is " << choice.best_error_m << " m";
+                    break;
+                  case Verdict::kNotRobust:
+                    why << "every configuration within the budget diverged from a random start";
+                    break;
+                  default:
+                    why << "nothing was both timed and judged";
+                }
+                row.why = why.str();
+              }
+              rows[p].push_back(row);
             }
-            if (!c.diverged && c.diverged_starts == 0) break;
           }
-          std::vector<Candidate> view_candidates;
-          for (size_t j : in_view) view_candidates.push_back(out.candidates[j]);
-          const Choice choice = cheapest(view_candidates, budget, ceiling);
-          row.verdict = verdict_name(choice.verdict);
-          row.best_error_m = choice.best_error_m;
-          row.divergence_upper = choice.divergence_upper;
-          if (choice.verdict == Verdict::kMet) {
-            row.chosen = static_cast<int>(in_view[choice.index]);
-          } else {
-            std::ostringstream why;
-            why.precision(3);
-            switch (choice.verdict) {
-              case Verdict::kDiverges:
-                why << "every configuration diverges";
-                break;
-              case Verdict::kErrorFloor:
-                why << "its least error is " << choice.best_error_m << " m";
-                break;
-              case Verdict::kNotRobust:
-                why << "every configuration within the budget diverged from a random start";
-                break;
-              default:
-                why << "nothing was both timed and judged";
-            }
-            row.why = why.str();
-          }
-          rows[p].push_back(row);
-        }
-      }
-    }, [&] { tick(++done, pairs); });
+        },
+        [&] { tick(++done, pairs); });
     for (auto& r : rows) out.rows.insert(out.rows.end(), r.begin(), r.end());
+  }
+  return out;
+}
+
+std::vector<TruthFloor> floors_from_summary(const std::string& text, const std::string& source,
+                                            const Model& model,
+                                            const std::vector<std::string>& scenarios,
+                                            const std::string& git_sha) {
+  const std::vector<Truth> truths = truths_for(model);
+  if (truths.empty()) throw std::runtime_error(source + ": the model has no truth");
+  std::istringstream in(text);
+  std::string line;
+  std::getline(in, line);
+  if (line != kSummaryHeader) throw std::runtime_error(source + ": not a summary.csv (its header)");
+  // (scenario, solver, dt as written, reference) → the re-seeded mean pose error
+  std::map<std::tuple<std::string, std::string, std::string, std::string>, double> errors;
+  std::string truth_dt;
+  int row = 1;
+  while (std::getline(in, line)) {
+    ++row;
+    const std::vector<std::string> f = split_commas(line);
+    // scenario,solver,rule,dt,substeps,metric,stat,value,unit,model,reference,...
+    if (f.size() < 13) throw std::runtime_error(source + ":" + std::to_string(row) + ": too short");
+    if (f[12] != git_sha) {
+      throw std::runtime_error(source + ":" + std::to_string(row) + ": written at commit " + f[12] +
+                               ", this is " + git_sha);
+    }
+    if (f[9] != model.name) {
+      throw std::runtime_error(source + ":" + std::to_string(row) + ": a run of model " + f[9] +
+                               ", not " + model.name);
+    }
+    if (f[5] == "truth_dt" && f[10] == kTruthReference) {
+      if (f[1] != truths[0].solver) {
+        throw std::runtime_error(source + ": judged by " + f[1] + ", not " + truths[0].solver);
+      }
+      truth_dt = f[7];
+    }
+    if (f[5] == "pose_err_m" && f[6] == "reseeded_mean" && f[10] == kTruthReference) {
+      double value = NAN;
+      if (!parse_finite(f[7], &value)) value = NAN;
+      errors[{f[0], f[1], f[3], f[10]}] = value;
+    }
+  }
+  if (truth_dt != format_dt(truths[0].dt)) {
+    throw std::runtime_error(source + ": no truth rows at h = " + format_dt(truths[0].dt) +
+                             " s (a run with both truths at three dts writes them)");
+  }
+  std::vector<TruthFloor> out;
+  for (const std::string& scenario : scenarios) {
+    auto find = [&](const Truth& t, double dt) {
+      const auto it = errors.find({scenario, t.solver, format_dt(dt), kTruthReference});
+      if (it == errors.end()) {
+        throw std::runtime_error(source + ": no re-seeded error of " + t.solver + " at " +
+                                 format_dt(dt) + " s in " + scenario);
+      }
+      return it->second;
+    };
+    TruthFloor f;
+    f.scenario = scenario;
+    f.half_difference = find(truths[0], truths[0].dt / 2);
+    f.double_difference = find(truths[0], truths[0].dt * 2);
+    if (truths.size() > 1) f.agreement = find(truths[1], truths[1].dt);
+    f.floor = truth_floor(f.half_difference, f.double_difference, f.agreement);
+    out.push_back(f);
   }
   return out;
 }

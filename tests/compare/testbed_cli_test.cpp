@@ -468,6 +468,9 @@ TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
   expect_bad("verdict --frame-hz 0" + o, "--frame-hz");
   expect_bad("verdict --scenario swim" + o, "--scenario");
   expect_bad("verdict --substeps 4" + o, "--substeps");
+  expect_bad("verdict --floors-from /no/such/summary.csv" + o, "--floors-from");
+  expect_bad("verdict --floors-from " + std::string(PUPPET_SOURCE_DIR) + "/README.md" + o,
+             "not a summary.csv");
   expect_bad("run --start 1" + o, "--start");
   expect_bad("run --start x:2" + o, "--start");
   expect_bad("run --start 1:-2" + o, "--start");
@@ -529,8 +532,10 @@ TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
 TEST(TestbedCli, AVerdictWritesEveryRowAndRefusesABudgetBelowTheFloor) {
   const fs::path out = fresh_folder("verdict");
   const Outcome o = testbed(
-      "verdict --model chain:3 --scenario hang --solver procedural,bullet-rigid --rule xpbd,literal "
-      "--dt 1/30,1/60,1/120 --budget 1um,5cm --starts 3 --out " + out.string());
+      "verdict --model chain:3 --scenario hang --solver procedural,bullet-rigid --rule "
+      "xpbd,literal "
+      "--dt 1/30,1/60,1/120 --budget 1um,5cm --starts 3 --out " +
+      out.string());
   ASSERT_EQ(o.status, 0) << o.output;
   std::ifstream in(out / "verdict.csv");
   std::vector<std::string> lines;

@@ -1,6 +1,14 @@
 #include "puppet/compare/verdict.h"
 
+#include "puppet/compare/output.h"
+#include "puppet/compare/robustness.h"
+#include "puppet/compare/scenario.h"
+#include "puppet/compare/sweep.h"
+
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
 
 #include <string>
 #include <vector>
@@ -87,6 +95,125 @@ TEST(Verdict, TheSixtyHertzViewIsThePerSecondViewAtASixtiethOfASecond) {
   const FrameCost frame = at_frame_rate(us_per_step * 60.0);
   EXPECT_DOUBLE_EQ(frame.us_per_frame, us_per_step);
   EXPECT_DOUBLE_EQ(frame.puppets_per_core, 1e6 / (us_per_step * 60.0));
+}
+
+// the frame view is the per-second view restricted to whole steps per frame: where the cheapest
+// per second runs at 1/60 s both views choose it, and a step of 1/30 s, which a 60 Hz frame
+// cannot take whole, is left out of the frame view only
+TEST(Verdict, TheFrameViewIsThePerSecondViewInWholeStepsPerFrame) {
+  std::vector<Candidate> c = table();
+  EXPECT_EQ(steps_per_frame(1.0 / 60, 60.0), 1);
+  EXPECT_EQ(steps_per_frame(1.0 / 240, 60.0), 4);
+  EXPECT_EQ(steps_per_frame(1.0 / 30, 60.0), 0);
+  EXPECT_EQ(steps_per_frame(1.0 / 90, 60.0), 0);
+  // within 5 cm: 1/60 s with 1 substep (5 cm, 6,000 µs per simulated second) is the cheapest
+  const Choice second = cheapest(c, 0.05, 0.05);
+  const Choice frame = cheapest_per_frame(c, 0.05, 0.05, 60.0);
+  ASSERT_EQ(second.verdict, Verdict::kMet);
+  ASSERT_EQ(frame.verdict, Verdict::kMet);
+  EXPECT_EQ(second.index, frame.index);
+  EXPECT_DOUBLE_EQ(c[frame.index].dt, 1.0 / 60);
+  EXPECT_DOUBLE_EQ(at_frame_rate(c[frame.index].cost_us_per_s, 60.0).us_per_frame, 100.0);
+  // within 10 cm the per-second view takes 1/30 s (3,000 µs); a frame takes 1/60 s
+  const Choice coarse = cheapest(c, 0.1, 0.05);
+  ASSERT_EQ(coarse.verdict, Verdict::kMet);
+  EXPECT_DOUBLE_EQ(c[coarse.index].dt, 1.0 / 30);
+  const Choice framed = cheapest_per_frame(c, 0.1, 0.05, 60.0);
+  ASSERT_EQ(framed.verdict, Verdict::kMet);
+  EXPECT_DOUBLE_EQ(c[framed.index].dt, 1.0 / 60);
+}
+
+// "no divergence in N starts": 0 of N meets the bar, 1 of N does not
+TEST(Verdict, TheRobustnessBarIsNoDivergenceInNStarts) {
+  std::vector<Candidate> c(1);
+  c[0].cost_us_per_s = 1.0;
+  c[0].error_m = 0.001;
+  c[0].dt = 1.0 / 60;
+  for (int64_t n : {1, 8, 32, 100}) {
+    c[0].starts = n;
+    c[0].diverged_starts = 0;
+    EXPECT_EQ(cheapest(c, 0.01, no_divergence_ceiling(n)).verdict, Verdict::kMet) << n;
+    c[0].diverged_starts = 1;
+    EXPECT_EQ(cheapest(c, 0.01, no_divergence_ceiling(n)).verdict, Verdict::kNotRobust) << n;
+  }
+  // the stated bound: 3.84 / (32 + 3.84) for 0 of 32
+  EXPECT_NEAR(wilson_interval(0, 32).high, 0.1072, 5e-4);
+}
+
+// Richardson with the order the differences give: d1 = 1, d2 = 4 is p = 2 and a bar of
+// 1.5 × 4/3 × 1 = 2; an order under 1/2 is taken as 1/2 (a bar of 1.5 × 3.41 × d1); the other
+// truth's disagreement raises the floor, never lowers it
+TEST(Verdict, TheTruthsFloorIsItsErrorBarOrTheTruthsDisagreement) {
+  EXPECT_DOUBLE_EQ(truth_floor(1.0, 4.0, NAN), 2.0);
+  EXPECT_DOUBLE_EQ(truth_floor(1.0, 4.0, 3.0), 3.0);
+  EXPECT_DOUBLE_EQ(truth_floor(1.0, 4.0, 0.5), 2.0);
+  EXPECT_NEAR(truth_floor(1.0, 1.0, NAN), 1.5 * std::sqrt(2.0) / (std::sqrt(2.0) - 1.0), 1e-12);
+}
+
+// every setting searched can be named back from the flags candidates.csv writes
+TEST(Verdict, EverySettingSearchedIsFoundByItsFlags) {
+  for (const char* rule : {"literal", "relaxed", "xpbd", "tree"}) {
+    SolverConfig base{"procedural", {}};
+    base.options.rule = *procedural::parse_rule(rule);
+    for (const Setting& s : settings_searched(base)) {
+      const SolverOptions o = candidate_options("procedural", rule, s.flags);
+      EXPECT_EQ(o.substeps, s.options.substeps) << rule << " " << s.flags;
+      EXPECT_EQ(o.iterations, s.options.iterations) << rule << " " << s.flags;
+      EXPECT_EQ(o.rule, base.options.rule);
+    }
+  }
+  for (const char* solver : {"bullet-multibody", "mujoco"}) {
+    for (const Setting& s : settings_searched({solver, {}})) {
+      const SolverOptions o = candidate_options(solver, "", s.flags);
+      EXPECT_EQ(o.bullet_iterations, s.options.bullet_iterations) << s.flags;
+      EXPECT_EQ(o.mujoco_integrator, s.options.mujoco_integrator) << s.flags;
+    }
+  }
+  EXPECT_THROW(candidate_options("procedural", "xpbd", "--substeps 3"), ScenarioError);
+  EXPECT_THROW(candidate_options("procedural", "magic", ""), ScenarioError);
+  EXPECT_EQ(budget_text(0.01), "1cm");
+  EXPECT_EQ(budget_text(0.05), "5cm");
+  EXPECT_EQ(budget_text(0.001), "1mm");
+  EXPECT_EQ(budget_text(5e-5), "50um");
+}
+
+// the floors a sweep's summary.csv implies: the truth's h/2 and 2h rows and the second truth's,
+// as testbed run writes them; another model, commit or a missing row is refused by name
+TEST(Verdict, TheFloorsAreReadFromASweepsSummary) {
+  const Model model = load_named_model("pinocchio");
+  const std::vector<Truth> truths = truths_for(model);
+  ASSERT_FALSE(truths.empty());
+  auto row = [&](const std::string& scenario, const Truth& t, double dt, const std::string& metric,
+                 double value, const std::string& sha) {
+    return scenario + "," + t.solver + ",," + format_dt(dt) + ",1," + metric + "," +
+           (metric == "truth_dt" ? "h" : "reseeded_mean") + "," + csv_number(value) + ",m," +
+           model.name + ",truth,ok," + sha + ",a machine\n";
+  };
+  const Truth& first = truths[0];
+  std::string text = std::string(kSummaryHeader) + "\n";
+  text += row("hang", first, first.dt / 2, "truth_dt", first.dt, "abc");
+  text += row("hang", first, first.dt / 2, "pose_err_m", 1e-4, "abc");
+  text += row("hang", first, first.dt * 2, "pose_err_m", 4e-4, "abc");
+  if (truths.size() > 1) text += row("hang", truths[1], truths[1].dt, "pose_err_m", 5e-4, "abc");
+  const auto floors = floors_from_summary(text, "summary.csv", model, {"hang"}, "abc");
+  ASSERT_EQ(floors.size(), 1u);
+  // p = 2: a bar of 1.5 × 4/3 × 1e-4 = 2e-4, under the truths' disagreement of 5e-4
+  EXPECT_NEAR(floors[0].floor, truths.size() > 1 ? 5e-4 : 2e-4, 1e-15);
+  auto refused = [&](const std::string& summary, const std::vector<std::string>& scenarios,
+                     const std::string& sha, const std::string& says) {
+    try {
+      floors_from_summary(summary, "summary.csv", model, scenarios, sha);
+      ADD_FAILURE() << "accepted; expected: " << says;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+  };
+  refused(text, {"hang"}, "def", "written at commit abc");
+  refused(text, {"hang", "drag"}, "abc", "in drag");
+  refused("scenario,solver\n", {"hang"}, "abc", "not a summary.csv");
+  std::string other = text;
+  other.replace(other.find(",pinocchio,"), 11, ",chain-3,");
+  refused(other, {"hang"}, "abc", "a run of model chain-3");
 }
 
 }  // namespace

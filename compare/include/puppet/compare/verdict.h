@@ -50,6 +50,11 @@ struct Choice {
 /// starts never meets a bar below 1). Ties in cost go to the larger dt.
 Choice cheapest(std::span<const Candidate> candidates, double budget_m, double robustness_ceiling);
 
+/// cheapest() among the candidates whose dt takes a frame of 1/hz in whole steps (the frame
+/// view); the index is into `candidates`
+Choice cheapest_per_frame(std::span<const Candidate> candidates, double budget_m,
+                          double robustness_ceiling, double hz);
+
 /// the ceiling that "no divergence in `starts` random starts" sets: the Wilson upper bound of
 /// 0 of `starts`, which 1 of `starts` exceeds
 double no_divergence_ceiling(int64_t starts);
@@ -85,8 +90,21 @@ struct Setting {
 };
 std::vector<Setting> settings_searched(const SolverConfig& solver);
 
+/// the options of a candidate named as candidates.csv and verdict.csv name it: its solver, rule
+/// and setting; throws ScenarioError when no setting searched for it has those flags
+SolverOptions candidate_options(const std::string& solver, const std::string& rule,
+                                const std::string& setting);
+
+/// a budget as tables show it: 1mm, 1cm, 5cm, 50um
+std::string budget_text(double budget_m);
+
 /// the dts searched by default: 1/30 to 1/960 s, each dividing the error's sample interval
 const std::vector<double>& verdict_dts();
+
+struct TruthFloor {
+  std::string scenario;
+  double half_difference = NAN, double_difference = NAN, agreement = NAN, floor = NAN;
+};
 
 struct VerdictSpec {
   const Model* model = nullptr;
@@ -99,6 +117,9 @@ struct VerdictSpec {
   int64_t starts = 32;  // random starts a chosen configuration must survive
   uint64_t seed = 1;
   int jobs = 1;  // worker threads; the timing runs alone
+  // the truth's floor per scenario as a sweep measured it (floors_from_summary); empty: measured
+  // here (the truth at h/2 and 2h and the second truth, each re-seeded from the truth)
+  std::vector<TruthFloor> floors;
   std::function<void(const char* phase, size_t done, size_t total)> on_progress;
 };
 
@@ -107,25 +128,20 @@ struct VerdictRow {
   std::string scenario, solver, rule;
   std::string view;  ///< "second" (any dt) or "frame" (a whole number of steps per frame)
   double budget_m = 0.0;
-  std::string verdict;      ///< met, refused, diverges, error-floor, not-robust, not-measured
-  std::string why;          ///< one line, empty when met
-  int chosen = -1;          ///< index into VerdictResult::candidates when met
+  std::string verdict;  ///< met, refused, diverges, error-floor, not-robust, not-measured
+  std::string why;      ///< one line, empty when met
+  int chosen = -1;      ///< index into VerdictResult::candidates when met
   double divergence_upper = NAN;
   double best_error_m = NAN;
   double truth_floor_m = NAN;
 };
 
-struct TruthFloor {
-  std::string scenario;
-  double half_difference = NAN, double_difference = NAN, agreement = NAN, floor = NAN;
-};
-
 struct VerdictResult {
-  std::string truth;                 ///< the judging truth's engine
+  std::string truth;  ///< the judging truth's engine
   double truth_dt = 0.0;
-  std::vector<TruthFloor> floors;    ///< per scenario
-  std::vector<Candidate> candidates; ///< scenario × solver × setting × dt
-  std::vector<VerdictRow> rows;      ///< scenario × solver × view × budget
+  std::vector<TruthFloor> floors;     ///< per scenario
+  std::vector<Candidate> candidates;  ///< scenario × solver × setting × dt
+  std::vector<VerdictRow> rows;       ///< scenario × solver × view × budget
 };
 
 /// Measures every candidate (cost in one thread, interleaved; error and divergence on `jobs`
@@ -133,6 +149,15 @@ struct VerdictResult {
 /// candidates within budget until one survives them all. Throws ScenarioError when the model has
 /// no truth.
 VerdictResult run_verdict(const VerdictSpec& spec);
+
+/// The floors of `scenarios` from a sweep's summary.csv (testbed run, both truths at three
+/// dts): its rows of the truth at h/2 and 2h and of the second truth, each against the truth at
+/// h. Throws std::runtime_error naming the file and what it lacks when the summary is of
+/// another model, truth or commit (`git_sha`), or misses a scenario's rows.
+std::vector<TruthFloor> floors_from_summary(const std::string& text, const std::string& source,
+                                            const Model& model,
+                                            const std::vector<std::string>& scenarios,
+                                            const std::string& git_sha);
 
 std::string verdict_candidates_csv(const VerdictResult& result, const OutputContext& context);
 std::string verdict_csv(const VerdictResult& result, const VerdictSpec& spec,
