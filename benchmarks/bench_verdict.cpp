@@ -103,7 +103,10 @@ int main(int argc, char** argv) {
   }
   for (const auto& [key, families] : best) {
     if (families.size() < 2) continue;  // a ratio needs both
-    for (const auto& [family, c] : families) {
+    for (const auto& entry : families) {
+      // a copy, not a structured binding: clang 14 cannot capture those in a lambda
+      const std::string family = entry.first;
+      const Choice c = entry.second;
       const std::string name =
           "verdict/" + c.scenario + "/" + compare::budget_text(c.budget_m) + "/" + family;
       const compare::SolverOptions options =

@@ -750,7 +750,7 @@ def family_findings(v, view="second", budgets=None):
             if p and r:
                 ratio = r["cost_us_per_s"] / p["cost_us_per_s"]
                 (wins if ratio >= 1 else losses).append(
-                    f"{sc} ({p['rule']}, {ratio:.2g}× {label(r['config'])}'s speed)")
+                    f"{sc} ({p['rule']}, {ratio:.2g}× as fast as {label(r['config'])})")
             elif p:
                 wins.append(f"{sc} ({p['rule']}; no reference meets it)")
             elif r:
@@ -789,7 +789,10 @@ def verdict_section(v):
            "chosen configuration, and for the procedural rules how many times cheaper than the "
            "cheapest reference engine (`(ref)`); otherwise why none: `diverges` (every "
            "configuration), `error floor` (its least error, m), `not robust` (within the "
-           "budget only where a random start diverged).", ""]
+           "budget only where a random start diverged). The budget is on the pose error: a "
+           "solver may meet it with its joints opened (the joint gaps are in \"Joint gaps and "
+           "divergence\"). Why the exact solvers read `not robust` in the two-pin scenarios: "
+           "docs/tried.md, \"The verdict's search and its random starts\".", ""]
     out += ["Where the procedural family wins and where it loses (its cheapest rule against the "
             "cheapest reference, per simulated second):", ""]
     out += [f"- {line}" for line in family_findings(v)] + [""]

@@ -679,11 +679,21 @@ int command_verdict(const RunFlags& f) {
                      ": no truth can run it (neither MuJoCo nor bullet-multibody)");
   }
   if (!f.floors_from.empty()) {
+    // a regular file of a sweep's size: /dev/zero or a FIFO would never end
+    std::error_code error;
+    const auto status = std::filesystem::status(f.floors_from, error);
+    if (error || !std::filesystem::is_regular_file(status)) {
+      throw UsageError("--floors-from: " + shown(f.floors_from) + ": not a readable file");
+    }
+    if (std::filesystem::file_size(f.floors_from, error) > (size_t{256} << 20) || error) {
+      throw UsageError("--floors-from: " + shown(f.floors_from) + ": larger than 256 MiB");
+    }
     std::ifstream in(f.floors_from, std::ios::binary);
     std::stringstream text;
     text << in.rdbuf();
-    if (!in || in.bad())
+    if (!in || in.bad()) {
       throw UsageError("--floors-from: " + shown(f.floors_from) + ": cannot read");
+    }
     try {
       spec.floors =
           floors_from_summary(text.str(), f.floors_from, model, spec.scenarios, current_git_sha());

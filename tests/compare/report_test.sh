@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The main job's pipeline on a small run (a four-link chain, to stay quick under the
-# sanitizers) in a temporary folder: testbed run, testbed frontier,
+# sanitizers) in a temporary folder: testbed run, testbed verdict, testbed frontier,
 # then scripts/plot.py, which must write every plot and a REPORT.md with its sections; and
 # plot.py's own bad input exits 2.
 #   report_test.sh TESTBED SOURCE_DIR
@@ -15,15 +15,19 @@ fail() { echo "report_test: $*" >&2; exit 1; }
   --duration 1 --sample-hz 30 --out "$out/main" >"$out/run.log" 2>&1 || fail "testbed run: $(tail -3 "$out/run.log")"
 "$testbed" frontier --model chain:4 --solver procedural --rule literal --out "$out/frontier" >"$out/frontier.log" 2>&1 ||
   fail "testbed frontier: $(tail -3 "$out/frontier.log")"
+"$testbed" verdict --model chain:4 --scenario drop --solver procedural,bullet-rigid --rule literal \
+  --dt 1/60,1/120 --budget 5cm,50cm --starts 2 --out "$out/verdict" >"$out/verdict.log" 2>&1 ||
+  fail "testbed verdict: $(tail -3 "$out/verdict.log")"
 $plot "$out" || fail "plot.py failed"
 
-for png in joint_gap error_vs_dt angle_error_vs_dt speed_accuracy stage_time frontier; do
+for png in joint_gap error_vs_dt angle_error_vs_dt speed_accuracy stage_time frontier verdict; do
   file="$out/plots/$png.png"
   [ -s "$file" ] || fail "$file missing"
   [ "$(head -c 4 "$file" | tail -c 3)" = "PNG" ] || fail "$file is not a PNG"
   grep -q "(plots/$png.png)" "$out/REPORT.md" || fail "REPORT.md does not show $png.png"
 done
-for section in "## What was run" "## How far the truths can be trusted" "## Accuracy" \
+for section in "## What was run" "## The verdict" "### Within 50 cm, any dt" "### Within 50 cm at 60 Hz" \
+  "## How far the truths can be trusted" "## Accuracy" \
   "## Joint gaps and divergence" "## Time per step" "## Stability frontier" "## Findings"; do
   grep -qF "$section" "$out/REPORT.md" || fail "REPORT.md has no \"$section\""
 done

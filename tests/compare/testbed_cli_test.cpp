@@ -469,6 +469,8 @@ TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
   expect_bad("verdict --scenario swim" + o, "--scenario");
   expect_bad("verdict --substeps 4" + o, "--substeps");
   expect_bad("verdict --floors-from /no/such/summary.csv" + o, "--floors-from");
+  expect_bad("verdict --floors-from /dev/zero" + o, "--floors-from");
+  expect_bad("verdict --floors-from /tmp" + o, "--floors-from");
   expect_bad("verdict --floors-from " + std::string(PUPPET_SOURCE_DIR) + "/README.md" + o,
              "not a summary.csv");
   expect_bad("run --start 1" + o, "--start");
