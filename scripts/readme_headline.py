@@ -60,7 +60,12 @@ def main(argv):
     if len(argv) > 1 or (argv and argv[0].startswith("-")):
         print(__doc__.strip(), file=sys.stderr)
         return 2
-    sys.stdout.write(verdict_headline(argv[0] if argv else os.path.join(root, "results")))
+    folder = argv[0] if argv else os.path.join(root, "results")
+    path = os.path.join(folder, "verdict", "verdict.csv")
+    if not os.path.isfile(path):
+        print(f"readme_headline.py: {path}: not found (testbed verdict writes it)", file=sys.stderr)
+        return 2
+    sys.stdout.write(verdict_headline(folder))
     return 0
 
 
