@@ -2,7 +2,7 @@
 # Build and run the benchmarks, then the performance gate (testbed gate, results/gate.json).
 #
 #   scripts/bench.sh           every benchmark, 9 repetitions of ≥ 0.2 s in random interleaving
-#                              (~10 min); writes the JSON to results/bench/ and
+#                              (~15 min); writes the JSON to results/bench/ and
 #                              results/bench/<machine>.csv (medians)
 #   scripts/bench.sh --quick   only what the gate reads, with shorter runs (CI, ~2 min);
 #                              writes to build/release/bench/
