@@ -641,16 +641,19 @@ class Verdict:
         """a budget the truth can judge in this scenario (at or above its floor)"""
         return budget >= self.floor[scenario]
 
-    def cheapest_reference(self, scenario, view, budget):
-        """the met row of the cheapest reference engine (not the procedural solver), or None"""
-        met = [self.row(scenario, c, view, budget) for c in self.configs if c[0] != "procedural"]
+    def cheapest(self, scenario, view, budget, procedural):
+        """the met row of the cheapest procedural rule, or of the cheapest reference engine (any
+        other solver), or None"""
+        met = [self.row(scenario, c, view, budget) for c in self.configs
+               if (c[0] == "procedural") == procedural]
         met = [r for r in met if r and r["verdict"] == "met"]
         return min(met, key=lambda r: r["cost_us_per_s"]) if met else None
 
+    def cheapest_reference(self, scenario, view, budget):
+        return self.cheapest(scenario, view, budget, procedural=False)
+
     def cheapest_procedural(self, scenario, view, budget):
-        met = [self.row(scenario, c, view, budget) for c in self.configs if c[0] == "procedural"]
-        met = [r for r in met if r and r["verdict"] == "met"]
-        return min(met, key=lambda r: r["cost_us_per_s"]) if met else None
+        return self.cheapest(scenario, view, budget, procedural=True)
 
 
 def ordered(names, known):
@@ -844,15 +847,12 @@ def plot_verdict(v, out):
             if not mine:
                 continue
             mine.sort(key=lambda c: c["error_m"])
-            xs, ys = [], []
             # the cheapest within each error: a staircase falling as the budget grows
-            front = []
+            xs, ys, cheapest = [], [], math.inf
             for c in mine:
-                cost = min(x["cost_us_per_s"] for x in mine if x["error_m"] <= c["error_m"])
-                front.append((c["error_m"], cost))
-            for e, cost in front:
-                xs.append(e)
-                ys.append(cost)
+                cheapest = min(cheapest, c["cost_us_per_s"])
+                xs.append(c["error_m"])
+                ys.append(cheapest)
             colour, marker = STYLE.get(config, ("grey", "o"))
             ax.step(xs, ys, where="post", color=colour, lw=1.1)
             chosen = [v.row(scenario, config, "second", b) for b in v.budgets]

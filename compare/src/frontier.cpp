@@ -92,7 +92,7 @@ std::vector<FrontierRow> find_frontier(const FrontierSpec& spec) {
           row.held = spec.scenario.hz;
         }
         row.solver = config.solver;
-        if (config.solver == "procedural") row.rule = procedural::rule_name(config.options.rule);
+        row.rule = rule_of(config);
         rows[i] = std::move(row);
       },
       [&] {

@@ -28,11 +28,6 @@ constexpr const char* kWorstHeader =
     "scenario,solver,rule,dt,seed,start,status,diverged_at_s,joint_gap_max_m,peak_speed_mps,"
     "testbed,viewer";
 
-std::string rule_of(const SolverConfig& config) {
-  return config.solver == "procedural" ? std::string(procedural::rule_name(config.options.rule))
-                                       : std::string();
-}
-
 // dt as a command line reads it: 1/N when it is one, else the decimal
 std::string dt_flag(double dt) {
   const double n = std::round(1.0 / dt);
@@ -62,6 +57,17 @@ ConfigKey key_of(const RobustnessRow& r) { return {r.scenario, r.solver, r.rule,
 
 }  // namespace
 
+RunResult run_for_divergence(const SolverConfig& config, const Model& model,
+                             const Scenario& scenario, double dt, double duration) {
+  auto simulator = make_simulator(config.solver, config.options);
+  RunOptions run;
+  run.dt = dt;
+  run.duration = duration;
+  run.timing = false;
+  run.sample_hz = 1e-3;  // the first and last poses only: the summary is all it keeps
+  return run_scenario(*simulator, model, scenario, run);
+}
+
 int64_t robustness_job_count(const RobustnessSpec& spec) {
   return static_cast<int64_t>(spec.scenarios.size() * spec.configs.size() * spec.dts.size()) *
          spec.starts;
@@ -88,13 +94,7 @@ std::vector<RobustnessRow> run_robustness(const RobustnessSpec& spec) {
         ScenarioOptions options = spec.scenario;
         options.start = random_start(model, spec.seed, start_index);
         const Scenario scenario = make_scenario(name, model, options);
-        auto simulator = make_simulator(config.solver, config.options);
-        RunOptions run;
-        run.dt = dt;
-        run.duration = spec.duration;
-        run.timing = false;
-        run.sample_hz = 1e-3;  // the first and last poses only: the rows are all it keeps
-        const RunResult result = run_scenario(*simulator, model, scenario, run);
+        const RunResult result = run_for_divergence(config, model, scenario, dt, spec.duration);
 
         RobustnessRow& r = rows[i];
         r.job = job;

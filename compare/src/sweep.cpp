@@ -48,6 +48,11 @@ std::vector<Truth> truths_for(const Model& model) {
   return out;
 }
 
+std::string rule_of(const SolverConfig& config) {
+  return config.solver == "procedural" ? std::string(procedural::rule_name(config.options.rule))
+                                       : std::string();
+}
+
 const std::vector<double>& sweep_dts() {
   static const std::vector<double> dts{1.0 / 30, 1.0 / 60, 1.0 / 120, 1.0 / 240, 1.0 / 480};
   return dts;

@@ -425,7 +425,7 @@ void check_run_size(const SweepSpec& spec, const Model& model) {
         RunResult r;
         r.scenario = scenario.name;
         r.solver = config.solver;
-        r.rule = config.solver == "procedural" ? procedural::rule_name(config.options.rule) : "";
+        r.rule = rule_of(config);
         r.dt = dt;
         const std::string name = trace_stem(model.name, r) + "__poses.csv";
         if (name.size() > 255) {

@@ -199,18 +199,7 @@ std::string budget_text(double budget_m) {
   return text;
 }
 
-const std::vector<double>& verdict_dts() {
-  static const std::vector<double> dts{1.0 / 30,  1.0 / 60,  1.0 / 120,
-                                       1.0 / 240, 1.0 / 480, 1.0 / 960};
-  return dts;
-}
-
 namespace {
-
-std::string rule_of(const SolverConfig& config) {
-  return config.solver == "procedural" ? std::string(procedural::rule_name(config.options.rule))
-                                       : std::string();
-}
 
 // this thread's CPU time (s): the timing runs alone, and time another process takes from the
 // core is not the solver's
@@ -229,16 +218,9 @@ struct Job {
 // the scenario's run diverges from its own start (index < 0) or from the random start `index`
 // (seed `seed`)
 bool start_diverges(const Model& model, const std::string& name, ScenarioOptions options,
-                    const SolverOptions& solver_options, const std::string& solver, double dt,
-                    uint64_t seed, int64_t index) {
+                    const SolverConfig& config, double dt, uint64_t seed, int64_t index) {
   if (index >= 0) options.start = random_start(model, seed, index);
-  const Scenario scenario = make_scenario(name, model, options);
-  auto simulator = make_simulator(solver, solver_options);
-  RunOptions run;
-  run.dt = dt;
-  run.timing = false;
-  run.sample_hz = 1e-3;  // the divergence is all it keeps
-  return run_scenario(*simulator, model, scenario, run).diverged;
+  return run_for_divergence(config, model, make_scenario(name, model, options), dt).diverged;
 }
 
 }  // namespace
@@ -250,7 +232,9 @@ VerdictResult run_verdict(const VerdictSpec& spec) {
   const Truth& truth = truths[0];
   VerdictResult out;
   out.truth = truth.solver;
-  out.truth_dt = truth.dt;
+  if (!spec.floors.empty() && spec.floors.size() != spec.scenarios.size()) {
+    throw ScenarioError("a floor for each scenario, or none", "floors_from");
+  }
   auto progress = [&](const char* phase) {
     return [&spec, phase](size_t done, size_t total) {
       if (spec.on_progress) spec.on_progress(phase, done, total);
@@ -460,19 +444,18 @@ VerdictResult run_verdict(const VerdictSpec& spec) {
               for (size_t j : within) {
                 Candidate& c = out.candidates[j];
                 if (c.starts == 0 && !c.diverged) {
-                  const SolverConfig& solver = spec.solvers[k];
+                  const SolverConfig config{spec.solvers[k].solver, jobs[j].setting.options};
                   // the scenario's own start, then the random ones
-                  if (start_diverges(model, spec.scenarios[s], spec.scenario,
-                                     jobs[j].setting.options, solver.solver, c.dt, spec.seed, -1)) {
+                  if (start_diverges(model, spec.scenarios[s], spec.scenario, config, c.dt,
+                                     spec.seed, -1)) {
                     c.diverged = true;
                     c.reason = "its run of the scenario diverged";
                     continue;
                   }
                   for (int64_t i = 0; i < spec.starts; ++i) {
                     c.starts = i + 1;
-                    if (start_diverges(model, spec.scenarios[s], spec.scenario,
-                                       jobs[j].setting.options, solver.solver, c.dt, spec.seed,
-                                       i)) {
+                    if (start_diverges(model, spec.scenarios[s], spec.scenario, config, c.dt,
+                                       spec.seed, i)) {
                       c.diverged_starts = 1;
                       break;
                     }

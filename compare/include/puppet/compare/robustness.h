@@ -51,6 +51,11 @@ struct RobustnessRow {
   int steps = 0;
 };
 
+// one run of a scenario for its status alone (no timing, no poses kept but the first and last);
+// duration < 0: the scenario's own
+RunResult run_for_divergence(const SolverConfig& config, const Model& model,
+                             const Scenario& scenario, double dt, double duration = -1.0);
+
 // the number of jobs of the whole (unsharded) spec, and whether job j is this shard's
 int64_t robustness_job_count(const RobustnessSpec& spec);
 inline bool in_shard(const RobustnessSpec& spec, int64_t job) {

@@ -47,6 +47,8 @@ struct SolverConfig {
   std::string solver;
   SolverOptions options;
 };
+// the rule column of a configuration's rows: its rule's name for procedural, else empty
+std::string rule_of(const SolverConfig& config);
 
 struct SweepSpec {
   const Model* model = nullptr;

@@ -98,9 +98,6 @@ SolverOptions candidate_options(const std::string& solver, const std::string& ru
 /// a budget as tables show it: 1mm, 1cm, 5cm, 50um
 std::string budget_text(double budget_m);
 
-/// the dts searched by default: 1/30 to 1/960 s, each dividing the error's sample interval
-const std::vector<double>& verdict_dts();
-
 struct TruthFloor {
   std::string scenario;
   double half_difference = NAN, double_difference = NAN, agreement = NAN, floor = NAN;
@@ -137,8 +134,7 @@ struct VerdictRow {
 };
 
 struct VerdictResult {
-  std::string truth;  ///< the judging truth's engine
-  double truth_dt = 0.0;
+  std::string truth;                  ///< the judging truth's engine
   std::vector<TruthFloor> floors;     ///< per scenario
   std::vector<Candidate> candidates;  ///< scenario × solver × setting × dt
   std::vector<VerdictRow> rows;       ///< scenario × solver × view × budget
