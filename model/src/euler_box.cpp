@@ -62,6 +62,17 @@ Vector3d euler_angles(const EulerOrder& order, const Quaterniond& q) {
   });
 }
 
+Matrix3d euler_gradients(const EulerOrder& order, const Vector3d& angles) {
+  const auto& a = order.axes;
+  const Eigen::AngleAxisd last(angles[2], Vector3d::Unit(a[2]));
+  const Eigen::AngleAxisd middle(angles[1], Vector3d::Unit(a[1]));
+  Matrix3d rates;
+  rates.col(2) = Vector3d::Unit(a[2]);
+  rates.col(1) = last.inverse() * Vector3d::Unit(a[1]);
+  rates.col(0) = last.inverse() * (middle.inverse() * Vector3d::Unit(a[0]));
+  return rates.inverse();
+}
+
 Quaterniond clamp_to_box(const EulerOrder& order, const Vector3d& lower, const Vector3d& upper,
                          const Quaterniond& q) {
   const Vector3d angles = euler_angles(order, q);

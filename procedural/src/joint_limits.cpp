@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "joint_limits.h"
+#include "puppet/model/euler_box.h"
 #include "puppet/model/rotation.h"
 
 namespace puppet::procedural {
@@ -66,6 +67,73 @@ Quaterniond limit_correction(const Joint& joint, const JointTerms& terms, bool b
     return Quaterniond::Identity();
   }
   return (q_b_limited * q_b.conjugate()).normalized();
+}
+
+namespace {
+
+// ∂(w, x, y, z)/∂δ of q exp(δ) at δ = 0: the components of ½ q ⊗ (0, δ)
+Eigen::Matrix<double, 4, 3> quaternion_rates(const Quaterniond& q) {
+  const double w = q.w(), x = q.x(), y = q.y(), z = q.z();
+  Eigen::Matrix<double, 4, 3> rates;
+  rates << -x, -y, -z,  //
+      w, -z, y,         //
+      z, w, -x,         //
+      -y, x, w;
+  return 0.5 * rates;
+}
+
+// With n² = w² + z², ρ² = x² + y² and s = (x w − y z, y w + x z) (decompose_swing_twist's
+// reading): the twist is 2 atan2(z, w), the swing's angle 2 atan2(ρ, n), its direction ψ the
+// angle of s; the ellipse's half-angle in direction ψ is r = (cos²ψ/a² + sin²ψ/b²)^(−1/2), and
+// dr/dψ = r³ cos ψ sin ψ (1/a² − 1/b²)
+BallExcess swing_twist_excess(const Joint& joint, const Quaterniond& q_rel) {
+  const SwingTwist parts = decompose_swing_twist(q_rel, Vector3d::UnitZ());
+  const Vector3d swing = quat_log(parts.swing);
+  const double angle = swing.norm();
+  const double a = joint.swing_x, b = joint.swing_y;
+  BallExcess out;
+  out.gradients.setZero();
+  out.excess << std::abs(parts.twist_angle) - joint.twist, -std::min(a, b), -1.0;
+  const Eigen::Matrix<double, 4, 3> dq = quaternion_rates(q_rel);
+  const double w = q_rel.w(), x = q_rel.x(), y = q_rel.y(), z = q_rel.z();
+  const double n2 = w * w + z * z, rho2 = x * x + y * y;
+  if (n2 > 0.0) {
+    const double sign = parts.twist_angle < 0.0 ? -1.0 : 1.0;
+    out.gradients.row(0) = sign * 2.0 * (w * dq.row(3) - z * dq.row(0)) / n2;
+  }
+  if (angle > 0.0) {
+    const double ex = swing.x() / angle, ey = swing.y() / angle;
+    const double ux = ex / a, uy = ey / b;
+    const double r = 1.0 / std::sqrt(ux * ux + uy * uy);
+    out.excess(1) = angle - r;
+    const double n = std::sqrt(n2), rho = std::sqrt(rho2);
+    if (n > 0.0 && rho > 0.0) {
+      const Eigen::RowVector3d d_rho = (x * dq.row(1) + y * dq.row(2)) / rho;
+      const Eigen::RowVector3d d_n = (w * dq.row(0) + z * dq.row(3)) / n;
+      const Eigen::RowVector3d d_angle = 2.0 * (n * d_rho - rho * d_n) / (n2 + rho2);
+      const double sx = x * w - y * z, sy = y * w + x * z;
+      const Eigen::RowVector3d d_sx = w * dq.row(1) + x * dq.row(0) - z * dq.row(2) - y * dq.row(3);
+      const Eigen::RowVector3d d_sy = w * dq.row(2) + y * dq.row(0) + z * dq.row(1) + x * dq.row(3);
+      const Eigen::RowVector3d d_psi = (sx * d_sy - sy * d_sx) / (sx * sx + sy * sy);
+      const double dr_dpsi = r * r * r * ex * ey * (1.0 / (a * a) - 1.0 / (b * b));
+      out.gradients.row(1) = d_angle - dr_dpsi * d_psi;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+BallExcess ball_excess(const Joint& joint, const Quaterniond& q_rel) {
+  if (joint.ball_limit != BallLimit::kEulerBox) return swing_twist_excess(joint, q_rel);
+  // each angle's excess, its gradient ± as the angle is above or below its range
+  const Vector3d angles = euler_angles(joint.box_order, q_rel);
+  const Vector3d above = angles - joint.box_upper, below = joint.box_lower - angles;
+  BallExcess out{above.cwiseMax(below), euler_gradients(joint.box_order, angles)};
+  for (int k = 0; k < 3; ++k) {
+    if (below(k) > above(k)) out.gradients.row(k) = -out.gradients.row(k);
+  }
+  return out;
 }
 
 }  // namespace puppet::procedural

@@ -24,6 +24,18 @@ Quaterniond limit_correction(const Joint& joint, const JointTerms& terms, bool b
 // child_to_parent = q_c⁻¹ q_p (the parent's frame seen from the child's); false when inside
 bool limit_error(const Joint& joint, const JointTerms& terms, const Quaterniond& child_to_parent,
                  Vector3d* error);
+// A ball joint's limit functions at q_rel (rad, > 0 outside) and their gradients with respect to
+// a turn δ of q_rel's frame, q_rel exp(δ) (row k: ∂excessₖ/∂δ), for rule tree's limit rows.
+// A box's: each Euler angle's excess over its range. Swing–twist's: the twist's excess over its
+// limit, the swing's over the ellipse's half-angle in the swing's direction, and a third that is
+// never positive. Both analytic (the swing–twist ones from q_rel's components, as
+// decompose_swing_twist reads them).
+struct BallExcess {
+  Vector3d excess;
+  Matrix3d gradients;
+};
+BallExcess ball_excess(const Joint& joint, const Quaterniond& q_rel);
+
 // cos(ρ/2) for the largest angle ρ that no limit of the joint can reach in any direction (> 1
 // when there is none): a relative rotation by less than ρ needs no swing–twist decomposition
 double limit_free_w(const Joint& joint);

@@ -1,6 +1,8 @@
 // A solver's scratch: sized once, so that a step allocates nothing.
 #include "workspace.h"
 
+#include <numeric>
+
 namespace puppet::procedural {
 
 Workspace::Workspace(const Model& model, const ModelTables& tables) {
@@ -15,7 +17,11 @@ Workspace::Workspace(const Model& model, const ModelTables& tables) {
   limit_lambda.assign(model.joint_count(), Vector3d::Zero());
   tree_nodes.resize(n + model.joint_count() + 1);
   tree_solution.resize(tree_nodes.size());
-  tree_columns.resize(kMaxLoopRows * tree_nodes.size());
+  tree_column.resize(tree_nodes.size());
+  tree_all.resize(tree_nodes.size());
+  std::iota(tree_all.begin(), tree_all.end(), 0);
+  tree_path.resize(tree_nodes.size());
+  tree_marked.resize(tree_nodes.size());
   tree_loop_factor = Eigen::PartialPivLU<LoopMatrix>(kMaxLoopRows);
   if (tables.orders.empty()) {
     // a large model: the workspace's orders hold any anchor's without allocating in a step

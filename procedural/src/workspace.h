@@ -29,11 +29,10 @@ struct TreeNode {
   Matrix6d d;                         // diagonal block, then its Schur complement over the subtree
   Matrix6d up;                        // the block coupling its rows to its parent's
   Matrix6d x;                         // D⁻¹ up
+  Matrix6d inverse;                   // D⁻¹ (a three-row constraint: its top-left 3×3)
   Vector6d b;                         // right side
   Vector6d alpha = Vector6d::Zero();  // a constraint's α̃ per row
   Vector6d lambda = Vector6d::Zero();  // and its multipliers accumulated over the substep
-  Eigen::LLT<Matrix6d> factor;         // of ±D: a segment's D, a wide constraint's −D
-  Eigen::LLT<Matrix3d> factor3;        // a three-row constraint's −D
 };
 // a pin after the first: a loop through the world, closed through its Schur complement
 struct TreeLoop {
@@ -67,10 +66,14 @@ struct Workspace {
   std::vector<Vector3d> limit_lambda;  // by joint
   std::array<Vector3d, kMaxPins> pin_lambda{};
   // tree: segments, joints and the first pin as the nodes of one factorisation (2n), the
-  // solution per node, H⁻¹Gᵀ's columns per loop row, and the loops
+  // solution per node, one more right side (a column of H⁻¹Gᵀ), every node's index, the loops'
+  // nodes with their ancestors (and their marks), and the loops
   std::vector<TreeNode> tree_nodes;
   std::vector<Vector6d> tree_solution;
-  std::vector<Vector6d> tree_columns;  // kMaxLoopRows × tree_nodes.size()
+  std::vector<Vector6d> tree_column;
+  std::vector<int> tree_all;  // 0, 1, …
+  std::vector<int> tree_path;
+  std::vector<char> tree_marked;
   std::array<TreeLoop, kMaxPins - 1> tree_loops{};
   Eigen::PartialPivLU<LoopMatrix> tree_loop_factor;
   // a large model's anchor orders (ModelTables keeps none): the last two anchors asked for (a

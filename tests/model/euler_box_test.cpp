@@ -65,6 +65,29 @@ TEST(EulerBox, AnglesComposeAsIntrinsicTurnsAndReadBack) {
   }
 }
 
+// the analytic gradients against central differences of the angles of q exp(±hδ): the step
+// 1e-6 rad leaves ~1e-12 truncation and ~1e-10 rounding, so 1e-8 holds with room
+TEST(EulerBox, GradientsAreTheAnglesDerivativesUnderATurnOfTheFrame) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> outer(-3.0, 3.0), middle(-1.45, 1.45);
+  constexpr double kStep = 1e-6;
+  for (const EulerOrder& order : every_order()) {
+    for (int k = 0; k < 200; ++k) {
+      const Vector3d angles(outer(rng), middle(rng), outer(rng));
+      const Quaterniond q = euler_rotation(order, angles);
+      const Matrix3d gradients = euler_gradients(order, angles);
+      for (int axis = 0; axis < 3; ++axis) {
+        const Quaterniond plus = q * Quaterniond(Eigen::AngleAxisd(kStep, Vector3d::Unit(axis)));
+        const Quaterniond minus = q * Quaterniond(Eigen::AngleAxisd(-kStep, Vector3d::Unit(axis)));
+        const Vector3d numeric =
+            (euler_angles(order, plus) - euler_angles(order, minus)) / (2.0 * kStep);
+        EXPECT_LT((gradients.col(axis) - numeric).cwiseAbs().maxCoeff(), 1e-8)
+            << euler_order_name(order) << " " << angles.transpose() << " axis " << axis;
+      }
+    }
+  }
+}
+
 // inside the box the clamp returns the rotation itself; outside, each angle is held at its face
 // and the others kept, so the result lies on the box
 TEST(EulerBox, ClampHoldsEachAngleAtItsFace) {

@@ -76,6 +76,47 @@ TEST(JointLimits, TheLimitedSideIsInsideAndAnInsideOneIsLeftAlone) {
   }
 }
 
+// rule tree's limit rows read ball_excess's gradients: against central differences of its own
+// limit functions at q exp(±hδ), over random rotations away from the functions' kinks (the
+// twist's sign change, the swing's zero, the box's wrap at ±π and its middle angle near ±π/2);
+// h = 1e-6 rad leaves ~1e-12 truncation and ~1e-10 rounding
+TEST(JointLimits, BallExcessGradientsAreItsDerivatives) {
+  std::mt19937_64 rng(5);
+  constexpr double kStep = 1e-6;
+  for (const Kind kind : {Kind::kBall, Kind::kBox}) {
+    const Model model = two_segments(kind);
+    const Joint& joint = model.joints[0];
+    int checked = 0;
+    for (int k = 0; k < 2000; ++k) {
+      const Quaterniond q = random_rotation(rng);
+      const BallExcess limit = ball_excess(joint, q);
+      if (kind == Kind::kBall) {
+        const SwingTwist parts = decompose_swing_twist(q, Vector3d::UnitZ());
+        const double swing = quat_log(parts.swing).norm();
+        if (std::abs(parts.twist_angle) < 1e-3 || swing < 1e-3 || swing > 3.1) continue;
+      } else {
+        const Vector3d angles = euler_angles(joint.box_order, q);
+        if (std::abs(angles[1]) > 1.4 || angles.cwiseAbs().maxCoeff() > 3.1) continue;
+        // at the middle of a range the excess switches between its two faces
+        const Vector3d middle = 0.5 * (joint.box_lower + joint.box_upper);
+        if ((angles - middle).cwiseAbs().minCoeff() < 1e-3) continue;
+      }
+      for (int axis = 0; axis < 3; ++axis) {
+        const Vector3d turn = kStep * Vector3d::Unit(axis);
+        const Vector3d numeric = (ball_excess(joint, times_exp(q, turn)).excess -
+                                  ball_excess(joint, times_exp(q, -turn)).excess) /
+                                 (2.0 * kStep);
+        const int rows = kind == Kind::kBall ? 2 : 3;  // swing–twist's third is a constant
+        EXPECT_LT((limit.gradients.col(axis) - numeric).head(rows).cwiseAbs().maxCoeff(), 1e-7)
+            << (kind == Kind::kBall ? "swing-twist" : "box") << " axis " << axis << " q "
+            << q.coeffs().transpose();
+      }
+      ++checked;
+    }
+    EXPECT_GT(checked, 1000);
+  }
+}
+
 TEST(JointLimits, NoRotationBelowTheFreeAngleIsOutside) {
   // limit_free_w's promise: a relative rotation by less than the smallest limit angle is inside
   const Model model = two_segments(Kind::kBall);

@@ -30,6 +30,7 @@
 // seed: the same update and velocities as every rule; the adjust that the seed does by local
 // moves is here the exact minimum-energy projection of one linearisation (the "g = 0" of XPBD:
 // the correction from the predicted pose is not carried into the next iteration's right side).
+#include <algorithm>
 #include <cmath>
 
 #include "puppet/model/euler_box.h"
@@ -77,51 +78,23 @@ void set_pin_rows(const Pin& pin, const Vector3d& target, const BodyState& body,
   jacobian = point_jacobian(body, pin.local_point);
 }
 
-// a ball joint's limit functions at q_rel (rad, > 0 outside). A box's: each Euler angle's excess
-// over its range. Swing–twist's: the twist's excess over its limit and the swing's over the
-// ellipse's half-angle in the swing's direction (and a third that is never positive)
-Vector3d ball_excess(const Joint& joint, const Quaterniond& q_rel) {
-  if (joint.ball_limit == BallLimit::kEulerBox) {
-    const Vector3d angles = euler_angles(joint.box_order, q_rel);
-    return (angles - joint.box_upper).cwiseMax(joint.box_lower - angles);
-  }
-  const SwingTwist parts = decompose_swing_twist(q_rel, Vector3d::UnitZ());
-  const Vector3d swing = quat_log(parts.swing);
-  const double angle = swing.norm();
-  double swing_excess = -std::min(joint.swing_x, joint.swing_y);
-  if (angle > 0.0) {
-    const double ux = swing.x() / (angle * joint.swing_x), uy = swing.y() / (angle * joint.swing_y);
-    swing_excess = angle - 1.0 / std::sqrt(ux * ux + uy * uy);
-  }
-  return {std::abs(parts.twist_angle) - joint.twist, swing_excess, -1.0};
-}
-
 // A ball joint's limit rows (at most three): one per limit function that is positive, along its
-// gradient with respect to a turn of the child (its frame). Swing and twist are not independent
-// coordinates: past 90° of swing a turn across the swing changes the twist at first order (by about
-// tan(φ/2)), so rows along the two parts of the clamp's rotation do not reduce both and Newton
-// stalls at the corner of the two limits (measured at a shoulder at 110° swing and 80° twist).
-// The gradients are central differences (step 1e-6 rad: truncation ~1e-12, rounding ~1e-10).
+// gradient with respect to a turn of the child (its frame), both from ball_excess (analytic).
+// Swing and twist are not independent coordinates: past 90° of swing a turn across the swing
+// changes the twist at first order (by about tan(φ/2)), so rows along the two parts of the clamp's
+// rotation do not reduce both and Newton stalls at the corner of the two limits (measured at a
+// shoulder at 110° swing and 80° twist); the functions' own gradients do.
 int ball_limit_rows(const Joint& joint, const Quaterniond& q_rel, Matrix3d& directions,
                     Vector3d& targets) {
-  constexpr double kStep = 1e-6;
-  const Vector3d excess = ball_excess(joint, q_rel);
-  if (excess.maxCoeff() <= 0.0) return 0;
-  Matrix3d gradient;
-  for (int axis = 0; axis < 3; ++axis) {
-    const Vector3d turn = kStep * Vector3d::Unit(axis);
-    gradient.col(axis) =
-        (ball_excess(joint, times_exp(q_rel, turn)) - ball_excess(joint, times_exp(q_rel, -turn))) /
-        (2.0 * kStep);
-  }
+  const BallExcess limit = ball_excess(joint, q_rel);
   int count = 0;
   for (int k = 0; k < 3; ++k) {
-    if (excess(k) <= 0.0) continue;
+    if (limit.excess(k) <= 0.0) continue;
     // q_rel exp(δ) for a turn δ_c of the child (its frame) is δ = Fc⁻¹ δ_c: the row is Fc g
     directions.row(count) =
-        (joint.frame_in_child * Vector3d(gradient.row(k).transpose())).transpose();
+        (joint.frame_in_child * Vector3d(limit.gradients.row(k).transpose())).transpose();
     // a row asks u·δ_c = target: the excess removed at first order
-    targets(count) = -excess(k);
+    targets(count) = -limit.excess(k);
     ++count;
   }
   return count;
@@ -293,36 +266,37 @@ void linearise(const Model& model, std::span<const JointTerms> joints, const Set
 int width(const TreeNode& node) { return node.rows == 3 ? 3 : 6; }
 
 // A segment's D is positive definite (its mass plus what its subtree's constraints add), a
-// constraint's negative definite (−α̃ minus its child's inverse effective mass): each is a
-// Cholesky factor of ±D
+// constraint's negative definite (−α̃ minus its child's inverse effective mass): either way each
+// 3×3 block on its diagonal and their Schur complements are definite, so D is inverted
+// explicitly by 3×3 blocks, each 3×3 inverse by cofactors (Eigen's closed form):
+//   D = [A B; Bᵀ C],  S = C − Bᵀ A⁻¹ B,  D⁻¹ = [A⁻¹ + A⁻¹B S⁻¹ BᵀA⁻¹, −A⁻¹B S⁻¹; ·ᵀ, S⁻¹].
+// Every later use of D⁻¹ (X = D⁻¹U, a right side in substitute) is then one fixed-size product.
+// Eigen's LLT of a fixed 6×6, solved column by column, costs several times this (measured).
 template <int R>
-void factor_block(TreeNode& node) {
+void invert_block(TreeNode& node) {
   if constexpr (R == 3) {
-    node.factor3.compute(-node.d.topLeftCorner<3, 3>());
+    node.inverse.topLeftCorner<3, 3>() = Matrix3d(node.d.topLeftCorner<3, 3>()).inverse();
   } else {
-    node.factor.compute(node.kind == TreeNode::kSegment ? node.d : Matrix6d(-node.d));
-  }
-}
-template <int R, typename Rhs>
-auto block_solve(const TreeNode& node, const Rhs& rhs) {
-  if constexpr (R == 3) {
-    return (-node.factor3.solve(rhs)).eval();
-  } else {
-    const double sign = node.kind == TreeNode::kSegment ? 1.0 : -1.0;
-    return (sign * node.factor.solve(rhs)).eval();
+    const Matrix3d a_inverse = Matrix3d(node.d.topLeftCorner<3, 3>()).inverse();
+    const Matrix3d a_inverse_b = a_inverse * node.d.topRightCorner<3, 3>();
+    Matrix3d schur = node.d.bottomRightCorner<3, 3>();
+    schur.noalias() -= node.d.topRightCorner<3, 3>().transpose() * a_inverse_b;
+    const Matrix3d s_inverse = schur.inverse();
+    const Matrix3d corner = -a_inverse_b * s_inverse;
+    node.inverse.topLeftCorner<3, 3>() = a_inverse;
+    node.inverse.topLeftCorner<3, 3>().noalias() -= corner * a_inverse_b.transpose();
+    node.inverse.topRightCorner<3, 3>() = corner;
+    node.inverse.bottomLeftCorner<3, 3>() = corner.transpose();
+    node.inverse.bottomRightCorner<3, 3>() = s_inverse;
   }
 }
 
 // node (R unknowns) eliminated into its parent (P): X = D⁻¹ U, D_p −= Uᵀ X
 template <int R, int P>
 void eliminate(TreeNode& node, TreeNode& parent) {
-  factor_block<R>(node);
+  invert_block<R>(node);
   const auto up = node.up.topLeftCorner<R, P>();
-  // column by column: Eigen's triangular solve of a matrix right side takes its blocked (GEMM)
-  // path, which costs more than the arithmetic at these sizes (measured)
-  for (int c = 0; c < P; ++c) {
-    node.x.col(c).template head<R>() = block_solve<R>(node, up.col(c));
-  }
+  node.x.topLeftCorner<R, P>().noalias() = node.inverse.topLeftCorner<R, R>() * up;
   parent.d.topLeftCorner<P, P>().noalias() -= up.transpose() * node.x.topLeftCorner<R, P>();
 }
 
@@ -347,35 +321,58 @@ void factor(int count, std::vector<TreeNode>& nodes) {
     with_widths(node, parent, [&]<int R, int P>() { eliminate<R, P>(node, parent); });
   }
   if (width(nodes[0]) == 3) {
-    factor_block<3>(nodes[0]);
+    invert_block<3>(nodes[0]);
   } else {
-    factor_block<6>(nodes[0]);
+    invert_block<6>(nodes[0]);
   }
 }
 
-// H y = r in place (r per node in, y out): forward from the leaves, back from the root
-void substitute(int count, const std::vector<TreeNode>& nodes, std::span<Vector6d> r) {
-  for (int i = count - 1; i > 0; --i) {
+// H y = r in place (r per node in, y out) on the nodes `on`: ascending, and holding each one's
+// parent (so the root, 0, first). All nodes give the whole solution. A right side nonzero only
+// on `on` moves only `on` in the forward pass, and a node's y reads only its ancestors' in the
+// backward one: on the ancestors of a few nodes it gives y exactly there, for a path's cost.
+void substitute(std::span<const int> on, const std::vector<TreeNode>& nodes,
+                std::span<Vector6d> r) {
+  for (size_t k = on.size() - 1; k > 0; --k) {
+    const int i = on[k];
     const TreeNode& node = nodes[i];
     with_widths(node, nodes[node.parent], [&]<int R, int P>() {
-      const Eigen::Matrix<double, R, 1> z = block_solve<R>(node, r[i].template head<R>());
+      const Eigen::Matrix<double, R, 1> z =
+          node.inverse.template topLeftCorner<R, R>() * r[i].template head<R>();
       r[i].template head<R>() = z;
       r[node.parent].template head<P>().noalias() -=
           node.up.template topLeftCorner<R, P>().transpose() * z;
     });
   }
   if (width(nodes[0]) == 3) {
-    r[0].head<3>() = block_solve<3>(nodes[0], r[0].head<3>());
+    r[0].head<3>() = (nodes[0].inverse.topLeftCorner<3, 3>() * r[0].head<3>()).eval();
   } else {
-    r[0] = block_solve<6>(nodes[0], r[0]);
+    r[0] = (nodes[0].inverse * r[0]).eval();
   }
-  for (int i = 1; i < count; ++i) {
+  for (size_t k = 1; k < on.size(); ++k) {
+    const int i = on[k];
     const TreeNode& node = nodes[i];
     with_widths(node, nodes[node.parent], [&]<int R, int P>() {
       r[i].template head<R>().noalias() -=
           node.x.template topLeftCorner<R, P>() * r[node.parent].template head<P>();
     });
   }
+}
+
+// the loops' nodes and all their ancestors, ascending (ws.tree_path)
+std::span<const int> loop_ancestors(int loops, int count, Workspace& ws) {
+  std::vector<char>& marked = ws.tree_marked;
+  std::fill(marked.begin(), marked.begin() + count, 0);
+  for (int l = 0; l < loops; ++l) {
+    for (int i = ws.tree_loops[l].node; i >= 0 && !marked[i]; i = ws.tree_nodes[i].parent) {
+      marked[i] = 1;
+    }
+  }
+  int size = 0;
+  for (int i = 0; i < count; ++i) {
+    if (marked[i]) ws.tree_path[size++] = i;
+  }
+  return {ws.tree_path.data(), static_cast<size_t>(size)};
 }
 
 // one Newton iteration: linearise, factor, solve, close the loops, apply
@@ -386,22 +383,25 @@ void solve_once(const Model& model, std::span<const JointTerms> joints, const Se
   factor(count, nodes);
   const std::span<Vector6d> y(ws.tree_solution.data(), count);
   for (int i = 0; i < count; ++i) y[i] = nodes[i].b;
-  substitute(count, nodes, y);
+  const std::span<const int> all(ws.tree_all.data(), count);
+  substitute(all, nodes, y);
   // Loops (pins after the first) by their Schur complement on the factored tree: with G = −J a
   // loop's rows in its segment's columns, the system [H Gᵀ; G −A] [y; μ] = [r; c] gives
-  //   (G H⁻¹ Gᵀ + A) μ = G H⁻¹ r − c,   y = H⁻¹ r − H⁻¹ Gᵀ μ,
-  // so three more solves per loop, each a column of H⁻¹ Gᵀ, and one small dense system
+  //   (G H⁻¹ Gᵀ + A) μ = G H⁻¹ r − c,   y = H⁻¹ r − H⁻¹ Gᵀ μ.
+  // G H⁻¹ Gᵀ reads H⁻¹ Gᵀ only at the loops' nodes: its columns are solved on those nodes'
+  // ancestors alone (a path each), and H⁻¹ Gᵀ μ is one more whole solve
   const int loops = state.pin_count - 1;
   if (loops > 0) {
+    const std::span<const int> path = loop_ancestors(loops, count, ws);
     const int size = 3 * loops;
-    LoopMatrix schur = LoopMatrix::Zero(size, size);
+    LoopMatrix schur(size, size);
     LoopVector rhs(size);
+    const std::span<Vector6d> w(ws.tree_column.data(), count);
     for (int col = 0; col < size; ++col) {
       const TreeLoop& source = ws.tree_loops[col / 3];
-      const std::span<Vector6d> w(ws.tree_columns.data() + col * nodes.size(), count);
-      for (int i = 0; i < count; ++i) w[i].setZero();
+      for (const int i : path) w[i].setZero();
       w[source.node] = -source.jacobian.row(col % 3).transpose();
-      substitute(count, nodes, w);
+      substitute(path, nodes, w);
       for (int row = 0; row < size; ++row) {
         const TreeLoop& loop = ws.tree_loops[row / 3];
         schur(row, col) = -loop.jacobian.row(row % 3).dot(w[loop.node]);
@@ -414,11 +414,15 @@ void solve_once(const Model& model, std::span<const JointTerms> joints, const Se
     }
     ws.tree_loop_factor.compute(schur);
     const LoopVector mu = ws.tree_loop_factor.solve(rhs);
-    for (int col = 0; col < size; ++col) {
-      const Vector6d* w = ws.tree_columns.data() + col * nodes.size();
-      for (int i = 0; i < count; ++i) y[i] -= mu(col) * w[i];
-      ws.tree_loops[col / 3].lambda(col % 3) += mu(col);
+    for (int i = 0; i < count; ++i) w[i].setZero();
+    for (int l = 0; l < loops; ++l) {
+      TreeLoop& loop = ws.tree_loops[l];
+      const Vector3d mu_l = mu.segment<3>(3 * l);
+      w[loop.node] -= loop.jacobian.transpose() * mu_l;
+      loop.lambda += mu_l;
     }
+    substitute(all, nodes, w);
+    for (int i = 0; i < count; ++i) y[i] -= w[i];
   }
   // apply: segments move, constraints accumulate their multipliers
   for (int i = 0; i < count; ++i) {

@@ -25,6 +25,11 @@ Quaterniond euler_rotation(const EulerOrder& order, const Vector3d& angles);
 /// (gimbal lock) θ₀ takes the whole turn about the shared axis
 Vector3d euler_angles(const EulerOrder& order, const Quaterniond& q);
 
+/// the angles' gradients with respect to a turn δ of q's own frame, q exp(δ): row k is ∂θₖ/∂δ.
+/// The inverse of E, where ω = E θ̇ in q's frame: E's columns are a₀ seen through the later two
+/// turns, a₁ through the last, and a₂. Finite while the middle angle is off ±π/2.
+Matrix3d euler_gradients(const EulerOrder& order, const Vector3d& angles);
+
 /// q with each angle clamped into [lower, upper] and recomposed; q itself (the same bits) when
 /// every angle is inside. The nearest rotation in the angles, not along the sphere: what the
 /// procedural solver's clamp does and what a limit of three hinges enforces, axis by axis.
