@@ -22,6 +22,7 @@ Workspace::Workspace(const Model& model, const ModelTables& tables) {
   std::iota(tree_all.begin(), tree_all.end(), 0);
   tree_path.resize(tree_nodes.size());
   tree_marked.resize(tree_nodes.size());
+  tree_rotations.resize(n);
   tree_loop_factor = Eigen::PartialPivLU<LoopMatrix>(kMaxLoopRows);
   if (tables.orders.empty()) {
     // a large model: the workspace's orders hold any anchor's without allocating in a step

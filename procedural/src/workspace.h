@@ -74,6 +74,7 @@ struct Workspace {
   std::vector<int> tree_all;  // 0, 1, …
   std::vector<int> tree_path;
   std::vector<char> tree_marked;
+  std::vector<Matrix3d> tree_rotations;  // each segment's, at the current linearisation
   std::array<TreeLoop, kMaxPins - 1> tree_loops{};
   Eigen::PartialPivLU<LoopMatrix> tree_loop_factor;
   // a large model's anchor orders (ModelTables keeps none): the last two anchors asked for (a

@@ -40,11 +40,12 @@
 namespace puppet::procedural {
 namespace {
 
-// the Jacobian of a world point r (segment frame) of `body` in its (Δx, Δθ) block: [E, −R[r]×]
-Matrix36d point_jacobian(const BodyState& body, const Vector3d& r) {
+// the Jacobian of a world point r (segment frame) of a segment turned by R in its (Δx, Δθ)
+// block: [E, −R[r]×]
+Matrix36d point_jacobian(const Matrix3d& rotation, const Vector3d& r) {
   Matrix36d jacobian;
   jacobian.leftCols<3>().setIdentity();
-  jacobian.rightCols<3>() = -(body.q.toRotationMatrix() * cross_matrix(r));
+  jacobian.rightCols<3>().noalias() = -rotation * cross_matrix(r);
   return jacobian;
 }
 
@@ -69,13 +70,13 @@ void set_constraint_node(int rows, const Vector6d& c, TreeNode& node) {
 }
 
 // the pin's rows: C = x + R r − target, and J = [E, −R[r]×] in its segment's coordinates
-void set_pin_rows(const Pin& pin, const Vector3d& target, const BodyState& body, double alpha,
-                  TreeNode& node, Matrix36d& jacobian) {
+void set_pin_rows(const Pin& pin, const Vector3d& target, const BodyState& body,
+                  const Matrix3d& rotation, double alpha, TreeNode& node, Matrix36d& jacobian) {
   node.alpha.head<3>().setConstant(alpha);
   Vector6d c;
   c.head<3>() = world_point(body, pin.local_point) - target;
   set_constraint_node(3, c, node);
-  jacobian = point_jacobian(body, pin.local_point);
+  jacobian = point_jacobian(rotation, pin.local_point);
 }
 
 // A ball joint's limit rows (at most three): one per limit function that is positive, along its
@@ -103,67 +104,71 @@ int ball_limit_rows(const Joint& joint, const Quaterniond& q_rel, Matrix3d& dire
 // a joint's rows (its point, then its active limit rows) and its two Jacobian blocks, parent's
 // and child's, in those segments' (Δx, Δθ) coordinates
 void set_joint_rows(const Joint& joint, const JointTerms& terms, const BodyState& parent,
-                    const BodyState& child, double point_alpha, double limit_alpha, TreeNode& node,
-                    Matrix6d& j_parent, Matrix6d& j_child) {
+                    const BodyState& child, const Matrix3d& r_parent, const Matrix3d& r_child,
+                    double point_alpha, double limit_alpha, TreeNode& node, Matrix6d& j_parent,
+                    Matrix6d& j_child) {
   j_parent.setZero();
   j_child.setZero();
   Vector6d c;
   // the point: C = p_parent − p_child (world)
   c.head<3>() =
       world_point(parent, joint.anchor_in_parent) - world_point(child, joint.anchor_in_child);
-  j_parent.topRows<3>() = point_jacobian(parent, joint.anchor_in_parent);
-  j_child.topRows<3>() = -point_jacobian(child, joint.anchor_in_child);
+  j_parent.topRows<3>() = point_jacobian(r_parent, joint.anchor_in_parent);
+  j_child.topRows<3>() = -point_jacobian(r_child, joint.anchor_in_child);
   int rows = 3;
   // the limit: the child needs the rotation e (its frame) with the parent fixed; a change of
   // δc (child's frame) and δp (parent's) turns it by δc − R δp, R the parent's frame seen from
   // the child's, so a row u asks uᵀ(δc − R δp) = uᵀ e, i.e. C = −uᵀ e
   const Quaterniond child_to_parent = child.q.conjugate() * parent.q;
-  Vector3d error;
-  if (limit_error(joint, terms, child_to_parent, &error)) {
-    const Matrix3d rotation = child_to_parent.toRotationMatrix();
+  // a rotation below the joint's free angle is inside every limit (joint_limits.h)
+  if (std::abs(terms.frame_shift.coeffs().dot(child_to_parent.coeffs())) <= terms.limit_free_w) {
     Matrix3d directions;  // rows: the constrained directions in the child's frame
     Vector3d targets;     // and how far the child must turn along each
     int count = 0;
-    switch (joint.type) {
-      case JointType::kBall:
-        // two rows built from the limit functions themselves (ball_limit_rows); a zero
-        // half-angle (swing forbidden about one axis) keeps the clamp's rotation as one row
-        if (joint.ball_limit == BallLimit::kEulerBox ||
-            (joint.swing_x > 0.0 && joint.swing_y > 0.0)) {
-          count = ball_limit_rows(joint, joint_relative_rotation(joint, parent.q, child.q),
-                                  directions, targets);
-        } else {
+    Vector3d error;
+    if (joint.type == JointType::kBall && (joint.ball_limit == BallLimit::kEulerBox ||
+                                           (joint.swing_x > 0.0 && joint.swing_y > 0.0))) {
+      // rows built from the limit functions themselves (ball_limit_rows)
+      count = ball_limit_rows(joint, joint_relative_rotation(joint, parent.q, child.q), directions,
+                              targets);
+    } else if (limit_error(joint, terms, child_to_parent, &error)) {
+      switch (joint.type) {
+        case JointType::kBall: {
+          // a zero half-angle (swing forbidden about one axis) keeps the clamp's rotation as
+          // one row
           const double angle = error.norm();
           if (angle > 0.0) {
             directions.row(0) = error.transpose() / angle;
             targets(0) = angle;
             count = 1;
           }
+          break;
         }
-        break;
-      case JointType::kHinge: {
-        // across the axis always; along it only when the angle is out of its range
-        const Vector3d axis = joint.frame_in_child * joint.hinge_axis;
-        const Vector3d across = any_orthogonal(axis);
-        directions.row(0) = across.transpose();
-        directions.row(1) = axis.cross(across).transpose();
-        targets.head<2>() = directions.topRows<2>() * error;
-        count = 2;
-        const Quaterniond q_rel = joint_relative_rotation(joint, parent.q, child.q);
-        const double angle = decompose_swing_twist(q_rel, joint.hinge_axis).twist_angle;
-        if (angle < joint.lower || angle > joint.upper) {
-          directions.row(2) = axis.transpose();
-          targets(2) = axis.dot(error);
+        case JointType::kHinge: {
+          // across the axis always; along it only when the angle is out of its range
+          const Vector3d axis = joint.frame_in_child * joint.hinge_axis;
+          const Vector3d across = any_orthogonal(axis);
+          directions.row(0) = across.transpose();
+          directions.row(1) = axis.cross(across).transpose();
+          targets.head<2>() = directions.topRows<2>() * error;
+          count = 2;
+          const Quaterniond q_rel = joint_relative_rotation(joint, parent.q, child.q);
+          const double angle = decompose_swing_twist(q_rel, joint.hinge_axis).twist_angle;
+          if (angle < joint.lower || angle > joint.upper) {
+            directions.row(2) = axis.transpose();
+            targets(2) = axis.dot(error);
+            count = 3;
+          }
+          break;
+        }
+        case JointType::kFixed:
+          directions.setIdentity();
+          targets = error;
           count = 3;
-        }
-        break;
+          break;
       }
-      case JointType::kFixed:
-        directions.setIdentity();
-        targets = error;
-        count = 3;
-        break;
     }
+    const Matrix3d rotation = count > 0 ? child_to_parent.toRotationMatrix() : Matrix3d();
     for (int k = 0; k < count; ++k) {
       const Vector3d u = directions.row(k).transpose();
       c(rows) = -targets(k);
@@ -218,6 +223,10 @@ void linearise(const Model& model, std::span<const JointTerms> joints, const Set
   std::vector<TreeNode>& nodes = ws.tree_nodes;
   const double point_alpha = settings.joint_compliance * inv_h2;
   const double limit_alpha = settings.limit_compliance * inv_h2;
+  std::vector<Matrix3d>& rotations = ws.tree_rotations;
+  for (int s = 0; s < model.segment_count(); ++s) {
+    rotations[s] = state.bodies[s].q.toRotationMatrix();
+  }
   for (int i = 0; i < count; ++i) {
     TreeNode& node = nodes[i];
     switch (node.kind) {
@@ -229,8 +238,8 @@ void linearise(const Model& model, std::span<const JointTerms> joints, const Set
         // the root pin is its segment's parent: node 1, whose `up` is then −Jᵀ
         const Pin& pin = state.pins[node.index];
         Matrix36d jacobian;
-        set_pin_rows(pin, targets[node.index], state.bodies[pin.segment], pin.compliance * inv_h2,
-                     node, jacobian);
+        set_pin_rows(pin, targets[node.index], state.bodies[pin.segment], rotations[pin.segment],
+                     pin.compliance * inv_h2, node, jacobian);
         nodes[1].up.setZero();
         nodes[1].up.topLeftCorner<6, 3>() = -jacobian.transpose();
         break;
@@ -239,8 +248,8 @@ void linearise(const Model& model, std::span<const JointTerms> joints, const Set
         const Joint& joint = model.joints[node.index];
         Matrix6d j_parent, j_child;
         set_joint_rows(joint, joints[node.index], state.bodies[joint.parent],
-                       state.bodies[joint.child], point_alpha, limit_alpha, node, j_parent,
-                       j_child);
+                       state.bodies[joint.child], rotations[joint.parent], rotations[joint.child],
+                       point_alpha, limit_alpha, node, j_parent, j_child);
         // the tree's parent of a joint node is the segment nearer the anchor, which is the
         // model's parent unless the anchor order walks the edge backwards
         const bool parent_is_nearer = nodes[node.parent].index == joint.parent;
@@ -255,7 +264,7 @@ void linearise(const Model& model, std::span<const JointTerms> joints, const Set
     const Pin& pin = state.pins[l + 1];
     const BodyState& body = state.bodies[pin.segment];
     loop.alpha = pin.compliance * inv_h2;
-    loop.jacobian = point_jacobian(body, pin.local_point);
+    loop.jacobian = point_jacobian(rotations[pin.segment], pin.local_point);
     loop.c = world_point(body, pin.local_point) - targets[l + 1] + loop.alpha * loop.lambda;
   }
 }
@@ -327,12 +336,11 @@ void factor(int count, std::vector<TreeNode>& nodes) {
   }
 }
 
-// H y = r in place (r per node in, y out) on the nodes `on`: ascending, and holding each one's
-// parent (so the root, 0, first). All nodes give the whole solution. A right side nonzero only
-// on `on` moves only `on` in the forward pass, and a node's y reads only its ancestors' in the
-// backward one: on the ancestors of a few nodes it gives y exactly there, for a path's cost.
-void substitute(std::span<const int> on, const std::vector<TreeNode>& nodes,
-                std::span<Vector6d> r) {
+// H y = r in place (r per node in, y out) as two passes over the nodes `on`: ascending, and
+// holding each one's parent (so the root, 0, first). On all nodes they give the whole solution.
+// forward: from the leaves, each node's z = D⁻¹ r̃ and its parent's r̃ −= Uᵀ z, then the root's
+// solve; linear in r, and a right side nonzero only on `on` moves nothing else
+void forward(std::span<const int> on, const std::vector<TreeNode>& nodes, std::span<Vector6d> r) {
   for (size_t k = on.size() - 1; k > 0; --k) {
     const int i = on[k];
     const TreeNode& node = nodes[i];
@@ -349,6 +357,10 @@ void substitute(std::span<const int> on, const std::vector<TreeNode>& nodes,
   } else {
     r[0] = (nodes[0].inverse * r[0]).eval();
   }
+}
+// backward: from the root, y = z − X y_parent; a node's y reads only its ancestors', so on the
+// ancestors of a few nodes it gives y exactly there, for a path's cost
+void backward(std::span<const int> on, const std::vector<TreeNode>& nodes, std::span<Vector6d> r) {
   for (size_t k = 1; k < on.size(); ++k) {
     const int i = on[k];
     const TreeNode& node = nodes[i];
@@ -384,12 +396,13 @@ void solve_once(const Model& model, std::span<const JointTerms> joints, const Se
   const std::span<Vector6d> y(ws.tree_solution.data(), count);
   for (int i = 0; i < count; ++i) y[i] = nodes[i].b;
   const std::span<const int> all(ws.tree_all.data(), count);
-  substitute(all, nodes, y);
+  forward(all, nodes, y);
   // Loops (pins after the first) by their Schur complement on the factored tree: with G = −J a
   // loop's rows in its segment's columns, the system [H Gᵀ; G −A] [y; μ] = [r; c] gives
-  //   (G H⁻¹ Gᵀ + A) μ = G H⁻¹ r − c,   y = H⁻¹ r − H⁻¹ Gᵀ μ.
-  // G H⁻¹ Gᵀ reads H⁻¹ Gᵀ only at the loops' nodes: its columns are solved on those nodes'
-  // ancestors alone (a path each), and H⁻¹ Gᵀ μ is one more whole solve
+  //   (G H⁻¹ Gᵀ + A) μ = G H⁻¹ r − c,   y = H⁻¹ (r − Gᵀ μ).
+  // Everything but the last is read at the loops' nodes only: G H⁻¹ Gᵀ's columns and G H⁻¹ r
+  // are solved on those nodes' ancestors alone (a path each); Gᵀ μ, nonzero on the path, is taken
+  // off r's forward pass there, and one backward pass over all nodes gives y
   const int loops = state.pin_count - 1;
   if (loops > 0) {
     const std::span<const int> path = loop_ancestors(loops, count, ws);
@@ -401,29 +414,33 @@ void solve_once(const Model& model, std::span<const JointTerms> joints, const Se
       const TreeLoop& source = ws.tree_loops[col / 3];
       for (const int i : path) w[i].setZero();
       w[source.node] = -source.jacobian.row(col % 3).transpose();
-      substitute(path, nodes, w);
+      forward(path, nodes, w);
+      backward(path, nodes, w);
       for (int row = 0; row < size; ++row) {
         const TreeLoop& loop = ws.tree_loops[row / 3];
         schur(row, col) = -loop.jacobian.row(row % 3).dot(w[loop.node]);
       }
     }
+    for (const int i : path) w[i] = y[i];
+    backward(path, nodes, w);
     for (int row = 0; row < size; ++row) {
       const TreeLoop& loop = ws.tree_loops[row / 3];
       schur(row, row) += loop.alpha;
-      rhs(row) = -loop.jacobian.row(row % 3).dot(y[loop.node]) - loop.c(row % 3);
+      rhs(row) = -loop.jacobian.row(row % 3).dot(w[loop.node]) - loop.c(row % 3);
     }
     ws.tree_loop_factor.compute(schur);
     const LoopVector mu = ws.tree_loop_factor.solve(rhs);
-    for (int i = 0; i < count; ++i) w[i].setZero();
+    for (const int i : path) w[i].setZero();
     for (int l = 0; l < loops; ++l) {
       TreeLoop& loop = ws.tree_loops[l];
       const Vector3d mu_l = mu.segment<3>(3 * l);
       w[loop.node] -= loop.jacobian.transpose() * mu_l;
       loop.lambda += mu_l;
     }
-    substitute(all, nodes, w);
-    for (int i = 0; i < count; ++i) y[i] -= w[i];
+    forward(path, nodes, w);
+    for (const int i : path) y[i] -= w[i];
   }
+  backward(all, nodes, y);
   // apply: segments move, constraints accumulate their multipliers
   for (int i = 0; i < count; ++i) {
     TreeNode& node = nodes[i];
