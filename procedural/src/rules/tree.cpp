@@ -3,12 +3,12 @@
 // Bender 2018, "Direct position-based solver for stiff rods"). Per substep of h = dt/substeps:
 //
 //   update            every segment alone under its forces (the same stage as every rule)
-//   adjust            `iterations` Newton iterations (default 2): every pin, joint point and
+//   adjust            `iterations` Newton iterations (default 1): the ground pushed out
+//                     segment by segment, as xpbd does; then every pin, joint point and
 //                     active limit linearised at the current poses, and the whole system
 //                        [ M   −Jᵀ ] [ Δx ]   [    0    ]
 //                        [ −J  −α̃  ] [ Δλ ] = [ C + α̃ λ ]
-//                     solved at once by a block LDLᵀ factorisation in tree order; then the
-//                     ground pushed out segment by segment, as xpbd does
+//                     solved at once by a block LDLᵀ factorisation in tree order
 //   velocities        v = Δx/h, ω = log(q q_prev⁻¹)/h, then xpbd's ground velocity pass
 //
 // The matrix's graph is a tree: segments and constraints are its nodes, each constraint linked
@@ -18,14 +18,15 @@
 // three to six rows (a joint: its point's three, then its active limit rows), so a joint inside
 // its limits costs 3×3 and 3×6 blocks.
 //
-// Limits are active constraints re-read at every Newton iteration: a ball joint outside its cone
-// or twist gets a row along each part of the rotation that brings it back (limit_error): its
-// twist about the joint's axis and its swing across it; a hinge two rows
+// Limits are active constraints re-read at every Newton iteration: a ball joint outside its limits
+// gets a row along the gradient of each limit function that is positive (ball_excess: each Euler
+// angle's excess for a box; the twist's and the swing's for swing–twist); a hinge two rows
 // across its axis always and a third along it when its angle is out of range, a fixed joint all
 // three. The first pin is the tree's root. A second pin closes a loop through the world (the
 // marionette's head and its dragged hand): its rows join the system through their Schur
-// complement on the factored tree (three more substitutions per pin), so it is exact too. The
-// ground is not in the system: it is pushed out after each Newton iteration, as xpbd does.
+// complement on the factored tree, solved on the loops' ancestors alone, so it is exact too for
+// a few path passes. The ground is not in the system: it is pushed out before each Newton
+// iteration, as xpbd does.
 //
 // seed: the same update and velocities as every rule; the adjust that the seed does by local
 // moves is here the exact minimum-energy projection of one linearisation (the "g = 0" of XPBD:
