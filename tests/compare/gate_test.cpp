@@ -112,6 +112,27 @@ TEST(Gate, AKnownFailureStillFailsWhenItRegressesPastItsGuard) {
   EXPECT_EQ(status_at(1, 1000, 2900), GateStatus::kUnexpectedPass);   // 2.9
 }
 
+// A floor the full run reached by less than the noise margin is guarded at the measured value:
+// above the floor it passes as such (the mark is not to be removed), past the guard it fails
+TEST(Gate, ANarrowlyReachedFloorPassesWithItsGuardAndStillFails) {
+  const auto specs = read_gate_specs(write_temp("narrow.json", R"({"gates": [
+      {"name": "narrow", "numerator": "slow", "denominator": "fast", "min": 0.7, "floor": 1,
+       "measured": 1.2, "known_failure": "reached by less than the margin"}
+    ]})"));
+  auto status_at = [&](double slow_per_s, double fast_per_s) {
+    const std::string file =
+        write_temp("narrow_b.json", bench_json({{"slow", slow_per_s}, {"fast", fast_per_s}}));
+    return evaluate_gates(specs, read_bench_times(file))[0].status;
+  };
+  EXPECT_EQ(status_at(1000, 1100), GateStatus::kNarrowPass);   // 1.1: at its floor
+  EXPECT_EQ(status_at(1000, 900), GateStatus::kKnownFailure);  // 0.9: under it, within the guard
+  EXPECT_EQ(status_at(1000, 600), GateStatus::kFail);          // 0.6: past the guard
+  const auto results = evaluate_gates(
+      specs,
+      read_bench_times(write_temp("narrow_c.json", bench_json({{"slow", 1000}, {"fast", 1100}}))));
+  EXPECT_NE(gate_table(results).find("pass (narrowly: the guard stays)"), std::string::npos);
+}
+
 TEST(Gate, BadInputNamesTheFileAndTheProblem) {
   auto error_of = [](auto read, const std::string& file) -> std::string {
     try {
