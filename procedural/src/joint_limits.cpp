@@ -46,10 +46,7 @@ bool limited_orientation(const Joint& joint, const JointTerms& terms, bool b_is_
 
 bool limit_error(const Joint& joint, const JointTerms& terms, const Quaterniond& child_to_parent,
                  Vector3d* error) {
-  // |w(q_rel)| = |w(frame_shift ⊗ (q_c⁻¹ q_p)⁻¹)| = |frame_shift · (q_c⁻¹ q_p)|
-  if (std::abs(terms.frame_shift.coeffs().dot(child_to_parent.coeffs())) > terms.limit_free_w) {
-    return false;
-  }
+  if (!may_reach_limit(terms, child_to_parent)) return false;
   // q_rel = Fp⁻¹ q_p⁻¹ q_c Fc = (q_c⁻¹ q_p Fp)⁻¹ Fc
   const Quaterniond parent_frame = times_frame(child_to_parent, joint.frame_in_parent);
   const Quaterniond q_rel = times_frame(parent_frame.conjugate(), joint.frame_in_child);

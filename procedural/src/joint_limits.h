@@ -3,6 +3,8 @@
 // procedural/; joint_limits.cpp.
 #pragma once
 
+#include <cmath>
+
 #include "model_tables.h"
 #include "puppet/model/model.h"
 
@@ -19,6 +21,12 @@ bool limited_orientation(const Joint& joint, const JointTerms& terms, bool b_is_
 // move more than b about the joint point
 Quaterniond limit_correction(const Joint& joint, const JointTerms& terms, bool b_is_child,
                              const Quaterniond& q_a, const Quaterniond& q_b);
+// false when the relative rotation, read from child_to_parent = q_c⁻¹ q_p, is below the joint's
+// free angle (limit_free_w): inside every limit, with no decomposition needed
+inline bool may_reach_limit(const JointTerms& terms, const Quaterniond& child_to_parent) {
+  // |w(q_rel)| = |w(frame_shift ⊗ (q_c⁻¹ q_p)⁻¹)| = |frame_shift · (q_c⁻¹ q_p)|
+  return std::abs(terms.frame_shift.coeffs().dot(child_to_parent.coeffs())) <= terms.limit_free_w;
+}
 // the same for rule relaxed's shared correction, seen from the child: the rotation vector (child's
 // frame) that turns the child inside the limits with the parent fixed, from
 // child_to_parent = q_c⁻¹ q_p (the parent's frame seen from the child's); false when inside

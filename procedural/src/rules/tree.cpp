@@ -121,8 +121,7 @@ void set_joint_rows(const Joint& joint, const JointTerms& terms, const BodyState
   // δc (child's frame) and δp (parent's) turns it by δc − R δp, R the parent's frame seen from
   // the child's, so a row u asks uᵀ(δc − R δp) = uᵀ e, i.e. C = −uᵀ e
   const Quaterniond child_to_parent = child.q.conjugate() * parent.q;
-  // a rotation below the joint's free angle is inside every limit (joint_limits.h)
-  if (std::abs(terms.frame_shift.coeffs().dot(child_to_parent.coeffs())) <= terms.limit_free_w) {
+  if (may_reach_limit(terms, child_to_parent)) {
     Matrix3d directions;  // rows: the constrained directions in the child's frame
     Vector3d targets;     // and how far the child must turn along each
     int count = 0;
@@ -183,10 +182,33 @@ void set_joint_rows(const Joint& joint, const JointTerms& terms, const BodyState
   set_constraint_node(rows, c, node);
 }
 
+// the loops' nodes and all their ancestors, ascending, into ws.tree_path
+std::span<const int> loop_ancestors(int loops, int count, Workspace& ws) {
+  if (loops <= 0) return {};
+  std::vector<char>& marked = ws.tree_marked;
+  std::fill(marked.begin(), marked.begin() + count, 0);
+  for (int l = 0; l < loops; ++l) {
+    for (int i = ws.tree_loops[l].node; i >= 0 && !marked[i]; i = ws.tree_nodes[i].parent) {
+      marked[i] = 1;
+    }
+  }
+  int size = 0;
+  for (int i = 0; i < count; ++i) {
+    if (marked[i]) ws.tree_path[size++] = i;
+  }
+  return {ws.tree_path.data(), static_cast<size_t>(size)};
+}
+
+// one anchor's tree for a substep: its nodes (`count`) and the loops' nodes with their ancestors
+struct Topology {
+  int count = 0;
+  std::span<const int> loop_path;
+};
+
 // the nodes of one anchor's tree, root first: [the first pin], the anchor's segment, then per
 // link its joint and the segment it places; each later pin is a loop, and ws.tree_loops keeps
 // the node of its segment
-int build_topology(const AnchorOrder& order, const State& state, Workspace& ws) {
+Topology build_topology(const AnchorOrder& order, const State& state, Workspace& ws) {
   std::vector<TreeNode>& nodes = ws.tree_nodes;
   int count = 0;
   const auto place = [&](TreeNode::Kind kind, int index, int parent) {
@@ -213,7 +235,7 @@ int build_topology(const AnchorOrder& order, const State& state, Workspace& ws) 
     while (order.preorder[k] != state.pins[i].segment) ++k;
     ws.tree_loops[i - 1].node = segment_node(k);
   }
-  return count;
+  return {count, loop_ancestors(state.pin_count - 1, count, ws)};
 }
 
 // every node's diagonal and right side, and each node's coupling to its parent, `up`, from the
@@ -372,25 +394,11 @@ void backward(std::span<const int> on, const std::vector<TreeNode>& nodes, std::
   }
 }
 
-// the loops' nodes and all their ancestors, ascending (ws.tree_path)
-std::span<const int> loop_ancestors(int loops, int count, Workspace& ws) {
-  std::vector<char>& marked = ws.tree_marked;
-  std::fill(marked.begin(), marked.begin() + count, 0);
-  for (int l = 0; l < loops; ++l) {
-    for (int i = ws.tree_loops[l].node; i >= 0 && !marked[i]; i = ws.tree_nodes[i].parent) {
-      marked[i] = 1;
-    }
-  }
-  int size = 0;
-  for (int i = 0; i < count; ++i) {
-    if (marked[i]) ws.tree_path[size++] = i;
-  }
-  return {ws.tree_path.data(), static_cast<size_t>(size)};
-}
-
 // one Newton iteration: linearise, factor, solve, close the loops, apply
 void solve_once(const Model& model, std::span<const JointTerms> joints, const Settings& settings,
-                int count, const PinTargets& targets, State& state, Workspace& ws, double h) {
+                const Topology& topology, const PinTargets& targets, State& state, Workspace& ws,
+                double h) {
+  const int count = topology.count;
   std::vector<TreeNode>& nodes = ws.tree_nodes;
   linearise(model, joints, settings, count, targets, state, ws, 1.0 / (h * h));
   factor(count, nodes);
@@ -406,7 +414,7 @@ void solve_once(const Model& model, std::span<const JointTerms> joints, const Se
   // off r's forward pass there, and one backward pass over all nodes gives y
   const int loops = state.pin_count - 1;
   if (loops > 0) {
-    const std::span<const int> path = loop_ancestors(loops, count, ws);
+    const std::span<const int> path = topology.loop_path;
     const int size = 3 * loops;
     LoopMatrix schur(size, size);
     LoopVector rhs(size);
@@ -460,8 +468,8 @@ void solve_once(const Model& model, std::span<const JointTerms> joints, const Se
 void tree_adjust(const Model& model, std::span<const JointTerms> joints, const Settings& settings,
                  const Environment& environment, const AnchorOrder& order,
                  const PinTargets& targets, State& state, Workspace& ws, double h) {
-  const int count = build_topology(order, state, ws);
-  for (int i = 0; i < count; ++i) ws.tree_nodes[i].lambda.setZero();
+  const Topology topology = build_topology(order, state, ws);
+  for (int i = 0; i < topology.count; ++i) ws.tree_nodes[i].lambda.setZero();
   for (TreeLoop& loop : ws.tree_loops) loop.lambda.setZero();
   for (int iteration = 0; iteration < settings.iterations; ++iteration) {
     // the ground is not in the system: pushed out before each solve, which then closes what
@@ -471,7 +479,7 @@ void tree_adjust(const Model& model, std::span<const JointTerms> joints, const S
         push_out_of_ground(model, environment, s, state);
       }
     }
-    solve_once(model, joints, settings, count, targets, state, ws, h);
+    solve_once(model, joints, settings, topology, targets, state, ws, h);
   }
 }
 
