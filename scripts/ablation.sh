@@ -3,12 +3,15 @@
 # the one-sided closure (relaxed), Gauss–Seidel sweeps against the exact projection (xpbd,
 # tree), substeps against iterations, and a hard grab against a compliant one (every solver).
 # Each configuration is one `testbed run` into FOLDER/<name>; FOLDER/configs.csv names them, and
-# scripts/plot.py turns them into REPORT.md's ablation tables.
+# scripts/plot.py turns them into REPORT.md's ablation tables. Further arguments go to every
+# `testbed run` (main.sh passes its --truth-cache: the configurations on Pinocchio's default
+# scenarios then read the main run's truth instead of computing it again).
 #
-#   scripts/ablation.sh FOLDER
+#   scripts/ablation.sh FOLDER [TESTBED RUN FLAGS...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-folder=${1:?usage: scripts/ablation.sh FOLDER}
+folder=${1:?usage: scripts/ablation.sh FOLDER [TESTBED RUN FLAGS...]}
+shift
 testbed=./build/release/testbed
 mkdir -p "$folder"
 # name, what it isolates, flags. The compliant grab is C = 1e-4 m/N (10 kN/m): Pinocchio
@@ -37,7 +40,8 @@ for config in "${configs[@]}"; do
   # shellcheck disable=SC2086 # flags are words
   # the first truth alone: the ablation compares configurations (REPORT.md's truth sections
   # give its error bars, from the main run)
-  "$testbed" run --no-timing --first-truth-only --sample-hz 1 $defaults $flags --out "$folder/$name" >/dev/null
+  "$testbed" run --no-timing --first-truth-only --sample-hz 1 $defaults $flags "$@" \
+    --out "$folder/$name" >/dev/null
   manifest+=$'\n'"\"$name\",\"$label\",\"$flags\""
   echo "ablation: $name"
 done

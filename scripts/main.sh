@@ -12,19 +12,24 @@ cd "$(dirname "$0")/.."
 scripts/setup.sh
 cmake --preset release >/dev/null
 cmake --build --preset release
-./build/release/testbed run --model pinocchio --out results/main "$@"
+# the truths' trajectories, kept for this job's runs on the same model and scenario (the
+# ablation's configurations judge against the main run's truth, the open-limits one against the
+# open-limits run's), and removed at the end
+truths=$(mktemp -d)
+trap 'rm -rf "$truths"' EXIT
+./build/release/testbed run --model pinocchio --truth-cache "$truths" --out results/main "$@"
 # the verdict reads the truths' floors from the run above (the same code): it measures them again
 # otherwise
 ./build/release/testbed verdict --model pinocchio --floors-from results/main/summary.csv \
   --out results/verdict
 ./build/release/testbed frontier --model pinocchio --out results/frontier
 ./build/release/testbed run --model models/pinocchio-open-limits.json --dt 1/240 --no-timing \
-  --sample-hz 1 --out results/truths-open-limits
+  --sample-hz 1 --truth-cache "$truths" --out results/truths-open-limits
 # the humanoid against its first truth alone (no error bars, no second truth): it shows the
 # scenarios on a second model; the judging is Pinocchio's, and both truths at three dts would
 # take six of the main job's minutes more
 ./build/release/testbed run --model models/humanoid.xml --dt 1/240 --no-timing --sample-hz 1 \
   --first-truth-only --out results/humanoid
-scripts/ablation.sh results/ablation
+scripts/ablation.sh results/ablation --truth-cache "$truths"
 /usr/bin/python3 scripts/plot.py results
 /usr/bin/python3 scripts/docs_tables.py  # the generated blocks of README.md and docs/ from the committed CSVs

@@ -1,5 +1,6 @@
 #include "puppet/compare/sweep.h"
 
+#include "puppet/compare/truth_cache.h"
 #include "puppet/model/mjcf.h"
 
 #include <algorithm>
@@ -124,16 +125,22 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
   // per scenario, truth and level (h, h/2, 2h)
   std::vector<std::vector<std::array<Trajectory, 3>>> truth(
       scenario_count, std::vector<std::array<Trajectory, 3>>(truths));
+  const TruthCache cache(spec.truth_cache);
   parallel_for(
       truth_jobs, spec.jobs,
       [&](size_t i) {
         const size_t s = i / (levels * truths), t = i % (levels * truths) / levels;
         // the finest first: the longest jobs start early
         const size_t level = levels == 1 ? 0 : std::array<size_t, 3>{1, 0, 2}[i % 3];
-        auto simulator = make(truth_config(t));
+        const SolverConfig config = truth_config(t);
         const double dt = truth_list[t].dt * kLevelScale[level];
-        const double duration = duration_of(spec.scenarios[s], spec.run);
-        truth[s][t][level] = record_trajectory(*simulator, model, spec.scenarios[s], dt, duration);
+        const Scenario& scenario = spec.scenarios[s];
+        const double duration = duration_of(scenario, spec.run);
+        truth[s][t][level] =
+            cache.get(truth_key(model, scenario, config.solver, config.options, dt, duration), [&] {
+              auto simulator = make(config);
+              return record_trajectory(*simulator, model, scenario, dt, duration);
+            });
       },
       progress);
 

@@ -34,6 +34,7 @@
 #include "puppet/compare/simulator.h"
 #include "puppet/compare/start.h"
 #include "puppet/compare/sweep.h"
+#include "puppet/compare/truth_cache.h"
 #include "puppet/compare/verdict.h"
 #include "puppet/model/euler_box.h"
 #include "puppet/model/file.h"
@@ -250,7 +251,8 @@ struct RunFlags {
   bool no_velocities = false, no_tremble = false, no_timing = false, bullet_euler_limits = false;
   bool no_accuracy = false;
   bool first_truth_only = false;
-  std::string start;  // run: SEED:INDEX, a random start (start.h)
+  std::string truth_cache;  // run: a folder of truth trajectories (truth_cache.h)
+  std::string start;        // run: SEED:INDEX, a random start (start.h)
   // robustness
   std::string starts = "100", seed = "1", shard;
   // verdict
@@ -541,6 +543,12 @@ int command_run(const RunFlags& f) {
       print_error("testbed: ", "note: one truth for this model (" + truths[0].solver +
                                    "): the other cannot run it");
     }
+  }
+  // made if missing: the last flag checked, so that a bad one before it leaves nothing behind
+  try {
+    spec.truth_cache = TruthCache(f.truth_cache).folder();
+  } catch (const std::runtime_error& e) {
+    throw UsageError(std::string("--truth-cache: ") + e.what());
   }
   OutputFolder folder("--out", f.out, {"summary.csv", "traces"});
   const std::filesystem::path traces = folder.staging() / "traces";
@@ -1111,6 +1119,9 @@ int run_command(int argc, char** argv) {
   run->add_flag("--first-truth-only", f.first_truth_only,
                 "judge against the first truth alone, at its dt: no error bars, no second truth "
                 "(quicker, to compare configurations)");
+  run->add_option("--truth-cache", f.truth_cache,
+                  "FOLDER: keep the truths' trajectories there and read them back in later runs "
+                  "of this build on the same model and scenario (made if missing)");
   run->add_flag("--no-accuracy", f.no_accuracy,
                 "skip the truths (mujoco RK4 at 1/7680 s, bullet-multibody at 1/3840 s, each at "
                 "half and twice that too) and the accuracy rows");

@@ -435,6 +435,9 @@ TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
   expect_bad("run --bullet-iterations 2.5" + o, "--bullet-iterations");
   expect_bad("run --dt 1/60,abc" + o, "--dt");
   expect_bad("run --jobs 0" + o, "--jobs");
+  expect_bad("run --truth-cache /etc/passwd" + o, "--truth-cache");
+  expect_bad("run --truth-cache /etc/passwd/truths" + o, "--truth-cache");
+  expect_bad("run --truth-cache /proc/version/x --scenario swim" + o, "--scenario");
   expect_bad("frontier --jobs x" + o, "--jobs");
   // counts are plain decimal digits: CLI11 alone would read 0x10 as 16 and 010 as 8
   expect_bad("run --jobs 0x10" + o, "--jobs");

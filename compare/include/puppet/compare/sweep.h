@@ -61,6 +61,9 @@ struct SweepSpec {
   // judge against the first truth alone, at its h: no second truth and no error-bar runs
   // (quicker, for sweeps that only compare configurations, such as the ablation)
   bool first_truth_only = false;
+  // a folder of truth trajectories (truth_cache.h): each truth run is read from it when there,
+  // else computed and stored; empty: none
+  std::string truth_cache;
   int jobs = 1;  // worker threads for the runs; timing always runs alone
   // called once per finished run, on the thread that ran it (e.g. to write its trace), before
   // the trace and poses are dropped
