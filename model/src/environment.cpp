@@ -46,16 +46,16 @@ double submerged_fraction(const Segment& segment, const Environment& environment
 
 EnvironmentForce environment_force(const Segment& segment, const Environment& environment,
                                    const BodyState& body, double h) {
-  EnvironmentForce out;
   const double f = submerged_fraction(segment, environment, body);
+  if (!(f > 0.0))
+    return air_force(segment, environment, body, step_drag_rate(environment.air_drag, h));
+  EnvironmentForce out;
   // air drag −c·m·v and −c·I·ω; in water, drag −k·f·m·v and −k·f·I·ω by the same reading; each
   // as the rate that decays the velocity exactly over the step
-  out.drag = step_drag_rate(environment.air_drag + (f > 0.0 ? environment.water_drag * f : 0.0), h);
+  out.drag = step_drag_rate(environment.air_drag + environment.water_drag * f, h);
   out.force = segment.mass * environment.gravity - out.drag * segment.mass * body.v;
-  if (f > 0.0) {
-    // buoyancy ρ·V·f·|g| against gravity
-    out.force -= environment.water_density * shape_volume(segment.shape) * f * environment.gravity;
-  }
+  // buoyancy ρ·V·f·|g| against gravity
+  out.force -= environment.water_density * shape_volume(segment.shape) * f * environment.gravity;
   return out;
 }
 

@@ -38,13 +38,17 @@ Vector3d gyroscopic_step(const Vector3d& inertia, const Vector3d& w_body, double
 }  // namespace
 
 void update(const Model& model, const Environment& environment, State& state, double h) {
+  // out of water every segment's drag rate is the air's: one expm1 per substep, not per segment
+  const double air_rate = step_drag_rate(environment.air_drag, h);
   for (int i = 0; i < model.segment_count(); ++i) {
     const Segment& segment = model.segments[i];
     BodyState& body = state.bodies[i];
     state.x_prev[i] = body.x;
     state.q_prev[i] = body.q;
 
-    const EnvironmentForce environment_part = environment_force(segment, environment, body, h);
+    const EnvironmentForce environment_part = environment.water
+                                                  ? environment_force(segment, environment, body, h)
+                                                  : air_force(segment, environment, body, air_rate);
     Vector3d force = environment_part.force + state.user_force[i];
     if (environment.ground) {
       double low = 0.0, high = 0.0;

@@ -89,6 +89,12 @@ struct EnvironmentForce {
 };
 EnvironmentForce environment_force(const Segment& segment, const Environment& environment,
                                    const BodyState& body, double h);
+/// the same for a segment out of water, with the air's rate given: step_drag_rate(air_drag, h) is
+/// the same for every such segment, so a stage that steps them all takes it once
+inline EnvironmentForce air_force(const Segment& segment, const Environment& environment,
+                                  const BodyState& body, double air_rate) {
+  return {segment.mass * environment.gravity - air_rate * segment.mass * body.v, air_rate};
+}
 /// gravity, air drag, buoyancy and water drag on one segment over a step of length h (no contact
 /// forces)
 Wrench environment_wrench(const Segment& segment, const Environment& environment,
