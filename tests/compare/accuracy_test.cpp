@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "support/source_dir.h"
+
 namespace puppet::compare {
 namespace {
 

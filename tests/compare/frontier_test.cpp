@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/source_dir.h"
+
 namespace puppet::compare {
 namespace {
 

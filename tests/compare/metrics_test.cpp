@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "puppet/model/rotation.h"
+#include "support/source_dir.h"
 
 namespace puppet::compare {
 namespace {

@@ -8,6 +8,7 @@
 
 #include "puppet/compare/run.h"
 #include "support/csv.h"
+#include "support/source_dir.h"
 
 namespace puppet::compare {
 namespace {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "puppet/compare/metrics.h"
+#include "support/source_dir.h"
 
 namespace puppet::compare {
 namespace {

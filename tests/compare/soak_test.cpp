@@ -15,6 +15,7 @@
 #include "puppet/compare/metrics.h"
 #include "puppet/compare/simulator.h"
 #include "puppet/model/environment.h"
+#include "support/source_dir.h"
 
 namespace puppet::compare {
 namespace {

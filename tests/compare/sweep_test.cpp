@@ -12,6 +12,7 @@
 
 #include "puppet/compare/output.h"
 #include "support/csv.h"
+#include "support/source_dir.h"
 
 namespace puppet::compare {
 namespace {

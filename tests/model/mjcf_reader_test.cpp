@@ -15,6 +15,7 @@
 #include "puppet/model/model.h"
 #include "puppet/model/rotation.h"
 #include "support/random.h"
+#include "support/source_dir.h"
 
 namespace puppet {
 namespace {

@@ -9,6 +9,7 @@
 
 #include "puppet/model/model.h"
 #include "puppet/model/rotation.h"
+#include "support/source_dir.h"
 
 namespace puppet {
 namespace {

@@ -9,6 +9,7 @@
 #include "puppet/compare/scenario.h"
 #include "puppet/procedural/crowd.h"
 #include "puppet/procedural/solver.h"
+#include "support/source_dir.h"
 
 namespace {
 std::atomic<long> g_allocations{0};

@@ -9,6 +9,7 @@
 
 #include "puppet/model/model.h"
 #include "puppet/procedural/solver.h"
+#include "support/source_dir.h"
 
 namespace puppet::procedural {
 namespace {

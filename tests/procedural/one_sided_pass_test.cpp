@@ -12,6 +12,7 @@
 #include "puppet/model/model.h"
 #include "puppet/model/rotation.h"
 #include "stages.h"
+#include "support/source_dir.h"
 #include "workspace.h"
 
 namespace puppet::procedural {

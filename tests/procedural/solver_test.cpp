@@ -14,6 +14,7 @@
 #include "puppet/model/rotation.h"
 #include "support/pendulum.h"
 #include "support/rule_runs.h"
+#include "support/source_dir.h"
 #include "support/spinning_box.h"
 #include "support/state_hash.h"
 

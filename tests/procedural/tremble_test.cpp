@@ -5,6 +5,7 @@
 #include "puppet/compare/scenario.h"
 #include "puppet/compare/simulator.h"
 #include "puppet/procedural/solver.h"
+#include "support/source_dir.h"
 #include "support/state_hash.h"
 
 namespace puppet::procedural {

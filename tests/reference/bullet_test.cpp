@@ -14,6 +14,7 @@
 #include "puppet/model/rotation.h"
 #include "support/pendulum.h"
 #include "support/reference_runs.h"
+#include "support/source_dir.h"
 
 namespace puppet::reference {
 namespace {

@@ -19,6 +19,7 @@
 #include "puppet/reference/bullet.h"
 #include "puppet/reference/mujoco.h"
 #include "support/box_faces.h"
+#include "support/source_dir.h"
 
 namespace puppet::reference {
 namespace {

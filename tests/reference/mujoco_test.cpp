@@ -22,6 +22,7 @@
 #include "support/pendulum.h"
 #include "support/reference_runs.h"
 #include "support/rule_runs.h"
+#include "support/source_dir.h"
 
 namespace puppet::reference {
 namespace {

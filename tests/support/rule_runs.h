@@ -12,6 +12,7 @@
 #include "puppet/compare/scenario.h"
 #include "puppet/procedural/solver.h"
 #include "support/pendulum.h"
+#include "support/source_dir.h"
 #include "support/state_hash.h"
 
 namespace puppet::test {

@@ -9,6 +9,7 @@
 
 #include "puppet/compare/metrics.h"
 #include "puppet/compare/run.h"
+#include "support/source_dir.h"
 
 namespace puppet::viewer {
 namespace {
