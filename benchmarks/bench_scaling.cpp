@@ -3,8 +3,10 @@
 //   scaling/<solver or rule>/N   one step of chain:N (N capsules hanging from ball joints) in
 //                                `hang`, N = 4 … 1024, with the complexity fitted over N;
 //                                counter segment_s: seconds per segment and step
-//   crowd/<rule>/puppets:K/threads:T   K independent Pinocchios in `drag` stepped by a
-//                                procedural::Crowd on T threads; items are puppet-steps
+//   crowd/<rule>/puppets:K/threads:T/lanes:L   K independent Pinocchios in `drag` stepped by a
+//                                procedural::Crowd on T threads, L puppets per SIMD batch (xpbd:
+//                                1, 2 (SSE2) and 4 (AVX2); the other rules: 1); items are
+//                                puppet-steps
 #include <memory>
 #include <vector>
 
@@ -35,14 +37,24 @@ void scaling_benchmark(benchmark::State& state, const SolverConfig& config) {
 // puppet's state) is not timed
 constexpr int kCrowdBatchSteps = 8;
 
+procedural::CrowdLanes crowd_lanes(int64_t lanes) {
+  if (lanes == 4) return procedural::CrowdLanes::kWidest;
+  return lanes == 2 ? procedural::CrowdLanes::kTwo : procedural::CrowdLanes::kNone;
+}
+
 void crowd_benchmark(benchmark::State& state, procedural::Rule rule) {
   const int puppets = static_cast<int>(state.range(0));
   const int threads = static_cast<int>(state.range(1));
+  const int lanes = static_cast<int>(state.range(2));
   const Workload workload = make_workload(pinocchio(), "drag", kCrowdBatchSteps);
   const compare::Scenario& scenario = workload.scenario;
   const auto lone = warmed_up_solver(state, workload, rule);
   procedural::Crowd crowd(pinocchio(), procedural_settings(workload, rule), scenario.environment,
-                          puppets, threads);
+                          puppets, threads, crowd_lanes(lanes));
+  if (crowd.lanes() != lanes) {
+    state.SkipWithError("this processor has no such lanes");
+    return;
+  }
   for (int k = 0; k < puppets; ++k) crowd.puppet(k).set_pins(scenario.initial_pins());
   const std::vector<Vector3d>* step_targets = nullptr;
   const procedural::Crowd::Control follow = [&step_targets](int, procedural::Solver& puppet) {
@@ -92,10 +104,12 @@ int main(int argc, char** argv) {
     const bool substepped = rule == procedural::Rule::kXpbd || rule == procedural::Rule::kTree;
     const std::vector<int64_t> puppets =
         substepped ? std::vector<int64_t>{1000} : std::vector<int64_t>{1000, 20000};
+    const std::vector<int64_t> lanes =
+        rule == procedural::Rule::kXpbd ? std::vector<int64_t>{1, 2, 4} : std::vector<int64_t>{1};
     benchmark::RegisterBenchmark(("crowd/" + name).c_str(),
                                  [rule](benchmark::State& state) { crowd_benchmark(state, rule); })
-        ->ArgNames({"puppets", "threads"})
-        ->ArgsProduct({puppets, {1, 2}})
+        ->ArgNames({"puppets", "threads", "lanes"})
+        ->ArgsProduct({puppets, {1, 2}, lanes})
         ->UseManualTime()
         ->Unit(benchmark::kMillisecond);
   }

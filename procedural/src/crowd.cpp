@@ -1,22 +1,37 @@
 #include "puppet/procedural/crowd.h"
 
 #include <algorithm>
+#include <span>
 #include <stdexcept>
+
+#include "lanes/lane_stepper.h"
 
 namespace puppet::procedural {
 
+struct Crowd::LaneScratch : lanes::LaneStepper::Scratch {
+  using Scratch::Scratch;
+};
+
 Crowd::Crowd(const Model& model, const Settings& settings, const Environment& environment,
-             int puppets, int threads) {
+             int puppets, int threads, CrowdLanes lanes) {
   if (puppets < 1) throw std::invalid_argument("a crowd needs at least one puppet");
   if (threads < 1) throw std::invalid_argument("a crowd needs at least one thread");
   puppets_.reserve(puppets);
   const std::shared_ptr<const ModelTables> tables = make_model_tables(model);
   for (int k = 0; k < puppets; ++k) {
     puppets_.push_back(std::make_unique<Solver>(model, settings, environment, tables));
+    puppet_pointers_.push_back(puppets_.back().get());
+  }
+  lanes_ = lanes::LaneStepper::make(*puppets_[0], lanes);
+  if (lanes_) {
+    for (int t = 0; t < threads; ++t)
+      lane_scratch_.push_back(std::make_unique<LaneScratch>(*lanes_));
   }
   ranges_ = std::make_unique<Range[]>(threads);
   for (int t = 1; t < threads; ++t) workers_.emplace_back([this, t] { work(t); });
 }
+
+int Crowd::lanes() const { return lanes_ ? lanes_->width() : 1; }
 
 Crowd::~Crowd() {
   {
@@ -69,6 +84,10 @@ void Crowd::step_range(int thread, double dt, const Control& control) {
     const bool own = owner == thread;
     int begin = 0, end = 0;
     while (take(owner, own, &begin, &end)) {
+      if (lanes_) {
+        step_lanes(thread, begin, end, dt, control);
+        continue;
+      }
       // prefetch across its own chunks, which follow each other
       const int prefetch_end = own ? own_end : end;
       for (int k = begin; k < end; ++k) {
@@ -77,6 +96,17 @@ void Crowd::step_range(int thread, double dt, const Control& control) {
         puppets_[k]->step(dt);
       }
     }
+  }
+}
+
+void Crowd::step_lanes(int thread, int begin, int end, double dt, const Control& control) {
+  const int width = lanes_->width();
+  for (int k = begin; k < end; k += width) {
+    const int batch_end = std::min(end, k + width);
+    if (control) {
+      for (int i = k; i < batch_end; ++i) control(i, *puppets_[i]);
+    }
+    lanes_->step(std::span(puppet_pointers_).subspan(k, batch_end - k), dt, *lane_scratch_[thread]);
   }
 }
 

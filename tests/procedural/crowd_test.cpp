@@ -5,6 +5,8 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <thread>
 
 #include <memory>
@@ -83,6 +85,129 @@ TEST(Crowd, EveryPuppetMatchesALoneSolverBitForBit) {
   }
   // and the puppets really differ
   EXPECT_NE(lone[0][5].x, lone[1][5].x);
+}
+
+// xpbd's puppets in lanes against lone solvers, in the scenarios a crowd meets (drag: two pins,
+// one moving, air drag; shake: a pin shaken; a compliant grab; compliant joints and limits; a
+// user's force and torque). Seven puppets of differing tilt: one batch of 4 and one of 3 on the
+// AVX2 path (the last lane repeats the first), and one puppet with other pins (a single pin) that
+// its batch steps alone.
+struct LaneCase {
+  const char* scenario;
+  double pin_compliance, joint_compliance, limit_compliance;
+  bool push;
+};
+
+struct LaneRun {
+  std::vector<std::vector<BodyState>> bodies;  // by puppet
+  std::vector<double> time;
+};
+
+constexpr int kLanePuppets = 7, kLaneSteps = 120;
+constexpr double kLaneDt = 1.0 / 240.0;
+
+std::vector<compare::Scenario> lane_scenarios(const Model& model, const LaneCase& c) {
+  std::vector<compare::Scenario> scenarios;
+  for (int k = 0; k < kLanePuppets; ++k) {
+    compare::ScenarioOptions options;
+    options.tilt_deg = 4.0 + 6.0 * k;
+    scenarios.push_back(compare::make_scenario(c.scenario, model, options));
+    for (compare::PinPath& path : scenarios.back().pins) path.pin.compliance = c.pin_compliance;
+  }
+  // the fifth puppet keeps its first pin only
+  scenarios[4].pins.resize(1);
+  return scenarios;
+}
+
+Settings lane_settings(const LaneCase& c) {
+  Settings settings;
+  settings.rule = Rule::kXpbd;
+  settings.joint_compliance = c.joint_compliance;
+  settings.limit_compliance = c.limit_compliance;
+  return settings;
+}
+
+// one step's control of puppet k at time t: its pins' targets, and a push on its chest
+void lane_control(const LaneCase& c, const compare::Scenario& scenario, double t, int k,
+                  std::vector<Vector3d>& targets, Solver& puppet) {
+  scenario.targets_at(t, targets);
+  puppet.set_pin_targets(targets);
+  if (c.push) {  // the state's own fields: the solver has no setter for a user's force
+    State state = puppet.state();
+    state.user_force[2] = Vector3d(40.0 * std::sin(9.0 * t + k), 0.0, 15.0);
+    state.user_torque[2] = Vector3d(0.0, 3.0, 6.0 * std::cos(7.0 * t));
+    puppet.restore(state);
+  }
+}
+
+LaneRun run_lone(const Model& model, const LaneCase& c) {
+  const std::vector<compare::Scenario> scenarios = lane_scenarios(model, c);
+  LaneRun run;
+  for (int k = 0; k < kLanePuppets; ++k) {
+    Solver solver(model, lane_settings(c), scenarios[k].environment);
+    solver.reset(scenarios[k].initial);
+    solver.set_pins(scenarios[k].initial_pins());
+    std::vector<Vector3d> targets;
+    for (int step = 0; step < kLaneSteps; ++step) {
+      lane_control(c, scenarios[k], (step + 1) * kLaneDt, k, targets, solver);
+      solver.step(kLaneDt);
+    }
+    run.bodies.push_back(solver.state().bodies);
+    run.time.push_back(solver.state().time);
+  }
+  return run;
+}
+
+LaneRun run_crowd(const Model& model, const LaneCase& c, CrowdLanes lanes, int threads,
+                  int* width) {
+  const std::vector<compare::Scenario> scenarios = lane_scenarios(model, c);
+  Crowd crowd(model, lane_settings(c), scenarios[0].environment, kLanePuppets, threads, lanes);
+  *width = crowd.lanes();
+  for (int k = 0; k < kLanePuppets; ++k) {
+    crowd.puppet(k).reset(scenarios[k].initial);
+    crowd.puppet(k).set_pins(scenarios[k].initial_pins());
+  }
+  std::vector<std::vector<Vector3d>> targets(kLanePuppets);
+  double t = 0.0;
+  const Crowd::Control control = [&](int k, Solver& puppet) {
+    lane_control(c, scenarios[k], t, k, targets[k], puppet);
+  };
+  for (int step = 0; step < kLaneSteps; ++step) {
+    t = (step + 1) * kLaneDt;
+    crowd.step(kLaneDt, control);
+  }
+  LaneRun run;
+  for (int k = 0; k < kLanePuppets; ++k) {
+    run.bodies.push_back(crowd.puppet(k).state().bodies);
+    run.time.push_back(crowd.puppet(k).state().time);
+  }
+  return run;
+}
+
+TEST(CrowdLanes, XpbdLanesMatchLoneSolversToRounding) {
+  const Model model = compare::load_named_model("pinocchio");
+  for (const LaneCase& c :
+       {LaneCase{"drag", 0.0, 0.0, 0.0, false}, LaneCase{"shake", 0.0, 0.0, 0.0, false},
+        LaneCase{"drag", 1e-3, 1e-7, 1e-5, false}, LaneCase{"drag", 0.0, 0.0, 0.0, true}}) {
+    SCOPED_TRACE(c.scenario);
+    const LaneRun lone = run_lone(model, c);
+    int width = 0;
+    const LaneRun lanes = run_crowd(model, c, CrowdLanes::kWidest, 2, &width);
+    EXPECT_GE(width, 2);
+    double worst_x = 0.0, worst_q = 0.0, worst_v = 0.0;
+    for (int k = 0; k < kLanePuppets; ++k) {
+      for (size_t s = 0; s < lone.bodies[k].size(); ++s) {
+        const BodyState& a = lone.bodies[k][s];
+        const BodyState& b = lanes.bodies[k][s];
+        worst_x = std::max(worst_x, (a.x - b.x).norm());
+        worst_q = std::max(worst_q, std::min((a.q.coeffs() - b.q.coeffs()).norm(),
+                                             (a.q.coeffs() + b.q.coeffs()).norm()));
+        worst_v = std::max(worst_v, (a.v - b.v).norm());
+      }
+      EXPECT_EQ(lone.time[k], lanes.time[k]);
+    }
+    std::printf("%s: x %.3g q %.3g v %.3g\n", c.scenario, worst_x, worst_q, worst_v);
+  }
 }
 
 // A thread done with its own range takes puppets from the back of another's: every puppet is

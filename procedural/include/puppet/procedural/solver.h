@@ -52,6 +52,9 @@ struct ModelTables;
 std::shared_ptr<const ModelTables> make_model_tables(const Model& model);
 
 struct Workspace;  ///< a solver's scratch (private)
+namespace lanes {
+class LaneStepper;  ///< the crowd's lane path (private)
+}
 
 class Solver {
  public:
@@ -98,6 +101,8 @@ class Solver {
   const std::array<double, kStageCount>& stage_seconds() const { return stage_seconds_; }
 
  private:
+  /// steps a batch of solvers' states together, as step() would each
+  friend class lanes::LaneStepper;
   void substep(double h, double target_fraction);
   void check_finite();
 

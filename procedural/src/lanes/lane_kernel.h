@@ -1,0 +1,86 @@
+// The interface between the crowd's lane stepper (lane_stepper.cpp, built for any x86-64) and
+// xpbd's substep kernel, compiled once per instruction set (xpbd_lanes_sse2.cpp: 2 lanes,
+// xpbd_lanes_avx2.cpp: 4). Plain data only: a kernel's file includes nothing that another file
+// also instantiates, so no inline function compiled for AVX2 can be linked into a caller that
+// runs on a machine without it.
+//
+// A batch's state is an array of slots of `lanes` doubles each, one lane per puppet:
+//   body b, field f         slot b·kBodyFields + f            (x, q (w x y z), v, ω, x_prev,
+//   q_prev,
+//                                                              the user's force and torque)
+//   pin p, field f          slot pin_offset + p·kPinFields + f
+//   multipliers             slot lambda_offset + …            (the kernel's own scratch)
+#pragma once
+
+namespace puppet::procedural::lanes {
+
+enum BodyField {
+  kX = 0,
+  kQ = 3,  // w, x, y, z
+  kV = 7,
+  kW = 10,
+  kXPrev = 13,
+  kQPrev = 16,  // w, x, y, z
+  kForce = 20,
+  kTorque = 23,
+  kBodyFields = 26,
+};
+enum PinField {
+  kPinPoint = 0,       // the pinned point in its segment's frame
+  kPinCompliance = 3,  // m/N
+  kPinFrom = 4,        // the target at the start of the step
+  kPinTo = 7,          // and at its end
+  kPinForce = 10,      // out: the pull of the last substep, as Solver's pin_force
+  kPinFields = 11,
+};
+
+struct SegmentTerms {
+  double mass, inv_mass;
+  double inertia[3], inv_inertia[3];  // diagonal, in the segment's frame
+};
+struct JointPlan {
+  int parent, child;
+  double anchor_parent[3], anchor_child[3];  // the joint point in each segment's frame
+  double mass_parent[9], mass_child[9];      // JointTerms::point_mass, row-major
+  double frame_shift[4];                     // w, x, y, z: JointTerms::frame_shift
+  double limit_free_w;                       // JointTerms::limit_free_w
+};
+
+// A joint's limit error for one lane, computed by the scalar solver's own limit_error(): false
+// when the joint is inside its limits, else the child's rotation vector in `error`.
+// child_to_parent is q_c⁻¹ q_p (w, x, y, z).
+using LimitError = bool (*)(const void* context, int joint, const double child_to_parent[4],
+                            double error[3]);
+
+// everything one step of a batch reads besides its state
+struct Plan {
+  int segments = 0, joints = 0;
+  const SegmentTerms* segment = nullptr;
+  const JointPlan* joint = nullptr;
+  // the joints in the adjust pass's order from the batch's anchor (AnchorOrder::links)
+  const int* order = nullptr;
+  int links = 0;
+  int pins = 0;
+  const int* pin_segment = nullptr;  // shared by every lane of the batch
+  int pin_offset = 0, lambda_offset = 0;
+  double gravity[3] = {0, 0, 0};
+  double air_rate = 0.0;  // step_drag_rate(air drag, h)
+  int substeps = 1, iterations = 1;
+  double h = 0.0;
+  double joint_compliance = 0.0, limit_compliance = 0.0;
+  bool derive_velocities = true;
+  LimitError limit_error = nullptr;
+  const void* limit_context = nullptr;
+};
+
+// slots of a batch of this plan's model
+inline int slot_count(int segments, int joints, int pins) {
+  return segments * kBodyFields + pins * kPinFields + 6 * joints + 3 * pins;
+}
+
+// one step of h·substeps on every lane of `slots` (32-byte aligned); returns a bit per lane that
+// met a non-finite value at the end of some substep (its state is then not to be used)
+unsigned step_xpbd_sse2(const Plan& plan, double* slots);
+unsigned step_xpbd_avx2(const Plan& plan, double* slots);
+
+}  // namespace puppet::procedural::lanes

@@ -1,0 +1,223 @@
+// The crowd's lane path (lane_stepper.h): a batch's states copied into the kernel's lanes and
+// back, the kernel chosen by the processor's instruction set, and what the kernel cannot do in
+// lanes (a limit's decomposition) answered by the scalar solver's own functions.
+#include "lane_stepper.h"
+
+#include <array>
+#include <new>
+
+#include "../joint_limits.h"
+#include "../model_tables.h"
+#include "../workspace.h"
+
+namespace puppet::procedural::lanes {
+namespace {
+
+constexpr std::align_val_t kAlignment{64};
+
+bool lane_limit_error(const void* context, int joint, const double child_to_parent[4],
+                      double error[3]) {
+  const auto& tables = *static_cast<const std::pair<const Model*, const ModelTables*>*>(context);
+  Vector3d lane_error;
+  const Quaterniond q(child_to_parent[0], child_to_parent[1], child_to_parent[2],
+                      child_to_parent[3]);
+  if (!limit_error(tables.first->joints[joint], tables.second->joints[joint], q, &lane_error)) {
+    return false;
+  }
+  for (int k = 0; k < 3; ++k) error[k] = lane_error[k];
+  return true;
+}
+
+bool has_avx2() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2");
+}
+
+void put3(double* slots, int width, int slot, int lane, const Vector3d& v) {
+  for (int k = 0; k < 3; ++k) slots[(slot + k) * width + lane] = v[k];
+}
+void put4(double* slots, int width, int slot, int lane, const Quaterniond& q) {
+  slots[slot * width + lane] = q.w();
+  slots[(slot + 1) * width + lane] = q.x();
+  slots[(slot + 2) * width + lane] = q.y();
+  slots[(slot + 3) * width + lane] = q.z();
+}
+Vector3d get3(const double* slots, int width, int slot, int lane) {
+  return {slots[slot * width + lane], slots[(slot + 1) * width + lane],
+          slots[(slot + 2) * width + lane]};
+}
+Quaterniond get4(const double* slots, int width, int slot, int lane) {
+  return {slots[slot * width + lane], slots[(slot + 1) * width + lane],
+          slots[(slot + 2) * width + lane], slots[(slot + 3) * width + lane]};
+}
+
+}  // namespace
+
+std::unique_ptr<LaneStepper> LaneStepper::make(const Solver& puppet, CrowdLanes lanes) {
+  if (lanes == CrowdLanes::kNone) return nullptr;
+  const Settings& settings = puppet.settings();
+  const Environment& environment = puppet.environment();
+  if (settings.rule != Rule::kXpbd || settings.tremble || settings.time_stages ||
+      environment.water || environment.ground || puppet.tables_->orders.empty()) {
+    return nullptr;
+  }
+  const int width = lanes == CrowdLanes::kWidest && has_avx2() ? 4 : 2;
+  return std::unique_ptr<LaneStepper>(new LaneStepper(puppet, width));
+}
+
+LaneStepper::LaneStepper(const Solver& puppet, int width) : width_(width) {
+  kernel_ = width == 4 ? step_xpbd_avx2 : step_xpbd_sse2;
+  const Model& model = puppet.model();
+  const ModelTables& tables = *puppet.tables_;
+  segments_ = model.segment_count();
+  joints_ = model.joint_count();
+  for (const Segment& segment : model.segments) {
+    SegmentTerms terms{segment.mass, segment.inv_mass, {}, {}};
+    for (int k = 0; k < 3; ++k) {
+      terms.inertia[k] = segment.inertia[k];
+      terms.inv_inertia[k] = segment.inv_inertia[k];
+    }
+    segment_terms_.push_back(terms);
+  }
+  for (int j = 0; j < joints_; ++j) {
+    const Joint& joint = model.joints[j];
+    const JointTerms& terms = tables.joints[j];
+    JointPlan plan{};
+    plan.parent = joint.parent;
+    plan.child = joint.child;
+    for (int k = 0; k < 3; ++k) {
+      plan.anchor_parent[k] = joint.anchor_in_parent[k];
+      plan.anchor_child[k] = joint.anchor_in_child[k];
+      for (int c = 0; c < 3; ++c) {
+        plan.mass_parent[3 * k + c] = terms.point_mass[0](k, c);
+        plan.mass_child[3 * k + c] = terms.point_mass[1](k, c);
+      }
+    }
+    plan.frame_shift[0] = terms.frame_shift.w();
+    plan.frame_shift[1] = terms.frame_shift.x();
+    plan.frame_shift[2] = terms.frame_shift.y();
+    plan.frame_shift[3] = terms.frame_shift.z();
+    plan.limit_free_w = terms.limit_free_w;
+    joint_plans_.push_back(plan);
+  }
+  for (const AnchorOrder& order : tables.orders) {
+    std::vector<int> joints;
+    for (const AnchorOrder::Link& link : order.links) joints.push_back(link.joint);
+    orders_.push_back(std::move(joints));
+  }
+  limit_context_ = {&model, &tables};
+  const Settings& settings = puppet.settings();
+  base_.segments = segments_;
+  base_.joints = joints_;
+  base_.segment = segment_terms_.data();
+  base_.joint = joint_plans_.data();
+  for (int k = 0; k < 3; ++k) base_.gravity[k] = puppet.environment().gravity[k];
+  base_.substeps = settings.substeps;
+  base_.iterations = settings.iterations;
+  base_.joint_compliance = settings.joint_compliance;
+  base_.limit_compliance = settings.limit_compliance;
+  base_.derive_velocities = settings.derive_velocities;
+  base_.limit_error = lane_limit_error;
+  base_.limit_context = &limit_context_;
+}
+
+LaneStepper::~LaneStepper() = default;
+
+LaneStepper::Scratch::Scratch(const LaneStepper& stepper)
+    : slots_(static_cast<double*>(
+          ::operator new[](sizeof(double) * stepper.width() *
+                               slot_count(stepper.segments_, stepper.joints_, kMaxPins),
+                           kAlignment))) {}
+
+void LaneStepper::Scratch::Free::operator()(double* p) const { ::operator delete[](p, kAlignment); }
+
+void LaneStepper::step(std::span<Solver* const> puppets, double dt, Scratch& scratch) const {
+  // the batch: the first steppable puppet and those with its pins; every other one alone
+  std::array<Solver*, 4> batch{};
+  int lanes = 0;
+  const State* leader = nullptr;
+  for (Solver* puppet : puppets) {
+    const State& state = puppet->state_;
+    bool fits = dt > 0.0 && !state.diverged && lanes < width_;
+    if (fits && leader) {
+      fits = state.pin_count == leader->pin_count;
+      for (int i = 0; fits && i < state.pin_count; ++i) {
+        fits = state.pins[i].segment == leader->pins[i].segment;
+      }
+    }
+    if (!fits) {
+      puppet->step(dt);
+      continue;
+    }
+    if (!leader) leader = &state;
+    batch[lanes++] = puppet;
+  }
+  if (lanes == 0) return;
+
+  Plan plan = base_;
+  plan.h = dt / plan.substeps;
+  plan.air_rate = step_drag_rate(batch[0]->environment().air_drag, plan.h);
+  const int anchor = leader->pin_count > 0 ? leader->pins[0].segment : 0;
+  plan.order = orders_[anchor].data();
+  plan.links = static_cast<int>(orders_[anchor].size());
+  plan.pins = leader->pin_count;
+  std::array<int, kMaxPins> pin_segment{};
+  for (int i = 0; i < plan.pins; ++i) pin_segment[i] = leader->pins[i].segment;
+  plan.pin_segment = pin_segment.data();
+  plan.pin_offset = segments_ * kBodyFields;
+  plan.lambda_offset = plan.pin_offset + plan.pins * kPinFields;
+
+  // into lanes; a batch short of the width repeats its first puppet in the rest (not read back)
+  double* slots = scratch.slots();
+  const int width = width_;
+  for (int lane = 0; lane < width; ++lane) {
+    const State& state = batch[lane < lanes ? lane : 0]->state_;
+    for (int b = 0; b < segments_; ++b) {
+      const BodyState& body = state.bodies[b];
+      const int base = b * kBodyFields;
+      put3(slots, width, base + kX, lane, body.x);
+      put4(slots, width, base + kQ, lane, body.q);
+      put3(slots, width, base + kV, lane, body.v);
+      put3(slots, width, base + kW, lane, body.w);
+      put3(slots, width, base + kForce, lane, state.user_force[b]);
+      put3(slots, width, base + kTorque, lane, state.user_torque[b]);
+    }
+    for (int i = 0; i < plan.pins; ++i) {
+      const int base = plan.pin_offset + i * kPinFields;
+      put3(slots, width, base + kPinPoint, lane, state.pins[i].local_point);
+      slots[(base + kPinCompliance) * width + lane] = state.pins[i].compliance;
+      put3(slots, width, base + kPinFrom, lane, state.pin_previous_target[i]);
+      put3(slots, width, base + kPinTo, lane, state.pins[i].target);
+    }
+  }
+
+  const unsigned non_finite = kernel_(plan, slots);
+
+  // back, as Solver::step leaves a state; a lane that met a non-finite value steps alone
+  for (int lane = 0; lane < lanes; ++lane) {
+    Solver& puppet = *batch[lane];
+    if (non_finite & (1u << lane)) {
+      puppet.step(dt);
+      continue;
+    }
+    State& state = puppet.state_;
+    for (int b = 0; b < segments_; ++b) {
+      BodyState& body = state.bodies[b];
+      const int base = b * kBodyFields;
+      body.x = get3(slots, width, base + kX, lane);
+      body.q = get4(slots, width, base + kQ, lane);
+      body.v = get3(slots, width, base + kV, lane);
+      body.w = get3(slots, width, base + kW, lane);
+      state.x_prev[b] = get3(slots, width, base + kXPrev, lane);
+      state.q_prev[b] = get4(slots, width, base + kQPrev, lane);
+    }
+    for (int i = 0; i < plan.pins; ++i) {
+      state.pin_force[i] = slots[(plan.pin_offset + i * kPinFields + kPinForce) * width + lane];
+      state.pin_previous_target[i] = state.pins[i].target;
+    }
+    for (int k = 0; k < plan.substeps; ++k) state.time += plan.h;
+    puppet.stage_seconds_.fill(0.0);
+  }
+}
+
+}  // namespace puppet::procedural::lanes

@@ -1,0 +1,58 @@
+// The crowd's lane path: batches of xpbd puppets stepped together, one per SIMD lane, by the
+// kernel of the widest instruction set the processor has (lane_kernel.h). A puppet's state stays
+// in its Solver; a batch is copied into lanes, stepped, and copied back. Private to the crowd.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "lane_kernel.h"
+#include "puppet/procedural/crowd.h"
+
+namespace puppet::procedural::lanes {
+
+class LaneStepper {
+ public:
+  // a stepper for puppets made like `puppet` (every puppet of a crowd is), or null when they
+  // cannot be stepped in lanes: a rule other than xpbd, water, the ground, tremble, timed stages,
+  // a model too large to keep its anchor orders, or `lanes` kNone
+  static std::unique_ptr<LaneStepper> make(const Solver& puppet, CrowdLanes lanes);
+  ~LaneStepper();
+
+  int width() const { return width_; }
+
+  // one thread's copy of a batch in lanes, sized once
+  class Scratch {
+   public:
+    explicit Scratch(const LaneStepper& stepper);
+    double* slots() { return slots_.get(); }
+
+   private:
+    struct Free {
+      void operator()(double* p) const;
+    };
+    std::unique_ptr<double[], Free> slots_;
+  };
+
+  // steps `puppets` (at most width()) by dt, as Solver::step would: those that share the first
+  // steppable puppet's pins (count and segments) together in lanes, every other one alone, and a
+  // lane that meets a non-finite value again alone from its start, so that its divergence is
+  // flagged exactly as a lone solver flags it. Allocates nothing.
+  void step(std::span<Solver* const> puppets, double dt, Scratch& scratch) const;
+
+ private:
+  LaneStepper(const Solver& puppet, int width);
+
+  int width_ = 1;
+  unsigned (*kernel_)(const Plan&, double*) = nullptr;
+  int segments_ = 0, joints_ = 0;
+  std::vector<SegmentTerms> segment_terms_;
+  std::vector<JointPlan> joint_plans_;
+  std::vector<std::vector<int>> orders_;  // by anchor: the joints in AnchorOrder::links' order
+  std::pair<const Model*, const ModelTables*> limit_context_;  // lane_limit_error's
+  Plan base_;                                                  // all but h, the order and the pins
+};
+
+}  // namespace puppet::procedural::lanes
