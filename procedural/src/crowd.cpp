@@ -100,14 +100,10 @@ void Crowd::step_range(int thread, double dt, const Control& control) {
 }
 
 void Crowd::step_lanes(int thread, int begin, int end, double dt, const Control& control) {
-  const int width = lanes_->width();
-  for (int k = begin; k < end; k += width) {
-    const int batch_end = std::min(end, k + width);
-    if (control) {
-      for (int i = k; i < batch_end; ++i) control(i, *puppets_[i]);
-    }
-    lanes_->step(std::span(puppet_pointers_).subspan(k, batch_end - k), dt, *lane_scratch_[thread]);
+  if (control) {
+    for (int k = begin; k < end; ++k) control(k, *puppets_[k]);
   }
+  lanes_->step(std::span(puppet_pointers_).subspan(begin, end - begin), dt, *lane_scratch_[thread]);
 }
 
 void Crowd::work(int thread) {

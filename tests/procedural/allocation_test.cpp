@@ -107,28 +107,34 @@ TEST(Allocation, NoneInsideAStepOfALargeModel) {
 TEST(Allocation, NoneInsideACrowdStep) {
   const Model model = load_model(kPinocchio);
   const compare::Scenario scenario = compare::make_scenario("drag", model);
-  Crowd crowd(model, Settings{}, scenario.environment, 6, 2);
-  for (int k = 0; k < crowd.size(); ++k) {
-    crowd.puppet(k).reset(scenario.initial);
-    crowd.puppet(k).set_pins(scenario.initial_pins());
+  // relaxed one by one, xpbd in lanes (a partial batch included: 6 puppets)
+  for (Rule rule : {Rule::kRelaxed, Rule::kXpbd}) {
+    Settings settings;
+    settings.rule = rule;
+    Crowd crowd(model, settings, scenario.environment, 6, 2);
+    EXPECT_EQ(crowd.lanes() > 1, rule == Rule::kXpbd) << rule_name(rule);
+    for (int k = 0; k < crowd.size(); ++k) {
+      crowd.puppet(k).reset(scenario.initial);
+      crowd.puppet(k).set_pins(scenario.initial_pins());
+    }
+    const long during =
+        allocations_while_stepping(scenario, 20, [&](const std::vector<Vector3d>& targets) {
+          for (int k = 0; k < crowd.size(); ++k) crowd.puppet(k).set_pin_targets(targets);
+          crowd.step(1.0 / 60.0);
+        });
+    EXPECT_EQ(during, 0) << rule_name(rule);
+    // with a control, built once outside the steps as the crowd's interface asks
+    const std::vector<Vector3d>* current = nullptr;
+    const Crowd::Control control = [&current](int, Solver& puppet) {
+      puppet.set_pin_targets(*current);
+    };
+    const long with_control =
+        allocations_while_stepping(scenario, 20, [&](const std::vector<Vector3d>& targets) {
+          current = &targets;
+          crowd.step(1.0 / 60.0, control);
+        });
+    EXPECT_EQ(with_control, 0) << rule_name(rule);
   }
-  const long during =
-      allocations_while_stepping(scenario, 20, [&](const std::vector<Vector3d>& targets) {
-        for (int k = 0; k < crowd.size(); ++k) crowd.puppet(k).set_pin_targets(targets);
-        crowd.step(1.0 / 60.0);
-      });
-  EXPECT_EQ(during, 0);
-  // with a control, built once outside the steps as the crowd's interface asks
-  const std::vector<Vector3d>* current = nullptr;
-  const Crowd::Control control = [&current](int, Solver& puppet) {
-    puppet.set_pin_targets(*current);
-  };
-  const long with_control =
-      allocations_while_stepping(scenario, 20, [&](const std::vector<Vector3d>& targets) {
-        current = &targets;
-        crowd.step(1.0 / 60.0, control);
-      });
-  EXPECT_EQ(with_control, 0);
 }
 
 }  // namespace

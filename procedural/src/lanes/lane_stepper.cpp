@@ -3,7 +3,9 @@
 // lanes (a limit's decomposition) answered by the scalar solver's own functions.
 #include "lane_stepper.h"
 
+#include <algorithm>
 #include <array>
+#include <cstdint>
 #include <new>
 
 #include "../joint_limits.h"
@@ -131,29 +133,54 @@ LaneStepper::Scratch::Scratch(const LaneStepper& stepper)
 
 void LaneStepper::Scratch::Free::operator()(double* p) const { ::operator delete[](p, kAlignment); }
 
+namespace {
+
+bool same_pins(const State& a, const State& b) {
+  if (a.pin_count != b.pin_count) return false;
+  for (int i = 0; i < a.pin_count; ++i) {
+    if (a.pins[i].segment != b.pins[i].segment) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 void LaneStepper::step(std::span<Solver* const> puppets, double dt, Scratch& scratch) const {
-  // the batch: the first steppable puppet and those with its pins; every other one alone
-  std::array<Solver*, 4> batch{};
-  int lanes = 0;
-  const State* leader = nullptr;
-  for (Solver* puppet : puppets) {
-    const State& state = puppet->state_;
-    bool fits = dt > 0.0 && !state.diverged && lanes < width_;
-    if (fits && leader) {
-      fits = state.pin_count == leader->pin_count;
-      for (int i = 0; fits && i < state.pin_count; ++i) {
-        fits = state.pins[i].segment == leader->pins[i].segment;
+  // every puppet goes through lanes (whatever its neighbours, so that its bits do not depend on
+  // its batch), in batches of the first waiting puppet and the next ones with its pins; a
+  // diverged one (or any, for dt ≤ 0) is left to Solver::step, which leaves it as it is
+  constexpr size_t kWindow = 64;  // puppets sorted into batches at a time: one bit each
+  for (size_t start = 0; start < puppets.size(); start += kWindow) {
+    const size_t count = std::min(kWindow, puppets.size() - start);
+    uint64_t waiting = 0;
+    for (size_t i = 0; i < count; ++i) {
+      Solver& puppet = *puppets[start + i];
+      if (dt > 0.0 && !puppet.state_.diverged) {
+        waiting |= uint64_t{1} << i;
+      } else {
+        puppet.step(dt);
       }
     }
-    if (!fits) {
-      puppet->step(dt);
-      continue;
+    while (waiting != 0) {
+      std::array<Solver*, 4> batch{};
+      int lanes = 0;
+      const State* leader = nullptr;
+      for (size_t i = 0; i < count && lanes < width_; ++i) {
+        if (!(waiting & (uint64_t{1} << i))) continue;
+        Solver* puppet = puppets[start + i];
+        if (leader && !same_pins(puppet->state_, *leader)) continue;
+        if (!leader) leader = &puppet->state_;
+        batch[lanes++] = puppet;
+        waiting &= ~(uint64_t{1} << i);
+      }
+      step_batch(std::span(batch.data(), lanes), dt, scratch);
     }
-    if (!leader) leader = &state;
-    batch[lanes++] = puppet;
   }
-  if (lanes == 0) return;
+}
 
+void LaneStepper::step_batch(std::span<Solver* const> batch, double dt, Scratch& scratch) const {
+  const int lanes = static_cast<int>(batch.size());
+  const State* leader = &batch[0]->state_;
   Plan plan = base_;
   plan.h = dt / plan.substeps;
   plan.air_rate = step_drag_rate(batch[0]->environment().air_drag, plan.h);

@@ -36,14 +36,16 @@ class LaneStepper {
     std::unique_ptr<double[], Free> slots_;
   };
 
-  // steps `puppets` (at most width()) by dt, as Solver::step would: those that share the first
-  // steppable puppet's pins (count and segments) together in lanes, every other one alone, and a
-  // lane that meets a non-finite value again alone from its start, so that its divergence is
-  // flagged exactly as a lone solver flags it. Allocates nothing.
+  // steps `puppets` by dt, as Solver::step would each: in batches of up to width() puppets
+  // with the same pins (count and segments), a batch short of puppets with its last lanes idle.
+  // A lane that meets a non-finite value is stepped again alone from its start, so that its
+  // divergence is flagged exactly as a lone solver flags it. Allocates nothing.
   void step(std::span<Solver* const> puppets, double dt, Scratch& scratch) const;
 
  private:
   LaneStepper(const Solver& puppet, int width);
+  // one batch of puppets with the same pins, in lanes
+  void step_batch(std::span<Solver* const> batch, double dt, Scratch& scratch) const;
 
   int width_ = 1;
   unsigned (*kernel_)(const Plan&, double*) = nullptr;

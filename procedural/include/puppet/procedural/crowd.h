@@ -53,7 +53,7 @@ class Crowd {
   /// what the user does to puppet k just before it steps (move its pins' targets, set its
   /// forces), called on the thread that steps it: the puppet is in that core's cache then, and
   /// the work is shared between the threads instead of being a serial pass over every puppet.
-  /// In lanes, it is called for each puppet of a batch before the batch steps.
+  /// In lanes, it is called for each puppet of a chunk (16 puppets) before the chunk steps.
   using Control = std::function<void(int k, Solver& puppet)>;
 
   /// steps every puppet by dt (each with its own pins and targets), calling `control` (when not
@@ -64,7 +64,7 @@ class Crowd {
 
  private:
   void step_range(int thread, double dt, const Control& control);
-  /// puppets [begin, end) in batches of lanes() on `thread`
+  /// puppets [begin, end) in lanes, on `thread`
   void step_lanes(int thread, int begin, int end, double dt, const Control& control);
   /// the next chunk of `owner`'s range, from its front for the owner, else from its back
   bool take(int owner, bool own, int* begin, int* end);
