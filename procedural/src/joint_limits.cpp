@@ -21,6 +21,53 @@ double limit_free_w(const Joint& joint) {
   return free_angle > 0.0 ? std::cos(0.5 * free_angle) : 2.0;
 }
 
+BoxTest make_box_test(const Joint& joint) {
+  BoxTest box;
+  if (joint.type != JointType::kBall || joint.ball_limit != BallLimit::kEulerBox) return box;
+  for (int k = 0; k < 3; ++k) {
+    const double lower = joint.box_lower[k], upper = joint.box_upper[k];
+    if (!(lower <= 0.0 && upper >= 0.0)) return box;
+    box.lower_cos[k] = std::cos(lower);
+    box.lower_sin[k] = std::sin(lower);
+    box.upper_cos[k] = std::cos(upper);
+    box.upper_sin[k] = std::sin(upper);
+    box.wide[k] = upper - lower > M_PI;
+  }
+  if (joint.box_lower[1] < -kMaxBoxMiddle || joint.box_upper[1] > kMaxBoxMiddle) return box;
+  const auto& axes = joint.box_order.axes;
+  box.axes = axes;
+  // (i, j, k) = (0, 1, 2) and its rotations are cyclic
+  box.sign = (axes[1] - axes[0] + 3) % 3 == 1 ? 1.0 : -1.0;
+  box.enabled = true;
+  return box;
+}
+
+namespace {
+
+// the direction (c, s) = |d| (cos θ, sin θ) inside [lower + margin, upper − margin] of range k
+bool direction_inside(const BoxTest& box, int k, double c, double s) {
+  const double margin = kBoxMargin * (std::abs(c) + std::abs(s));         // ≥ |d| sin(kBoxMargin)
+  const double from_lower = box.lower_cos[k] * s - box.lower_sin[k] * c;  // |d| sin(θ − lower)
+  const double to_upper = box.upper_sin[k] * c - box.upper_cos[k] * s;    // |d| sin(upper − θ)
+  // a range of at most a half turn: both ends on the right side; a wider one: either
+  if (box.wide[k]) return from_lower >= margin || to_upper >= margin;
+  return from_lower >= margin && to_upper >= margin;
+}
+
+}  // namespace
+
+bool surely_inside_box(const BoxTest& box, const Quaterniond& q_rel) {
+  const Matrix3d r = q_rel.toRotationMatrix();
+  const int i = box.axes[0], j = box.axes[1], k = box.axes[2];
+  const double middle_sin = box.sign * r(i, k);
+  if (!(middle_sin <= box.upper_sin[1] - kBoxMargin &&
+        middle_sin >= box.lower_sin[1] + kBoxMargin)) {
+    return false;
+  }
+  return direction_inside(box, 0, r(k, k), -box.sign * r(j, k)) &&
+         direction_inside(box, 2, r(i, i), -box.sign * r(i, j));
+}
+
 bool limited_orientation(const Joint& joint, const JointTerms& terms, bool b_is_child,
                          const Quaterniond& q_a, const Quaterniond& q_b, Quaterniond* q_b_limited) {
   const Quaterniond& q_parent = b_is_child ? q_a : q_b;
@@ -32,6 +79,7 @@ bool limited_orientation(const Joint& joint, const JointTerms& terms, bool b_is_
     return false;
   }
   const Quaterniond q_rel = joint_relative_rotation(joint, q_parent, q_child);
+  if (terms.box.enabled && surely_inside_box(terms.box, q_rel)) return false;
   const Quaterniond clamped = clamp_to_limits(joint, q_rel);
   if (clamped.coeffs() == q_rel.coeffs()) return false;
   // rebuild b from a and the clamped q_rel (inverted when b is the parent), never from a
@@ -50,6 +98,7 @@ bool limit_error(const Joint& joint, const JointTerms& terms, const Quaterniond&
   // q_rel = Fp⁻¹ q_p⁻¹ q_c Fc = (q_c⁻¹ q_p Fp)⁻¹ Fc
   const Quaterniond parent_frame = times_frame(child_to_parent, joint.frame_in_parent);
   const Quaterniond q_rel = times_frame(parent_frame.conjugate(), joint.frame_in_child);
+  if (terms.box.enabled && surely_inside_box(terms.box, q_rel)) return false;
   const Quaterniond clamped = clamp_to_limits(joint, q_rel);
   if (clamped.coeffs() == q_rel.coeffs()) return false;
   // the limited child is q_p Fp clamped Fc⁻¹, and q_c⁻¹ times it is q_c⁻¹ q_p Fp clamped Fc⁻¹

@@ -44,6 +44,18 @@ struct BallExcess {
 };
 BallExcess ball_excess(const Joint& joint, const Quaterniond& q_rel);
 
+// An Euler box's ranges as BoxTest reads them (disabled for any other limit, or a box the test
+// cannot read: a range without 0, a middle range beyond ±85°)
+BoxTest make_box_test(const Joint& joint);
+// true when q_rel's Euler angles are each inside their range by more than kBoxMargin, read from
+// q_rel's rotation matrix without an angle: the middle angle's sine is ±R[i][k], and the first
+// and last angles' directions are (R[k][k], ∓R[j][k]) and (R[i][i], ∓R[i][j]) scaled by the
+// middle angle's cosine (> 0 in the box). False says nothing: the clamp then decides.
+bool surely_inside_box(const BoxTest& box, const Quaterniond& q_rel);
+// what surely_inside_box leaves to the clamp (rad, or sine of the middle angle): many orders of
+// magnitude above the rounding of the matrix, and a negligible band to decompose in full
+inline constexpr double kBoxMargin = 1e-9;
+
 // cos(ρ/2) for the largest angle ρ that no limit of the joint can reach in any direction (> 1
 // when there is none): a relative rotation by less than ρ needs no swing–twist decomposition
 double limit_free_w(const Joint& joint);

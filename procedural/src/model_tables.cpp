@@ -103,6 +103,7 @@ namespace {
 JointTerms make_joint_terms(const Model& model, const Joint& joint) {
   JointTerms terms;
   terms.limit_free_w = limit_free_w(joint);
+  terms.box = make_box_test(joint);
   terms.frame_shift = joint.frame_in_child * joint.frame_in_parent.conjugate();
   const std::array<const Segment*, 2> segments = {&model.segments[joint.parent],
                                                   &model.segments[joint.child]};

@@ -51,12 +51,24 @@ void fill_anchor_order(const Model& model, const Incidence& incidence, int ancho
                        AnchorOrder& order, AnchorOrderScratch& scratch);
 AnchorOrder make_anchor_order(const Model& model, int anchor);
 
+// A ball's Euler box as a test that needs no trigonometry (joint_limits.cpp, surely_inside_box):
+// each angle's range as the cosines and sines of its ends
+struct BoxTest {
+  bool enabled = false;  // an Euler box whose ranges contain 0, the middle one within ±85°
+  std::array<int, 3> axes{0, 1, 2};
+  double sign = 1.0;  // +1 for a cyclic order (xyz, yzx, zxy), −1 for the others
+  std::array<double, 3> lower_cos{}, lower_sin{}, upper_cos{}, upper_sin{};
+  std::array<bool, 3> wide{};  // the range is wider than a half turn
+};
+
 // What the corrections read of one joint. A segment's inertia is diagonal and constant in its own
 // frame, and so is its joint point, so everything here is too: [0] is the parent's side, [1] the
 // child's (index by b_is_child).
 struct JointTerms {
   // cos(ρ/2) for the largest angle ρ that no limit of the joint can reach (limit_free_w())
   double limit_free_w = 2.0;
+  // an Euler box's ranges, to tell a rotation surely inside without its angles (make_box_test())
+  BoxTest box;
   // Fc ⊗ Fp⁻¹, the joint's frame in the child carried into the parent's: w is unchanged by
   // conjugation, so w(q_rel) = w(Fp⁻¹ q_p⁻¹ q_c Fc) = q_p · (q_c ⊗ frame_shift), a 4-D dot product
   // that tells a joint surely inside its limits without forming q_rel

@@ -254,5 +254,81 @@ TEST(JointLimits, ABoxTakesAJointPastAFaceOrCornerBack) {
   }
 }
 
+// surely_inside_box never says inside for a rotation whose Euler angles (Eigen's, as the clamp
+// reads them) are not all in range, and says it for nearly every rotation inside by more than a
+// thousandth of a radian, for every order of the axes, narrow and wide ranges (a wide first range
+// of 220°), random rotations and rotations put within a hair of a face
+TEST(JointLimits, TheBoxTestNeverCallsAnOutsideRotationInside) {
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const char* orders[] = {"xyz", "yzx", "zxy", "xzy", "yxz", "zyx"};
+  int inside = 0, told = 0, near_face = 0;
+  for (const char* name : orders) {
+    Joint joint;
+    joint.type = JointType::kBall;
+    joint.ball_limit = BallLimit::kEulerBox;
+    ASSERT_TRUE(parse_euler_order(name, &joint.box_order));
+    for (int trial = 0; trial < 4000; ++trial) {
+      const bool wide = trial % 2 == 1;
+      joint.box_lower = Vector3d(wide ? -1.9 : -0.2 - unit(random), -0.1 - unit(random),
+                                 -0.1 - 2.0 * unit(random));
+      joint.box_upper =
+          Vector3d(wide ? 1.95 : 0.1 + unit(random), 0.05 + unit(random), 0.1 + 2.0 * unit(random));
+      const BoxTest box = make_box_test(joint);
+      ASSERT_TRUE(box.enabled);
+      // a random rotation, or one of angles drawn across the box, one of them moved onto a face
+      Vector3d angles;
+      for (int k = 0; k < 3; ++k) {
+        angles[k] = joint.box_lower[k] +
+                    (joint.box_upper[k] - joint.box_lower[k]) * (1.2 * unit(random) - 0.1);
+      }
+      if (trial % 3 == 0) {
+        const int k = trial % 9 / 3;
+        angles[k] =
+            (trial % 2 ? joint.box_upper[k] : joint.box_lower[k]) + 1e-10 * (unit(random) - 0.5);
+        ++near_face;
+      }
+      const Quaterniond q =
+          trial % 5 == 0 ? test::random_rotation(random) : euler_rotation(joint.box_order, angles);
+      const Vector3d read = euler_angles(joint.box_order, q);
+      const bool in_range = (read.array() >= joint.box_lower.array()).all() &&
+                            (read.array() <= joint.box_upper.array()).all();
+      const bool well_inside = (read.array() >= joint.box_lower.array() + 1e-3).all() &&
+                               (read.array() <= joint.box_upper.array() - 1e-3).all();
+      const bool said = surely_inside_box(box, q);
+      if (said) {
+        EXPECT_TRUE(in_range) << name << " " << read.transpose();
+        EXPECT_EQ(clamp_to_box(joint.box_order, joint.box_lower, joint.box_upper, q).coeffs(),
+                  q.coeffs());
+      }
+      if (well_inside) {
+        ++inside;
+        if (said) ++told;
+      }
+    }
+  }
+  EXPECT_GT(near_face, 1000);
+  // every rotation well inside is told (the margin is 1e-9)
+  EXPECT_EQ(told, inside);
+  EXPECT_GT(inside, 5000);
+}
+
+// a box the test cannot read is left to the clamp
+TEST(JointLimits, TheBoxTestIsOffWhereItCannotRead) {
+  Joint joint;
+  joint.type = JointType::kBall;
+  joint.ball_limit = BallLimit::kEulerBox;
+  joint.box_lower = Vector3d(-0.5, -0.5, -0.5);
+  joint.box_upper = Vector3d(0.5, 0.5, 0.5);
+  EXPECT_TRUE(make_box_test(joint).enabled);
+  joint.box_lower[2] = 0.1;  // a range without 0
+  EXPECT_FALSE(make_box_test(joint).enabled);
+  joint.box_lower[2] = -0.5;
+  joint.ball_limit = BallLimit::kSwingTwist;
+  EXPECT_FALSE(make_box_test(joint).enabled);
+  joint.type = JointType::kHinge;
+  EXPECT_FALSE(make_box_test(joint).enabled);
+}
+
 }  // namespace
 }  // namespace puppet::procedural
