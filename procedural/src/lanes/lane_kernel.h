@@ -38,8 +38,22 @@ struct SegmentTerms {
   double mass, inv_mass;
   double inertia[3], inv_inertia[3];  // diagonal, in the segment's frame
 };
+// how the kernel reads a joint's limit: lane by lane through Plan::limit_error, a box's
+// surely-inside test in lanes first (joint_limits.h, surely_inside_box), or a hinge in lanes
+enum LimitKind { kAskEachLane, kBox, kHinge };
 struct JointPlan {
   int parent, child;
+  LimitKind limit;
+  double frame_parent[4], frame_child[4];  // w, x, y, z
+  // kBox: BoxTest's terms
+  int box_axes[3];
+  double box_sign;
+  double box_lower_cos[3], box_lower_sin[3], box_upper_cos[3], box_upper_sin[3];
+  bool box_wide[3];
+  double box_margin;  // kBoxMargin
+  // kHinge: the axis in the joint frame, and the sines and cosines of its half-limits
+  double hinge_axis[3];
+  double lower_half_sin, lower_half_cos, upper_half_sin, upper_half_cos;
   double anchor_parent[3], anchor_child[3];  // the joint point in each segment's frame
   double mass_parent[9], mass_child[9];      // JointTerms::point_mass, row-major
   double frame_shift[4];                     // w, x, y, z: JointTerms::frame_shift

@@ -100,6 +100,36 @@ LaneStepper::LaneStepper(const Solver& puppet, int width) : width_(width) {
     plan.frame_shift[2] = terms.frame_shift.y();
     plan.frame_shift[3] = terms.frame_shift.z();
     plan.limit_free_w = terms.limit_free_w;
+    const auto put_quaternion = [](const Quaterniond& q, double* out) {
+      out[0] = q.w();
+      out[1] = q.x();
+      out[2] = q.y();
+      out[3] = q.z();
+    };
+    put_quaternion(joint.frame_in_parent, plan.frame_parent);
+    put_quaternion(joint.frame_in_child, plan.frame_child);
+    plan.limit = kAskEachLane;
+    if (terms.box.enabled) {
+      plan.limit = kBox;
+      const BoxTest& box = terms.box;
+      for (int k = 0; k < 3; ++k) {
+        plan.box_axes[k] = box.axes[k];
+        plan.box_lower_cos[k] = box.lower_cos[k];
+        plan.box_lower_sin[k] = box.lower_sin[k];
+        plan.box_upper_cos[k] = box.upper_cos[k];
+        plan.box_upper_sin[k] = box.upper_sin[k];
+        plan.box_wide[k] = box.wide[k];
+      }
+      plan.box_sign = box.sign;
+      plan.box_margin = kBoxMargin;
+    } else if (joint.type == JointType::kHinge) {
+      plan.limit = kHinge;
+      for (int k = 0; k < 3; ++k) plan.hinge_axis[k] = joint.hinge_axis[k];
+      plan.lower_half_sin = joint.lower_half_sin;
+      plan.lower_half_cos = joint.lower_half_cos;
+      plan.upper_half_sin = joint.upper_half_sin;
+      plan.upper_half_cos = joint.upper_half_cos;
+    }
     joint_plans_.push_back(plan);
   }
   for (const AnchorOrder& order : tables.orders) {
