@@ -5,8 +5,8 @@
 //                                counter segment_s: seconds per segment and step
 //   crowd/<rule>/puppets:K/threads:T/lanes:L   K independent Pinocchios in `drag` stepped by a
 //                                procedural::Crowd on T threads, L puppets per SIMD batch (xpbd:
-//                                1, 2 (SSE2) and 4 (AVX2); the other rules: 1); items are
-//                                puppet-steps
+//                                1, 2 (SSE2), 4 (AVX2) and 8 (AVX-512, skipped on a processor
+//                                without it); the other rules: 1); items are puppet-steps
 #include <memory>
 #include <vector>
 
@@ -38,8 +38,16 @@ void scaling_benchmark(benchmark::State& state, const SolverConfig& config) {
 constexpr int kCrowdBatchSteps = 8;
 
 procedural::CrowdLanes crowd_lanes(int64_t lanes) {
-  if (lanes == 4) return procedural::CrowdLanes::kWidest;
-  return lanes == 2 ? procedural::CrowdLanes::kTwo : procedural::CrowdLanes::kNone;
+  switch (lanes) {
+    case 8:
+      return procedural::CrowdLanes::kWidest;
+    case 4:
+      return procedural::CrowdLanes::kFour;
+    case 2:
+      return procedural::CrowdLanes::kTwo;
+    default:
+      return procedural::CrowdLanes::kNone;
+  }
 }
 
 void crowd_benchmark(benchmark::State& state, procedural::Rule rule) {
@@ -104,8 +112,9 @@ int main(int argc, char** argv) {
     const bool substepped = rule == procedural::Rule::kXpbd || rule == procedural::Rule::kTree;
     const std::vector<int64_t> puppets =
         substepped ? std::vector<int64_t>{1000} : std::vector<int64_t>{1000, 20000};
-    const std::vector<int64_t> lanes =
-        rule == procedural::Rule::kXpbd ? std::vector<int64_t>{1, 2, 4} : std::vector<int64_t>{1};
+    const std::vector<int64_t> lanes = rule == procedural::Rule::kXpbd
+                                           ? std::vector<int64_t>{1, 2, 4, 8}
+                                           : std::vector<int64_t>{1};
     benchmark::RegisterBenchmark(("crowd/" + name).c_str(),
                                  [rule](benchmark::State& state) { crowd_benchmark(state, rule); })
         ->ArgNames({"puppets", "threads", "lanes"})

@@ -1,8 +1,8 @@
 // The interface between the crowd's lane stepper (lane_stepper.cpp, built for any x86-64) and
 // xpbd's substep kernel, compiled once per instruction set (xpbd_lanes_sse2.cpp: 2 lanes,
-// xpbd_lanes_avx2.cpp: 4). Plain data only: a kernel's file includes nothing that another file
-// also instantiates, so no inline function compiled for AVX2 can be linked into a caller that
-// runs on a machine without it.
+// xpbd_lanes_avx2.cpp: 4, xpbd_lanes_avx512.cpp: 8). Plain data only: a kernel's file includes
+// nothing that another file also instantiates, so no inline function compiled for AVX2 can be
+// linked into a caller that runs on a machine without it.
 //
 // A batch's state is an array of slots of `lanes` doubles each, one lane per puppet:
 //   body b, field f         slot b·kBodyFields + f            (x, q (w x y z), v, ω, x_prev,
@@ -96,5 +96,7 @@ inline int slot_count(int segments, int joints, int pins) {
 // met a non-finite value at the end of some substep (its state is then not to be used)
 unsigned step_xpbd_sse2(const Plan& plan, double* slots);
 unsigned step_xpbd_avx2(const Plan& plan, double* slots);
+unsigned step_xpbd_avx512(const Plan& plan, double* slots);
+inline constexpr int kMostLanes = 8;
 
 }  // namespace puppet::procedural::lanes

@@ -30,9 +30,12 @@ bool lane_limit_error(const void* context, int joint, const double child_to_pare
   return true;
 }
 
-bool has_avx2() {
+// the widest lanes this processor has, up to `most`
+int widest_lanes(int most) {
   __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2");
+  if (most >= 8 && __builtin_cpu_supports("avx512f")) return 8;
+  if (most >= 4 && __builtin_cpu_supports("avx2")) return 4;
+  return 2;
 }
 
 void put3(double* slots, int width, int slot, int lane, const Vector3d& v) {
@@ -63,12 +66,14 @@ std::unique_ptr<LaneStepper> LaneStepper::make(const Solver& puppet, CrowdLanes 
       environment.water || environment.ground || puppet.tables_->orders.empty()) {
     return nullptr;
   }
-  const int width = lanes == CrowdLanes::kWidest && has_avx2() ? 4 : 2;
+  const int width = widest_lanes(lanes == CrowdLanes::kWidest ? 8
+                                 : lanes == CrowdLanes::kFour ? 4
+                                                              : 2);
   return std::unique_ptr<LaneStepper>(new LaneStepper(puppet, width));
 }
 
 LaneStepper::LaneStepper(const Solver& puppet, int width) : width_(width) {
-  kernel_ = width == 4 ? step_xpbd_avx2 : step_xpbd_sse2;
+  kernel_ = width == 8 ? step_xpbd_avx512 : width == 4 ? step_xpbd_avx2 : step_xpbd_sse2;
   const Model& model = puppet.model();
   const ModelTables& tables = *puppet.tables_;
   segments_ = model.segment_count();
@@ -192,7 +197,7 @@ void LaneStepper::step(std::span<Solver* const> puppets, double dt, Scratch& scr
       }
     }
     while (waiting != 0) {
-      std::array<Solver*, 4> batch{};
+      std::array<Solver*, kMostLanes> batch{};
       int lanes = 0;
       const State* leader = nullptr;
       for (size_t i = 0; i < count && lanes < width_; ++i) {

@@ -2,11 +2,11 @@
 /// Many independent puppets of one model, stepped together on a fixed set of threads: the
 /// batched path for crowds. Each puppet is a Solver and keeps the single-puppet API.
 ///
-/// Rule xpbd's puppets are stepped in SIMD lanes (CrowdLanes): a batch of 4 puppets (AVX2) or 2
-/// (SSE2) runs one substep kernel together, one puppet per lane. A lane does a lone solver's
-/// arithmetic but for the order of a few products, so it matches a lone Solver to rounding (the
-/// tests bound the difference), and it gives the same bits on either instruction set and in any
-/// batch. Every other puppet, and every puppet of the kNone path, reaches bit for bit the state
+/// Rule xpbd's puppets are stepped in SIMD lanes (CrowdLanes): a batch of 8 puppets (AVX-512), 4
+/// (AVX2) or 2 (SSE2) runs one substep kernel together, one puppet per lane. A lane does a lone
+/// solver's arithmetic but for the order of a few products, so it matches a lone Solver to rounding
+/// (the tests bound the difference), and it gives the same bits on either instruction set and in
+/// any batch. Every other puppet, and every puppet of the kNone path, reaches bit for bit the state
 /// a lone Solver reaches from the same inputs. Either way the result does not depend on the
 /// number of threads (each puppet is stepped by exactly one thread, in the same arithmetic).
 #pragma once
@@ -28,10 +28,11 @@ namespace lanes {
 class LaneStepper;
 }
 
-/// how a crowd of xpbd puppets uses SIMD lanes: the widest the processor has (AVX2's 4 puppets,
-/// else SSE2's 2), SSE2's 2 on any processor, or none (one Solver::step per puppet). Puppets of
-/// other rules, in water, on the ground or trembling are always stepped one by one.
-enum class CrowdLanes { kWidest, kTwo, kNone };
+/// how a crowd of xpbd puppets uses SIMD lanes: the widest the processor has (AVX-512's 8
+/// puppets, else AVX2's 4, else SSE2's 2), at most AVX2's 4, SSE2's 2 on any processor, or none
+/// (one Solver::step per puppet). Puppets of other rules, in water, on the ground or trembling
+/// are always stepped one by one.
+enum class CrowdLanes { kWidest, kFour, kTwo, kNone };
 
 class Crowd {
  public:
@@ -45,7 +46,7 @@ class Crowd {
 
   int size() const { return static_cast<int>(puppets_.size()); }
   int threads() const { return static_cast<int>(workers_.size()) + 1; }
-  /// puppets stepped together: 4, 2, or 1 when the puppets are stepped one by one
+  /// puppets stepped together: 8, 4, 2, or 1 when the puppets are stepped one by one
   int lanes() const;
   Solver& puppet(int k) { return *puppets_[k]; }
   const Solver& puppet(int k) const { return *puppets_[k]; }
