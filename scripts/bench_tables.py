@@ -118,6 +118,14 @@ def scaling_table(t):
         print(f"| {solver} | " + " | ".join(cells) + f" | {growth} |")
 
 
+def crowd_time(t, rule, k, threads, lanes=1):
+    """seconds per puppet-step; runs from before the lanes argument name no lanes (one by one)"""
+    time = t.get(f"crowd/{rule}/puppets:{k}/threads:{threads}/lanes:{lanes}")
+    if time is None and lanes == 1:
+        time = t.get(f"crowd/{rule}/puppets:{k}/threads:{threads}")
+    return time
+
+
 def crowd_table(t):
     RULES = rules(t)
     print("| rule | K=1000, 1 thread | K=1000, 2 threads | K=20000, 1 thread | K=20000, 2 threads "
@@ -127,7 +135,7 @@ def crowd_table(t):
         rate = {}
         for k in (1000, 20000):
             for threads in (1, 2):
-                time = t.get(f"crowd/{rule}/puppets:{k}/threads:{threads}")
+                time = crowd_time(t, rule, k, threads)
                 if time is not None:
                     rate[k, threads] = 1.0 / time
         # the substepped rules' crowds stop at 1,000 puppets (bench_scaling.cpp)
@@ -137,6 +145,22 @@ def crowd_table(t):
         scaling = [f"{rate[k, 2] / rate[k, 1]:.2f}×" for k in (1000, 20000)
                    if (k, 1) in rate and (k, 2) in rate]
         print(f"| {rule} | " + " | ".join(cells) + " | " + (" / ".join(scaling) or "-") + " |")
+    # xpbd's crowd in SIMD lanes (CrowdLanes), from runs that measured them
+    if crowd_time(t, "xpbd", 1000, 2, 4) is None:
+        return
+    print()
+    print("| xpbd, K=1000, puppets per batch | 1 thread | 2 threads | 2 ÷ 1 thread "
+          "| over one by one (2 threads) |")
+    print("|---" * 5 + "|")
+    alone = crowd_time(t, "xpbd", 1000, 2)
+    for lanes, name in ((1, "1 (one by one)"), (2, "2 (SSE2)"), (4, "4 (AVX2)"),
+                        (8, "8 (AVX-512)")):
+        one, two = crowd_time(t, "xpbd", 1000, 1, lanes), crowd_time(t, "xpbd", 1000, 2, lanes)
+        if one is None or two is None:
+            print(f"| {name} | this processor has none | | | |")
+            continue
+        print(f"| {name} | {1 / one / 1e3:.0f}k | {1 / two / 1e3:.0f}k | {one / two:.2f}× "
+              f"| {alone / two:.2f}× |")
 
 
 if __name__ == "__main__":

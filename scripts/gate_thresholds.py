@@ -142,6 +142,13 @@ def main():
     for rule in ONE_PASS:
         gates.append(gate(times, f"hang: {rule} step / floor (free bodies)", f"step/hang/{rule}",
                           "floor/hang", 3, "max"))
+    # the crowd in SIMD lanes: xpbd's puppets 4 to a batch (AVX2) against one by one, both on 2
+    # threads. The floor is what batching constraints across AVX2 lanes bought Box2D's solver
+    # (2.1×, "SIMD matters", 2024)
+    crowd = "crowd/xpbd/puppets:1000/threads:2/lanes:"
+    if any(crowd + "4" in t for t, _ in times.values()):
+        gates.append(gate(times, "crowd: xpbd in 4 lanes over one by one (2 threads)",
+                          crowd + "1", crowd + "4", 2, "min"))
     for rule in ONE_PASS + ["relaxed"]:
         gates.append(gate(times, f"chain: {rule} time per segment, N=1024 / N=16",
                           f"scaling/{rule}/1024", f"scaling/{rule}/16", 1.5, "max", 1024, 16))
