@@ -38,9 +38,10 @@ struct SegmentTerms {
   double mass, inv_mass;
   double inertia[3], inv_inertia[3];  // diagonal, in the segment's frame
 };
-// how the kernel reads a joint's limit: lane by lane through Plan::limit_error, a box's
-// surely-inside test in lanes first (joint_limits.h, surely_inside_box), or a hinge in lanes
-enum LimitKind { kAskEachLane, kBox, kHinge };
+// how the kernel reads a joint's limit: lane by lane through Plan::limit_error, a box's or an
+// elliptic cone's surely-inside test in lanes first (joint_limits.h, surely_inside_box;
+// rotation.cpp, clamp_ball), or a hinge in lanes
+enum LimitKind { kAskEachLane, kBox, kCone, kHinge };
 struct JointPlan {
   int parent, child;
   LimitKind limit;
@@ -51,6 +52,8 @@ struct JointPlan {
   double box_lower_cos[3], box_lower_sin[3], box_upper_cos[3], box_upper_sin[3];
   bool box_wide[3];
   double box_margin;  // kBoxMargin
+  // kCone: the swing ellipse's half-angles (rad) and tan of half the twist limit
+  double swing_x, swing_y, twist_half_tan;
   // kHinge: the axis in the joint frame, and the sines and cosines of its half-limits
   double hinge_axis[3];
   double lower_half_sin, lower_half_cos, upper_half_sin, upper_half_cos;

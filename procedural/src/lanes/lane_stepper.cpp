@@ -127,6 +127,12 @@ LaneStepper::LaneStepper(const Solver& puppet, int width) : width_(width) {
       }
       plan.box_sign = box.sign;
       plan.box_margin = kBoxMargin;
+    } else if (joint.type == JointType::kBall && joint.ball_limit == BallLimit::kSwingTwist &&
+               joint.swing_x > 0.0 && joint.swing_y > 0.0 && joint.twist < M_PI) {
+      plan.limit = kCone;
+      plan.swing_x = joint.swing_x;
+      plan.swing_y = joint.swing_y;
+      plan.twist_half_tan = joint.twist_half_sin / joint.twist_half_cos;
     } else if (joint.type == JointType::kHinge) {
       plan.limit = kHinge;
       for (int k = 0; k < 3; ++k) plan.hinge_axis[k] = joint.hinge_axis[k];
