@@ -8,7 +8,7 @@
 namespace puppet::procedural::lanes {
 namespace {
 
-typedef double V __attribute__((vector_size(32)));
+typedef double V __attribute__((vector_size(32), may_alias));  // read from the slots' doubles
 typedef long long M __attribute__((vector_size(32)));
 constexpr int kLanes = 4;
 inline V vsqrt(V a) { return _mm256_sqrt_pd(a); }

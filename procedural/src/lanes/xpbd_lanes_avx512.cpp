@@ -9,7 +9,7 @@
 namespace puppet::procedural::lanes {
 namespace {
 
-typedef double V __attribute__((vector_size(64)));
+typedef double V __attribute__((vector_size(64), may_alias));  // read from the slots' doubles
 typedef long long M __attribute__((vector_size(64)));
 constexpr int kLanes = 8;
 // the zero-masked form: GCC 12 warns that _mm512_sqrt_pd reads an undefined vector

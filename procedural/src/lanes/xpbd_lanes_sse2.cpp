@@ -7,7 +7,7 @@
 namespace puppet::procedural::lanes {
 namespace {
 
-typedef double V __attribute__((vector_size(16)));
+typedef double V __attribute__((vector_size(16), may_alias));  // read from the slots' doubles
 typedef long long M __attribute__((vector_size(16)));
 constexpr int kLanes = 2;
 inline V vsqrt(V a) { return _mm_sqrt_pd(a); }
