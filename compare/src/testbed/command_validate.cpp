@@ -1,0 +1,77 @@
+// testbed validate: a model loaded and printed (segments, joints and limits), with what each
+// engine makes of it, or the model's error.
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "commands.h"
+#include "flags.h"
+#include "puppet/compare/scenario.h"
+#include "puppet/compare/simulator.h"
+#include "puppet/model/euler_box.h"
+#include "puppet/model/text.h"
+
+namespace puppet::testbed {
+namespace {
+
+int validate(const std::string& path) {
+  const Model model = compare::load_named_model(path);
+  std::printf("model \"%s\": %d segments, %d joints, total mass %.3f kg, rest height %.3f m\n",
+              model.name.c_str(), model.segment_count(), model.joint_count(), model.total_mass,
+              model.rest_height);
+  std::printf("  %-14s %-14s %8s  %s\n", "segment", "parent", "mass kg", "shape");
+  for (const Segment& s : model.segments) {
+    const char* shape = s.shape.type == ShapeType::kCapsule    ? "capsule"
+                        : s.shape.type == ShapeType::kBox      ? "box"
+                        : s.shape.type == ShapeType::kCylinder ? "cylinder"
+                                                               : "sphere";
+    std::printf("  %-14s %-14s %8.3f  %s\n", s.name.c_str(),
+                s.parent >= 0 ? model.segments[s.parent].name.c_str() : "-", s.mass, shape);
+  }
+  std::printf("  %-14s %-6s %-14s %-14s %s\n", "joint", "type", "parent", "child", "limits (deg)");
+  for (const Joint& j : model.joints) {
+    const double d = 180.0 / M_PI;
+    char limits[96];
+    if (j.type == JointType::kBall && j.ball_limit == BallLimit::kEulerBox) {
+      std::snprintf(limits, sizeof limits, "box %s [%.0f, %.0f] [%.0f, %.0f] [%.0f, %.0f]",
+                    euler_order_name(j.box_order).c_str(), j.box_lower[0] * d, j.box_upper[0] * d,
+                    j.box_lower[1] * d, j.box_upper[1] * d, j.box_lower[2] * d, j.box_upper[2] * d);
+    } else if (j.type == JointType::kBall) {
+      std::snprintf(limits, sizeof limits, "swing %.0f x %.0f, twist %.0f", j.swing_x * d,
+                    j.swing_y * d, j.twist * d);
+    } else if (j.type == JointType::kHinge) {
+      std::snprintf(limits, sizeof limits, "range [%.0f, %.0f]", j.lower * d, j.upper * d);
+    } else {
+      std::snprintf(limits, sizeof limits, "fixed");
+    }
+    const char* type = j.type == JointType::kBall    ? "ball"
+                       : j.type == JointType::kHinge ? "hinge"
+                                                     : "fixed";
+    std::printf("  %-14s %-6s %-14s %-14s %s\n", j.name.c_str(), type,
+                model.segments[j.parent].name.c_str(), model.segments[j.child].name.c_str(),
+                limits);
+  }
+  // what each engine makes of it: the verdict every command applies before it runs
+  std::string engines, refusals;
+  for (const std::string& solver : compare::solver_names()) {
+    const std::string problem = engine_problem(solver, model);
+    if (problem.empty()) {
+      engines += (engines.empty() ? "" : ", ") + solver;
+    } else {
+      refusals += "  not " + solver + ": " + one_line(problem, 300) + "\n";
+    }
+  }
+  std::printf("engines: %s\n%s", engines.c_str(), refusals.c_str());
+  return 0;
+}
+
+}  // namespace
+
+Command add_validate_command(CLI::App& app) {
+  auto path = std::make_shared<std::string>();
+  CLI::App* command = app.add_subcommand("validate", "load a model and print it, or its error");
+  command->add_option("MODEL", *path, "model file, pinocchio, or chain:N")->required();
+  return {command, [path] { return validate(*path); }};
+}
+
+}  // namespace puppet::testbed

@@ -1,0 +1,235 @@
+#include "flags.h"
+
+#include "cli.h"
+#include "puppet/compare/number.h"
+#include "puppet/compare/robustness.h"
+#include "puppet/compare/simulator.h"
+#include "puppet/model/text.h"
+#include "puppet/procedural/rule.h"
+#include "puppet/reference/bullet.h"
+#include "puppet/reference/mujoco.h"
+
+namespace puppet::testbed {
+
+using compare::ScenarioOptions;
+using compare::SolverConfig;
+using compare::SolverOptions;
+
+namespace {
+
+std::vector<std::string> all_rules() {
+  std::vector<std::string> out;
+  for (auto rule : procedural::kAllRules) out.emplace_back(procedural::rule_name(rule));
+  return out;
+}
+
+}  // namespace
+
+void add_model_flag(CLI::App* command, Flags& f) {
+  command->add_option("--model", f.model, "model file, pinocchio, or chain:N")
+      ->capture_default_str();
+}
+
+void add_solver_choice_flags(CLI::App* command, Flags& f) {
+  command->add_option("--solver", f.solver, "solver name, comma list, or all")
+      ->capture_default_str();
+  command->add_option("--rule", f.rule, "adjust rule (procedural), comma list, or all")
+      ->capture_default_str();
+}
+
+void add_scenario_choice_flag(CLI::App* command, Flags& f) {
+  command->add_option("--scenario", f.scenario, "scenario name, comma list, or all")
+      ->capture_default_str();
+}
+
+void add_output_flags(CLI::App* command, Flags& f, const char* jobs_help) {
+  command->add_option("--out", f.out, "output folder")->capture_default_str();
+  command->add_option("--jobs", f.jobs, jobs_help)
+      ->check(whole_number())
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+}
+
+void add_engine_flags(CLI::App* command, Flags& f) {
+  command
+      ->add_option("--iterations", f.iterations,
+                   "relaxed, xpbd: two-sided sweeps per substep; tree: Newton iterations "
+                   "(default: the rule's, 4, 1, 1)")
+      ->check(whole_number())
+      ->check(CLI::Range(0, procedural::kMaxIterations));
+  command
+      ->add_option(
+          "--substeps", f.substeps,
+          "procedural substeps per step (default: the rule's, 8 for xpbd and tree, else 1)")
+      ->check(whole_number())
+      ->check(CLI::Range(1, procedural::kMaxSubsteps));
+  command->add_flag("--no-velocities", f.no_velocities,
+                    "procedural: do not derive velocities from poses");
+  command
+      ->add_option("--bullet-iterations", f.bullet_iterations,
+                   "Bullet: sequential-impulse sweeps per step")
+      ->check(whole_number())
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  command->add_flag("--bullet-euler-limits", f.bullet_euler_limits,
+                    "bullet-multibody: Bullet's own ball limits (a box of Euler angles)");
+  command
+      ->add_option("--mujoco-integrator", f.mujoco_integrator,
+                   "mujoco: euler (MuJoCo's semi-implicit Euler), implicit or rk4")
+      ->check(CLI::IsMember({"euler", "implicit", "rk4"}))
+      ->capture_default_str();
+}
+
+void add_grab_flags(CLI::App* command, Flags& f) {
+  command->add_option("--grab", f.grab, "dragged point SEGMENT[:x,y,z] (segment frame)");
+  command->add_option("--gravity", f.gravity, "gravity X,Y,Z (m/s^2)");
+  command->add_option("--grab-compliance", f.grab_compliance,
+                      "the grab's compliance C (m/N): 0 holds the hand on its target (default), "
+                      "C > 0 pulls it with a spring of stiffness 1/C");
+}
+
+void add_solver_flags(CLI::App* command, Flags& f) {
+  add_model_flag(command, f);
+  add_solver_choice_flags(command, f);
+  add_output_flags(command, f);
+  add_engine_flags(command, f);
+  add_grab_flags(command, f);
+}
+
+void add_sweep_flags(CLI::App* command, Flags& f) {
+  add_scenario_choice_flag(command, f);
+  command
+      ->add_option("--dt", f.dt, "time steps in seconds, comma list (fractions such as 1/240 too)")
+      ->capture_default_str();
+  command->add_option("--duration", f.duration, "seconds to simulate (default: the scenario's)");
+  command->add_option("--pin", f.pin, "hanging point SEGMENT[:x,y,z] (segment frame)");
+  command->add_option("--air-drag", f.air_drag, "air drag k_air (1/s)");
+  command->add_option("--ground", f.ground, "ground plane on|off")
+      ->check(CLI::IsMember({"on", "off"}));
+  command->add_flag("--no-tremble", f.no_tremble,
+                    "procedural: no tremble even in the tremble scenario");
+}
+
+Flags robustness_defaults() {
+  Flags f;
+  f.dt = "1/240";
+  f.out = "results/robustness";
+  f.solver = "procedural";
+  return f;
+}
+
+void add_robustness_flags(CLI::App* command, Flags& f) {
+  f = robustness_defaults();
+  add_solver_flags(command, f);
+  add_sweep_flags(command, f);
+  command->add_option("--starts", f.starts, "random starts per scenario, solver, rule and dt")
+      ->capture_default_str();
+  command->add_option("--seed", f.seed, "the starts' seed")->capture_default_str();
+  command->add_option("--shard", f.shard,
+                      "run only shard I of N (jobs j with j mod N = I); merge the shards with "
+                      "testbed merge");
+}
+
+std::string replay_flags(const Flags& f) {
+  const Flags defaults = robustness_defaults();
+  std::string out;
+  auto add = [&](const char* flag, const std::string& value, const std::string& default_value) {
+    if (value != default_value) out += std::string(" ") + flag + " " + compare::shell_word(value);
+  };
+  auto add_count = [&](const char* flag, int value, int default_value) {
+    add(flag, std::to_string(value), std::to_string(default_value));
+  };
+  auto add_switch = [&](const char* flag, bool value) {
+    if (value) out += std::string(" ") + flag;
+  };
+  add("--duration", f.duration, defaults.duration);
+  add_count("--iterations", f.iterations, defaults.iterations);
+  add_count("--substeps", f.substeps, defaults.substeps);
+  add_count("--bullet-iterations", f.bullet_iterations, defaults.bullet_iterations);
+  add("--mujoco-integrator", f.mujoco_integrator, defaults.mujoco_integrator);
+  add("--grab-compliance", f.grab_compliance, defaults.grab_compliance);
+  add("--pin", f.pin, defaults.pin);
+  add("--grab", f.grab, defaults.grab);
+  add("--gravity", f.gravity, defaults.gravity);
+  add("--air-drag", f.air_drag, defaults.air_drag);
+  add("--ground", f.ground, defaults.ground);
+  add_switch("--bullet-euler-limits", f.bullet_euler_limits);
+  add_switch("--no-velocities", f.no_velocities);
+  add_switch("--no-tremble", f.no_tremble);
+  return out;
+}
+
+ScenarioOptions parse_scenario_options(const Flags& f) {
+  ScenarioOptions options;
+  options.tilt_deg = parse_in("--tilt", f.tilt, -180.0, 180.0, " deg");
+  options.hz = parse_in("--hz", f.hz, 1e-3, 50.0, " Hz");
+  if (!f.pin.empty()) options.pin = parse_point("--pin", f.pin);
+  if (!f.grab.empty()) options.grab = parse_point("--grab", f.grab);
+  if (!f.grab_compliance.empty()) {
+    options.grab_compliance = parse_in("--grab-compliance", f.grab_compliance, 0.0, 1e3, " m/N");
+  }
+  // the model's own limit on gravity
+  if (!f.gravity.empty()) options.gravity = parse_vector("--gravity", f.gravity, 1e3);
+  // drag decays exactly over a step (step_drag_rate): any rate is stable
+  if (!f.air_drag.empty()) options.air_drag = parse_in("--air-drag", f.air_drag, 0.0, 1e9, " 1/s");
+  if (!f.ground.empty()) options.ground = f.ground == "on";  // CLI11 checked it
+  return options;
+}
+
+std::vector<SolverConfig> parse_solver_configs(const Flags& f) {
+  SolverOptions options;
+  options.iterations = f.iterations;  // CLI11 checked the ranges
+  options.substeps = f.substeps;
+  options.bullet_iterations = f.bullet_iterations;
+  options.bullet_euler_limits = f.bullet_euler_limits;
+  options.mujoco_integrator = f.mujoco_integrator == "rk4" ? reference::MujocoIntegrator::kRk4
+                              : f.mujoco_integrator == "implicit"
+                                  ? reference::MujocoIntegrator::kImplicit
+                                  : reference::MujocoIntegrator::kEuler;
+  options.derive_velocities = !f.no_velocities;
+  options.tremble = !f.no_tremble;
+  const auto solvers = expand("--solver", f.solver, compare::solver_names());
+  const auto rules = expand("--rule", f.rule, all_rules());
+  std::vector<SolverConfig> configs;
+  for (const auto& solver : solvers) {
+    if (solver == "procedural") {
+      for (const auto& rule : rules) {
+        SolverOptions o = options;
+        o.rule = *procedural::parse_rule(rule);  // expand() accepted only rule names
+        configs.push_back({solver, o});
+      }
+    } else {
+      configs.push_back({solver, options});
+    }
+  }
+  return configs;
+}
+
+std::string engine_problem(const std::string& solver, const Model& model) {
+  if (solver == "mujoco") return reference::mujoco_model_problem(model);
+  if (solver == "bullet-multibody" || solver == "bullet-rigid") {
+    return reference::bullet_model_problem(model);
+  }
+  return {};
+}
+
+void apply_engine_verdicts(std::vector<SolverConfig>& configs, const Model& model, const Flags& f) {
+  std::vector<std::string> refused;
+  for (const SolverConfig& config : configs) {
+    if (std::find(refused.begin(), refused.end(), config.solver) != refused.end()) continue;
+    const std::string problem = engine_problem(config.solver, model);
+    if (problem.empty()) continue;
+    if (f.solver != "all") {
+      throw UsageError("--solver: " + config.solver + " cannot run " + shown(f.model) + ": " +
+                       problem);
+    }
+    print_error("testbed: ", "note: " + config.solver + " left out, it cannot run " +
+                                 shown(f.model) + ": " + problem);
+    refused.push_back(config.solver);
+  }
+  std::erase_if(configs, [&](const SolverConfig& c) {
+    return std::find(refused.begin(), refused.end(), c.solver) != refused.end();
+  });
+}
+
+}  // namespace puppet::testbed
