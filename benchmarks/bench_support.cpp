@@ -3,7 +3,7 @@
 #include <filesystem>
 
 #include "puppet/compare/metrics.h"
-#include "puppet/reference/mujoco.h"
+#include "puppet/compare/simulator.h"
 
 #include <map>
 #include <memory>
@@ -12,14 +12,18 @@ namespace puppet::bench {
 
 std::vector<SolverConfig> solver_configs() {
   std::vector<SolverConfig> configs;
-  for (procedural::Rule rule : procedural::kAllRules) {
-    compare::SolverOptions options;
-    options.rule = rule;
-    configs.push_back({std::string(procedural::rule_name(rule)), "procedural", options});
+  // every rule of procedural, then every other engine this build has, in the catalogue's order
+  for (const std::string& solver : compare::solver_names()) {
+    if (solver != "procedural") {
+      configs.push_back({solver, solver, {}});
+      continue;
+    }
+    for (procedural::Rule rule : procedural::kAllRules) {
+      compare::SolverOptions options;
+      options.rule = rule;
+      configs.push_back({std::string(procedural::rule_name(rule)), "procedural", options});
+    }
   }
-  configs.push_back({"bullet-multibody", "bullet-multibody", {}});
-  configs.push_back({"bullet-rigid", "bullet-rigid", {}});
-  if (reference::have_mujoco()) configs.push_back({"mujoco", "mujoco", {}});
   return configs;
 }
 

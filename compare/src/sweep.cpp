@@ -1,5 +1,6 @@
 #include "puppet/compare/sweep.h"
 
+#include "puppet/compare/engines.h"
 #include "puppet/compare/truth_cache.h"
 #include "puppet/model/mjcf.h"
 
@@ -31,10 +32,10 @@ constexpr double kLevelScale[3] = {1.0, 0.5, 2.0};
 std::vector<Truth> truths_for(const Model& model) {
   std::vector<Truth> out;
   Truth mujoco{kMujocoTruthSolver, {}, kMujocoTruthDt, {}};
-  mujoco.options.mujoco_integrator = reference::MujocoIntegrator::kRk4;
-  const bool have_mujoco =
-      reference::have_mujoco() && reference::mujoco_model_problem(model).empty();
-  const bool have_bullet = reference::bullet_model_problem(model).empty();
+  mujoco.options.mujoco.integrator = reference::MujocoIntegrator::kRk4;
+  // an engine this build lacks is "unknown" to the catalogue: a problem too
+  const bool have_mujoco = engine_model_problem(kMujocoTruthSolver, model).empty();
+  const bool have_bullet = engine_model_problem(kBulletTruthSolver, model).empty();
   const Truth bullet{kBulletTruthSolver, {}, kBulletTruthDt, {}};
   if (have_mujoco && mjcf_inexact_joint(model).empty()) {
     out.push_back(mujoco);

@@ -86,9 +86,9 @@ void add_scenario(KeyBytes& key, const Scenario& scenario) {
 }
 
 void add_options(KeyBytes& key, const SolverOptions& o) {
-  key.add(o.rule).add(o.iterations).add(o.bullet_iterations).add(o.bullet_euler_limits);
-  key.add(o.mujoco_integrator).add(o.mujoco_time_constant).add(o.substeps);
-  key.add(o.derive_velocities).add(o.tremble);
+  key.add(o.rule).add(o.iterations).add(o.substeps).add(o.derive_velocities).add(o.tremble);
+  key.add(o.bullet.iterations).add(o.bullet.erp).add(o.bullet.euler_ball_limits);
+  key.add(o.mujoco.integrator).add(o.mujoco.constraint_time_constant);
 }
 
 // the running program, as its executable's size and modification time (a rebuild changes both)

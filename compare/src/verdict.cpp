@@ -160,15 +160,15 @@ std::vector<Setting> settings_searched(const SolverConfig& solver) {
   }
   if (solver.solver == "mujoco") {
     add("--mujoco-integrator euler",
-        [](SolverOptions& o) { o.mujoco_integrator = reference::MujocoIntegrator::kEuler; });
+        [](SolverOptions& o) { o.mujoco.integrator = reference::MujocoIntegrator::kEuler; });
     add("--mujoco-integrator rk4",
-        [](SolverOptions& o) { o.mujoco_integrator = reference::MujocoIntegrator::kRk4; });
+        [](SolverOptions& o) { o.mujoco.integrator = reference::MujocoIntegrator::kRk4; });
     return out;
   }
   // the Bullet solvers: Bullet's default sweeps, and enough for its limits to converge
   for (int n : {10, 50}) {
     add("--bullet-iterations " + std::to_string(n),
-        [n](SolverOptions& o) { o.bullet_iterations = n; });
+        [n](SolverOptions& o) { o.bullet.iterations = n; });
   }
   return out;
 }

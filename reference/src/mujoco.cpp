@@ -119,7 +119,6 @@ class MujocoSolver final : public Solver {
   }
   ~MujocoSolver() override { release(); }
 
-  Kind kind() const override { return Kind::kMujoco; }
 
   void set_pins(std::span<const Pin> pins) override {
     read_state(bodies_);

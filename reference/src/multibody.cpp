@@ -50,7 +50,6 @@ class MultibodySolver final : public Solver {
   MultibodySolver(const Model& model, const Environment& environment, const Settings& settings);
   ~MultibodySolver() override;
 
-  Kind kind() const override { return Kind::kMultibody; }
   void set_pins(std::span<const Pin> pins) override;
   void set_pin_targets(std::span<const Vector3d> targets) override;
   void step(double dt) override;

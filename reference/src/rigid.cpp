@@ -40,7 +40,6 @@ class RigidSolver final : public Solver {
   RigidSolver(const Model& model, const Environment& environment, const Settings& settings);
   ~RigidSolver() override;
 
-  Kind kind() const override { return Kind::kRigid; }
   void set_pins(std::span<const Pin> pins) override;
   void set_pin_targets(std::span<const Vector3d> targets) override;
   void step(double dt) override;

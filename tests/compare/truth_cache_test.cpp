@@ -147,7 +147,7 @@ TEST(TruthCache, TheKeyChangesWithEachInputOfTheTruth) {
   c.truth.solver = "bullet-multibody";
   differs(c, "solver");
   c = base;
-  c.truth.options.mujoco_integrator = reference::MujocoIntegrator::kEuler;
+  c.truth.options.mujoco.integrator = reference::MujocoIntegrator::kEuler;
   differs(c, "options");
   c = base;
   c.model.joints[1].swing_x *= 0.9;

@@ -165,8 +165,8 @@ TEST(Verdict, EverySettingSearchedIsFoundByItsFlags) {
   for (const char* solver : {"bullet-multibody", "mujoco"}) {
     for (const Setting& s : settings_searched({solver, {}})) {
       const SolverOptions o = candidate_options(solver, "", s.flags);
-      EXPECT_EQ(o.bullet_iterations, s.options.bullet_iterations) << s.flags;
-      EXPECT_EQ(o.mujoco_integrator, s.options.mujoco_integrator) << s.flags;
+      EXPECT_EQ(o.bullet.iterations, s.options.bullet.iterations) << s.flags;
+      EXPECT_EQ(o.mujoco.integrator, s.options.mujoco.integrator) << s.flags;
     }
   }
   EXPECT_THROW(candidate_options("procedural", "xpbd", "--substeps 3"), ScenarioError);

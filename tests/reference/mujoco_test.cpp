@@ -191,7 +191,7 @@ TEST(Mujoco, AgreesWithBulletMultibodyWithoutLimits) {
   const Model model = without_limits(load_model(test::kPinocchioPath));
   const compare::Scenario hang = compare::make_scenario("hang", model);
   compare::SolverOptions rk4;
-  rk4.mujoco_integrator = MujocoIntegrator::kRk4;
+  rk4.mujoco.integrator = MujocoIntegrator::kRk4;
   const auto mujoco = state_after("mujoco", model, hang, 1.0 / 960, 1.0, rk4);
   const auto bullet = state_after("bullet-multibody", model, hang, 1.0 / 3840, 1.0);
   const double apart = max_distance(mujoco, bullet);

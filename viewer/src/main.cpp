@@ -21,6 +21,8 @@
 
 #include "panel.h"
 #include "puppet/compare/number.h"
+#include "puppet/compare/scenario.h"
+#include "puppet/compare/simulator.h"
 #include "puppet/model/text.h"
 #include "puppet/viewer/script.h"
 #include "renderer.h"
@@ -260,10 +262,15 @@ int main(int argc, char** argv) {
   int frames = 0, width = 1280, height = 720, samples = 4;
   app.add_option("--model", config.model, "pinocchio, a model file or chain:N")
       ->capture_default_str();
-  app.add_option("--scenario", config.scenario, "hang, drag, shake, spin, drop, water, ...")
+  // the names from the catalogues (scenario.h, engines.h), as the testbed's
+  auto listed = [](const std::vector<std::string>& names) {
+    std::string text;
+    for (const std::string& name : names) text += (text.empty() ? "" : ", ") + name;
+    return text;
+  };
+  app.add_option("--scenario", config.scenario, listed(compare::scenario_names()))
       ->capture_default_str();
-  app.add_option("--solver", config.solver, "procedural, bullet-multibody, bullet-rigid or mujoco")
-      ->capture_default_str();
+  app.add_option("--solver", config.solver, listed(compare::solver_names()))->capture_default_str();
   // the rule's name is read here, at the edge; the session holds a procedural::Rule
   std::vector<std::string> rule_names;
   for (const procedural::Rule rule : procedural::kAllRules) {

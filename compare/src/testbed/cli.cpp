@@ -179,18 +179,6 @@ Model parse_model(const std::string& path) {
   }
 }
 
-const CLI::Validator& whole_number() {
-  static const CLI::Validator validator(
-      [](std::string& text) {
-        const bool digits =
-            !text.empty() && text.size() <= 9 && (text.size() == 1 || text[0] != '0') &&
-            std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
-        return digits ? std::string() : "expected a whole number, got " + shown(text);
-      },
-      "N");
-  return validator;
-}
-
 void stop_on_signals() {
   struct sigaction action {};
   action.sa_handler = [](int signal) {

@@ -55,9 +55,6 @@ uint64_t parse_seed(const std::string& text);
 // the model a --model flag names (a file, pinocchio or chain:N)
 Model parse_model(const std::string& path);
 
-// a count as plain decimal digits: CLI11's integers would also take 0x10, " 3" and 010 (as 8)
-const CLI::Validator& whole_number();
-
 // SIGINT and SIGTERM: before anything is written the process ends at once; after, the runs stop
 // at their next step and the output folder is left as it was (cancel.h)
 void stop_on_signals();

@@ -6,8 +6,8 @@
 
 #include "commands.h"
 #include "flags.h"
+#include "puppet/compare/engines.h"
 #include "puppet/compare/scenario.h"
-#include "puppet/compare/simulator.h"
 #include "puppet/model/euler_box.h"
 #include "puppet/model/text.h"
 
@@ -54,7 +54,7 @@ int validate(const std::string& path) {
   // what each engine makes of it: the verdict every command applies before it runs
   std::string engines, refusals;
   for (const std::string& solver : compare::solver_names()) {
-    const std::string problem = engine_problem(solver, model);
+    const std::string problem = compare::engine_model_problem(solver, model);
     if (problem.empty()) {
       engines += (engines.empty() ? "" : ", ") + solver;
     } else {

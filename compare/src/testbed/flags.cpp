@@ -1,13 +1,11 @@
 #include "flags.h"
 
 #include "cli.h"
+#include "puppet/compare/engines.h"
 #include "puppet/compare/number.h"
 #include "puppet/compare/robustness.h"
-#include "puppet/compare/simulator.h"
 #include "puppet/model/text.h"
 #include "puppet/procedural/rule.h"
-#include "puppet/reference/bullet.h"
-#include "puppet/reference/mujoco.h"
 
 namespace puppet::testbed {
 
@@ -45,39 +43,16 @@ void add_scenario_choice_flag(CLI::App* command, Flags& f) {
 void add_output_flags(CLI::App* command, Flags& f, const char* jobs_help) {
   command->add_option("--out", f.out, "output folder")->capture_default_str();
   command->add_option("--jobs", f.jobs, jobs_help)
-      ->check(whole_number())
+      ->check(compare::whole_number_check())
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
 }
 
 void add_engine_flags(CLI::App* command, Flags& f) {
-  command
-      ->add_option("--iterations", f.iterations,
-                   "relaxed, xpbd: two-sided sweeps per substep; tree: Newton iterations "
-                   "(default: the rule's, 4, 1, 1)")
-      ->check(whole_number())
-      ->check(CLI::Range(0, procedural::kMaxIterations));
-  command
-      ->add_option(
-          "--substeps", f.substeps,
-          "procedural substeps per step (default: the rule's, 8 for xpbd and tree, else 1)")
-      ->check(whole_number())
-      ->check(CLI::Range(1, procedural::kMaxSubsteps));
-  command->add_flag("--no-velocities", f.no_velocities,
-                    "procedural: do not derive velocities from poses");
-  command
-      ->add_option("--bullet-iterations", f.bullet_iterations,
-                   "Bullet: sequential-impulse sweeps per step")
-      ->check(whole_number())
-      ->check(CLI::Range(1, 1000))
-      ->capture_default_str();
-  command->add_flag("--bullet-euler-limits", f.bullet_euler_limits,
-                    "bullet-multibody: Bullet's own ball limits (a box of Euler angles)");
-  command
-      ->add_option("--mujoco-integrator", f.mujoco_integrator,
-                   "mujoco: euler (MuJoCo's semi-implicit Euler), implicit or rk4")
-      ->check(CLI::IsMember({"euler", "implicit", "rk4"}))
-      ->capture_default_str();
+  // every row's, built or not: a command line means the same in every build
+  for (const compare::Engine& engine : compare::engines()) {
+    if (engine.add_flags) engine.add_flags(*command, f.options);
+  }
 }
 
 void add_grab_flags(CLI::App* command, Flags& f) {
@@ -136,26 +111,17 @@ std::string replay_flags(const Flags& f) {
   auto add = [&](const char* flag, const std::string& value, const std::string& default_value) {
     if (value != default_value) out += std::string(" ") + flag + " " + compare::shell_word(value);
   };
-  auto add_count = [&](const char* flag, int value, int default_value) {
-    add(flag, std::to_string(value), std::to_string(default_value));
-  };
-  auto add_switch = [&](const char* flag, bool value) {
-    if (value) out += std::string(" ") + flag;
-  };
   add("--duration", f.duration, defaults.duration);
-  add_count("--iterations", f.iterations, defaults.iterations);
-  add_count("--substeps", f.substeps, defaults.substeps);
-  add_count("--bullet-iterations", f.bullet_iterations, defaults.bullet_iterations);
-  add("--mujoco-integrator", f.mujoco_integrator, defaults.mujoco_integrator);
+  for (const compare::Engine& engine : compare::engines()) {
+    if (engine.replay_flags) engine.replay_flags(f.options, out);
+  }
   add("--grab-compliance", f.grab_compliance, defaults.grab_compliance);
   add("--pin", f.pin, defaults.pin);
   add("--grab", f.grab, defaults.grab);
   add("--gravity", f.gravity, defaults.gravity);
   add("--air-drag", f.air_drag, defaults.air_drag);
   add("--ground", f.ground, defaults.ground);
-  add_switch("--bullet-euler-limits", f.bullet_euler_limits);
-  add_switch("--no-velocities", f.no_velocities);
-  add_switch("--no-tremble", f.no_tremble);
+  if (f.no_tremble) out += " --no-tremble";
   return out;
 }
 
@@ -177,16 +143,7 @@ ScenarioOptions parse_scenario_options(const Flags& f) {
 }
 
 std::vector<SolverConfig> parse_solver_configs(const Flags& f) {
-  SolverOptions options;
-  options.iterations = f.iterations;  // CLI11 checked the ranges
-  options.substeps = f.substeps;
-  options.bullet_iterations = f.bullet_iterations;
-  options.bullet_euler_limits = f.bullet_euler_limits;
-  options.mujoco_integrator = f.mujoco_integrator == "rk4" ? reference::MujocoIntegrator::kRk4
-                              : f.mujoco_integrator == "implicit"
-                                  ? reference::MujocoIntegrator::kImplicit
-                                  : reference::MujocoIntegrator::kEuler;
-  options.derive_velocities = !f.no_velocities;
+  SolverOptions options = f.options;  // CLI11 checked the ranges
   options.tremble = !f.no_tremble;
   const auto solvers = expand("--solver", f.solver, compare::solver_names());
   const auto rules = expand("--rule", f.rule, all_rules());
@@ -205,19 +162,11 @@ std::vector<SolverConfig> parse_solver_configs(const Flags& f) {
   return configs;
 }
 
-std::string engine_problem(const std::string& solver, const Model& model) {
-  if (solver == "mujoco") return reference::mujoco_model_problem(model);
-  if (solver == "bullet-multibody" || solver == "bullet-rigid") {
-    return reference::bullet_model_problem(model);
-  }
-  return {};
-}
-
 void apply_engine_verdicts(std::vector<SolverConfig>& configs, const Model& model, const Flags& f) {
   std::vector<std::string> refused;
   for (const SolverConfig& config : configs) {
     if (std::find(refused.begin(), refused.end(), config.solver) != refused.end()) continue;
-    const std::string problem = engine_problem(config.solver, model);
+    const std::string problem = compare::engine_model_problem(config.solver, model);
     if (problem.empty()) continue;
     if (f.solver != "all") {
       throw UsageError("--solver: " + config.solver + " cannot run " + shown(f.model) + ": " +

@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "puppet/compare/scenario.h"
+#include "puppet/compare/simulator.h"
 #include "puppet/compare/sweep.h"
 #include "puppet/model/model.h"
-#include "puppet/procedural/settings.h"
 
 namespace puppet::testbed {
 
@@ -23,11 +23,10 @@ struct Flags {
   std::string dt = "1/30,1/60,1/120,1/240,1/480", duration, out = "results", pin, grab, gravity,
               air_drag, ground;
   std::string tilt = "30", hz = "0.5", sample_hz = "30", grab_compliance;
-  // iterations and substeps kRuleDefault: the rule's own (relaxed 4 × 1, xpbd 1 × 8)
-  int iterations = procedural::kRuleDefault, substeps = procedural::kRuleDefault;
-  int bullet_iterations = 10, jobs = default_jobs();
-  std::string mujoco_integrator = "euler";
-  bool no_velocities = false, no_tremble = false, no_timing = false, bullet_euler_limits = false;
+  // every engine's own settings, bound by its row's flags (engines.h); the rule is --rule's
+  compare::SolverOptions options;
+  int jobs = default_jobs();
+  bool no_tremble = false, no_timing = false;
   bool no_accuracy = false;
   bool first_truth_only = false;
   std::string truth_cache;  // run: a folder of truth trajectories (truth_cache.h)
@@ -50,7 +49,7 @@ void add_solver_choice_flags(CLI::App* command, Flags& f);
 void add_scenario_choice_flag(CLI::App* command, Flags& f);
 // --out and --jobs
 void add_output_flags(CLI::App* command, Flags& f, const char* jobs_help = "worker threads");
-// the solvers' settings: procedural's iterations, substeps and velocities, Bullet's and MuJoCo's
+// every engine's own flags (its row in engines.h), bound to f.options
 void add_engine_flags(CLI::App* command, Flags& f);
 // the scenario's pieces a user may change: the dragged point, gravity, the grab's compliance
 void add_grab_flags(CLI::App* command, Flags& f);
@@ -71,9 +70,6 @@ std::string replay_flags(const Flags& f);
 compare::ScenarioOptions parse_scenario_options(const Flags& f);
 // every solver of --solver, and for procedural every rule of --rule
 std::vector<compare::SolverConfig> parse_solver_configs(const Flags& f);
-// what an engine refuses of the model (empty when it builds it): MuJoCo's depth, arena and
-// compiler (reference::mujoco_model_problem), Bullet's (reference::bullet_model_problem)
-std::string engine_problem(const std::string& solver, const Model& model);
 // One verdict per model, before anything runs: an engine that cannot build the model is refused
 // when --solver names it, and left out with a note when --solver is all
 void apply_engine_verdicts(std::vector<compare::SolverConfig>& configs, const Model& model,

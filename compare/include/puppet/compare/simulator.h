@@ -12,6 +12,7 @@
 #include "puppet/model/environment.h"
 #include "puppet/model/model.h"
 #include "puppet/procedural/solver.h"
+#include "puppet/reference/bullet.h"
 #include "puppet/reference/mujoco.h"
 
 namespace puppet::compare {
@@ -55,19 +56,22 @@ class Simulator {
   virtual std::vector<double> stage_seconds() const { return {}; }
 };
 
-const std::vector<std::string>& solver_names();
-// options a solver may use: the procedural rule and its settings, the references' sweeps
+// options a solver may use: the procedural rule and its settings, and each reference engine's
+// own settings (an engine's row in engines.h adds its flags for its part)
 struct SolverOptions {
   procedural::Rule rule = procedural::Rule::kRelaxed;
   int iterations = procedural::kRuleDefault;  // relaxed, xpbd: sweeps per substep; tree: Newton
-  int bullet_iterations = 10;        // Bullet: sequential-impulse sweeps (Bullet's default)
-  bool bullet_euler_limits = false;  // bullet-multibody: Bullet's Euler-box ball limits
-  reference::MujocoIntegrator mujoco_integrator = reference::MujocoIntegrator::kEuler;
-  double mujoco_time_constant = 0.0;        // mujoco: the constraints' τ (s), 0 for 2·dt
-  int substeps = procedural::kRuleDefault;  // procedural: substeps per step
+  int substeps = procedural::kRuleDefault;    // procedural: substeps per step
   bool derive_velocities = true;
   bool tremble = true;  // honoured only where the scenario asks for it
+  // bullet-multibody and bullet-rigid: sequential-impulse sweeps (Bullet's default 10), ERP, and
+  // Bullet's own Euler-box ball limits
+  reference::Settings bullet;
+  // mujoco: the integrator and the constraints' time constant (0: 2·dt)
+  reference::MujocoSettings mujoco;
 };
+// the names of the engines this build has, in the catalogue's order (engines.h)
+const std::vector<std::string>& solver_names();
 // throws ScenarioError for an unknown solver or invalid settings
 std::unique_ptr<Simulator> make_simulator(const std::string& solver, const SolverOptions& options);
 // the settings make_simulator("procedural", options) gives its solver in this scenario, for code

@@ -12,16 +12,16 @@
 #pragma once
 
 #include <memory>
-#include <span>
 #include <string>
-#include <vector>
 
 #include "puppet/model/environment.h"
 #include "puppet/model/model.h"
+#include "puppet/reference/solver.h"
 
 namespace puppet::reference {
 
-enum class Kind { kMultibody, kRigid, kMujoco };
+// which of Bullet's two worlds
+enum class Kind { kMultibody, kRigid };
 
 struct Settings {
   // sequential-impulse sweeps per step; 10 is Bullet's default for both worlds
@@ -36,36 +36,6 @@ struct Settings {
 
 // empty when valid, else what is wrong
 std::string validate(const Settings& settings);
-
-// One Bullet world holding one model. Not copyable; one step(dt) is one Bullet internal step.
-class Solver {
- public:
-  virtual ~Solver() = default;
-
-  virtual Kind kind() const = 0;
-  // holds each pin's point at its target, replacing any pins set before
-  virtual void set_pins(std::span<const Pin> pins) = 0;
-  // the targets of the pins, in order, for the end of the next step
-  virtual void set_pin_targets(std::span<const Vector3d> targets) = 0;
-  virtual void step(double dt) = 0;
-  // per segment, in the model's segment frames: COM, orientation, v, ω (world)
-  virtual void read_state(std::span<BodyState> out) const = 0;
-  // places every segment; the multibody reads the base's pose and velocity and each joint's
-  // relative rotation and angular velocity, so the state must be joint-consistent
-  virtual void set_state(std::span<const BodyState> bodies) = 0;
-  // the complete state as numbers (exact: restoring it and stepping repeats the same result)
-  virtual std::vector<double> save() const = 0;
-  virtual void load(std::span<const double> saved) = 0;
-  // a non-finite value appeared in the state
-  virtual bool diverged() const = 0;
-
-  // what Bullet was given, read back from Bullet's own objects (correspondence tests):
-  // a segment's mass, its inertia (diagonal, segment frame), and a joint's anchor as each of
-  // its two segments carries it, in world
-  virtual double segment_mass(int segment) const = 0;
-  virtual Vector3d segment_inertia(int segment) const = 0;
-  virtual void joint_anchors(int joint, Vector3d* on_parent, Vector3d* on_child) const = 0;
-};
 
 // why Bullet cannot build the model (empty when it can), decided before anything runs: both
 // solvers build every joint and limit kind the model has (a box limit as the multibody's own

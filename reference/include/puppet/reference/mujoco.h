@@ -25,7 +25,9 @@
 
 #include <memory>
 
-#include "puppet/reference/bullet.h"
+#include "puppet/model/environment.h"
+#include "puppet/model/model.h"
+#include "puppet/reference/solver.h"
 
 namespace puppet::reference {
 

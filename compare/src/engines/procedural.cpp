@@ -1,10 +1,13 @@
-// The procedural solver behind the Simulator interface.
+// The engine `procedural`: the seed's solver and its rules (procedural/), behind the Simulator
+// interface, with its flags (--iterations, --substeps, --no-velocities; --rule picks the rules a
+// sweep runs, flags.cpp).
+#include <CLI/CLI.hpp>
 #include <optional>
 
+#include "engine_rows.h"
 #include "puppet/compare/simulator.h"
 #include "puppet/model/text.h"
 #include "puppet/procedural/solver.h"
-#include "puppet/reference/mujoco.h"
 
 namespace puppet::compare {
 namespace {
@@ -76,8 +79,38 @@ procedural::Settings settings_without_scenario(const SolverOptions& options) {
   return procedural::rule_defaults(settings);
 }
 
-std::unique_ptr<Simulator> make_procedural_simulator(const SolverOptions& options) {
+std::unique_ptr<Simulator> make(const SolverOptions& options) {
   return std::make_unique<ProceduralSimulator>(options, settings_without_scenario(options));
+}
+
+std::string model_problem(const Model&) { return {}; }  // it runs every valid model
+
+void add_flags(CLI::App& command, SolverOptions& options) {
+  command
+      .add_option("--iterations", options.iterations,
+                  "relaxed, xpbd: two-sided sweeps per substep; tree: Newton iterations "
+                  "(default: the rule's, 4, 1, 1)")
+      ->check(whole_number_check())
+      ->check(CLI::Range(0, procedural::kMaxIterations));
+  command
+      .add_option("--substeps", options.substeps,
+                  "procedural substeps per step (default: the rule's, 8 for xpbd and tree, else 1)")
+      ->check(whole_number_check())
+      ->check(CLI::Range(1, procedural::kMaxSubsteps));
+  command.add_flag_callback(
+      "--no-velocities", [&options] { options.derive_velocities = false; },
+      "procedural: do not derive velocities from poses");
+}
+
+void replay_flags(const SolverOptions& options, std::string& out) {
+  const SolverOptions defaults;
+  if (options.iterations != defaults.iterations) {
+    out += " --iterations " + std::to_string(options.iterations);
+  }
+  if (options.substeps != defaults.substeps) {
+    out += " --substeps " + std::to_string(options.substeps);
+  }
+  if (!options.derive_velocities) out += " --no-velocities";
 }
 
 }  // namespace
@@ -88,26 +121,13 @@ procedural::Settings procedural_settings(const SolverOptions& options, const Sce
   return settings;
 }
 
-// reference_simulator.cpp
-std::unique_ptr<Simulator> make_reference_simulator(const std::string& solver,
-                                                    const SolverOptions& options);
-
-const std::vector<std::string>& solver_names() {
-  // mujoco only where the build has MuJoCo
-  static const std::vector<std::string> names = [] {
-    std::vector<std::string> out = {"procedural", "bullet-multibody", "bullet-rigid"};
-    if (reference::have_mujoco()) out.push_back("mujoco");
-    return out;
-  }();
-  return names;
-}
-
-std::unique_ptr<Simulator> make_simulator(const std::string& solver, const SolverOptions& options) {
-  if (solver == "procedural") return make_procedural_simulator(options);
-  if (solver == "bullet-multibody" || solver == "bullet-rigid" ||
-      (solver == "mujoco" && reference::have_mujoco()))
-    return make_reference_simulator(solver, options);
-  throw ScenarioError("unknown solver " + shown(solver), "solver");
+Engine procedural_engine() {
+  return {.name = "procedural",
+          .summary = "the seed's update/adjust solver and its rules (--rule)",
+          .model_problem = model_problem,
+          .make = make,
+          .add_flags = add_flags,
+          .replay_flags = replay_flags};
 }
 
 }  // namespace puppet::compare

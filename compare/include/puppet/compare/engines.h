@@ -1,0 +1,52 @@
+// The engine catalogue: one row per engine the testbed can run (docs/design.md, "The
+// references"). Every client that lists, makes or checks engines reads it: the testbed's
+// commands and flags, the sweeps and the truths, the viewer, the benchmarks. An engine is its
+// file under compare/src/engines/ (its Simulator, its flags, its row), its row in
+// engines/catalogue.cpp, its settings in SolverOptions, its CMake lines and its test.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "puppet/compare/simulator.h"
+#include "puppet/model/model.h"
+
+namespace CLI {  // CLI11's: the rows add their flags to a command
+class App;
+class Validator;
+}  // namespace CLI
+
+namespace puppet::compare {
+
+struct Engine {
+  std::string_view name;     // as --solver, the CSVs and the plots spell it
+  std::string_view summary;  // one line: what it is (testbed list)
+  bool built = true;         // false: this build lacks the library (MuJoCo without libmujoco-dev)
+  // why it cannot run the model (empty when it can), decided before anything runs
+  std::string (*model_problem)(const Model& model) = nullptr;
+  // a simulator with these options; throws ScenarioError for invalid settings
+  std::unique_ptr<Simulator> (*make)(const SolverOptions& options) = nullptr;
+  // its own flags, bound to its part of `options` (null: none, or a sibling row adds them)
+  void (*add_flags)(CLI::App& command, SolverOptions& options) = nullptr;
+  // the flags add_flags would read back as `options`, for those that differ from SolverOptions'
+  // defaults, each as " --flag value" (a robustness run's replay command)
+  void (*replay_flags)(const SolverOptions& options, std::string& out) = nullptr;
+};
+
+// the check of a count flag: plain decimal digits (CLI11's integers would also take 0x10, " 3"
+// and 010, as 8)
+const CLI::Validator& whole_number_check();
+
+// every engine, built or not, in the order the tables list them
+std::span<const Engine> engines();
+// the row named `name` that this build has, or null
+const Engine* find_engine(std::string_view name);
+// the names of the engines this build has
+const std::vector<std::string>& solver_names();
+// why the engine cannot run the model (empty when it can); an unknown name says so
+std::string engine_model_problem(std::string_view name, const Model& model);
+
+}  // namespace puppet::compare

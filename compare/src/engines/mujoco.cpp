@@ -1,0 +1,72 @@
+// The engine `mujoco`: MuJoCo 2.2 (reference/mujoco.h), where the build has it, with its flag
+// (--mujoco-integrator).
+#include <CLI/CLI.hpp>
+#include <array>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "engine_rows.h"
+#include "puppet/reference/mujoco.h"
+#include "reference_adapter.h"
+
+namespace puppet::compare {
+namespace {
+
+using reference::MujocoIntegrator;
+
+constexpr std::array<std::pair<const char*, MujocoIntegrator>, 3> kIntegrators = {
+    {{"euler", MujocoIntegrator::kEuler},
+     {"implicit", MujocoIntegrator::kImplicit},
+     {"rk4", MujocoIntegrator::kRk4}}};
+
+const char* integrator_name(MujocoIntegrator integrator) {
+  for (const auto& [name, value] : kIntegrators) {
+    if (value == integrator) return name;
+  }
+  return "euler";
+}
+
+std::unique_ptr<Simulator> make(const SolverOptions& options) {
+  const reference::MujocoSettings settings = options.mujoco;
+  return make_reference_simulator("mujoco",
+                                  [settings](const Model& model, const Environment& environment) {
+                                    return reference::make_mujoco(model, environment, settings);
+                                  });
+}
+
+void add_flags(CLI::App& command, SolverOptions& options) {
+  std::vector<std::string> names;
+  for (const auto& [name, value] : kIntegrators) names.emplace_back(name);
+  command
+      .add_option_function<std::string>(
+          "--mujoco-integrator",
+          [&options](const std::string& text) {
+            for (const auto& [name, value] : kIntegrators) {
+              if (text == name) options.mujoco.integrator = value;
+            }
+          },
+          "mujoco: euler (MuJoCo's semi-implicit Euler), implicit or rk4")
+      ->check(CLI::IsMember(names))
+      ->default_str(integrator_name(options.mujoco.integrator));
+}
+
+void replay_flags(const SolverOptions& options, std::string& out) {
+  if (options.mujoco.integrator != SolverOptions{}.mujoco.integrator) {
+    out += std::string(" --mujoco-integrator ") + integrator_name(options.mujoco.integrator);
+  }
+}
+
+}  // namespace
+
+Engine mujoco_engine() {
+  return {.name = "mujoco",
+          .summary = "MuJoCo 2.2: reduced coordinates, soft constraints solved as a convex problem",
+          .built = reference::have_mujoco(),
+          .model_problem = reference::mujoco_model_problem,
+          .make = make,
+          .add_flags = add_flags,
+          .replay_flags = replay_flags};
+}
+
+}  // namespace puppet::compare

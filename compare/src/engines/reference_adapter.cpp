@@ -1,0 +1,51 @@
+#include "reference_adapter.h"
+
+namespace puppet::compare {
+namespace {
+
+class ReferenceSnapshot : public Snapshot {
+ public:
+  explicit ReferenceSnapshot(std::vector<double> s) : saved(std::move(s)) {}
+  std::vector<double> saved;
+};
+
+class ReferenceSimulator : public Simulator {
+ public:
+  ReferenceSimulator(std::string name, ReferenceFactory factory)
+      : name_(std::move(name)), factory_(std::move(factory)) {}
+
+  std::string name() const override { return name_; }
+  void reset(const Model& model, const Scenario& scenario) override {
+    const std::vector<Pin> pins = scenario.initial_pins();
+    solver_ = factory_(model, scenario.environment);
+    solver_->set_state(scenario.initial);
+    solver_->set_pins(pins);
+  }
+  void set_pins(std::span<const Pin> pins) override { solver_->set_pins(pins); }
+  void set_pin_targets(std::span<const Vector3d> targets) override {
+    solver_->set_pin_targets(targets);
+  }
+  void step(double dt) override { solver_->step(dt); }
+  void read_state(std::span<BodyState> out) const override { solver_->read_state(out); }
+  void set_state(std::span<const BodyState> bodies) override { solver_->set_state(bodies); }
+  std::unique_ptr<Snapshot> snapshot() const override {
+    return std::make_unique<ReferenceSnapshot>(solver_->save());
+  }
+  void restore(const Snapshot& snapshot) override {
+    solver_->load(static_cast<const ReferenceSnapshot&>(snapshot).saved);
+  }
+  bool diverged() const override { return solver_->diverged(); }
+
+ private:
+  std::string name_;
+  ReferenceFactory factory_;
+  std::unique_ptr<reference::Solver> solver_;
+};
+
+}  // namespace
+
+std::unique_ptr<Simulator> make_reference_simulator(std::string name, ReferenceFactory factory) {
+  return std::make_unique<ReferenceSimulator>(std::move(name), std::move(factory));
+}
+
+}  // namespace puppet::compare
