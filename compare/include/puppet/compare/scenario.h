@@ -80,15 +80,13 @@ struct Scenario {
   bool conserves_momentum() const;
 };
 
+// the names of the scenarios, in the catalogue's order (compare/src/scenarios/catalogue.cpp: one
+// file per scenario)
 const std::vector<std::string>& scenario_names();
-// builds a named scenario for a model; throws ScenarioError
+// builds a named scenario for a model, then applies the options' overrides of the environment
+// (gravity, air drag, ground); throws ScenarioError
 Scenario make_scenario(const std::string& name, const Model& model,
                        const ScenarioOptions& options = {});
-
-// the default segment choices (docs/design.md): the pinocchio names, else the root for the pin and
-// the segment reaching lowest at rest for the grab
-int default_pin_segment(const Model& model);
-int default_grab_segment(const Model& model, const std::string& scenario);
 
 // the built-in Pinocchio's model file, in the source tree
 std::string builtin_model_path();

@@ -1,0 +1,135 @@
+#include "builders.h"
+
+#include <cmath>
+
+#include "puppet/model/text.h"
+
+namespace puppet::compare {
+namespace {
+
+// the shape's extreme point along a world direction, at rest, in the segment frame
+Vector3d rest_extreme_point(const Segment& segment, const Vector3d& world_direction) {
+  return support_point(segment.shape, segment.rest_orientation.conjugate() * world_direction);
+}
+
+double rest_lowest_z(const Segment& segment) {
+  return (segment.rest_position +
+          segment.rest_orientation * rest_extreme_point(segment, -Vector3d::UnitZ()))
+      .z();
+}
+
+// the default segment choices (docs/design.md): the pinocchio names, else the root for the pin
+// and the segment reaching lowest at rest for the grab
+int default_pin_segment(const Model& model) {
+  const int head = model.find_segment("head");
+  return head >= 0 ? head : 0;
+}
+
+int default_grab_segment(const Model& model, std::string_view hand_name) {
+  const int hand = model.find_segment(std::string(hand_name));
+  if (hand >= 0) return hand;
+  int lowest = 0;
+  for (int i = 1; i < model.segment_count(); ++i) {
+    if (rest_lowest_z(model.segments[i]) < rest_lowest_z(model.segments[lowest]) - 1e-12)
+      lowest = i;
+  }
+  return lowest;
+}
+
+Pin choose_point(const Model& model, const std::optional<PointChoice>& choice, int default_segment,
+                 const Vector3d& extreme_direction, const char* option) {
+  Pin pin;
+  pin.segment = default_segment;
+  if (choice) {
+    pin.segment = model.find_segment(choice->segment);
+    if (pin.segment < 0) {
+      throw ScenarioError(
+          "unknown segment " + shown(choice->segment) + " in model " + shown(model.name), option);
+    }
+  }
+  const Segment& segment = model.segments[pin.segment];
+  pin.local_point = choice && choice->local_point ? *choice->local_point
+                                                  : rest_extreme_point(segment, extreme_direction);
+  return pin;
+}
+
+Vector3d world_of(const std::vector<BodyState>& bodies, const Pin& pin) {
+  return bodies[pin.segment].x + bodies[pin.segment].q * pin.local_point;
+}
+
+}  // namespace
+
+void rotate_about(std::vector<BodyState>& bodies, const Quaterniond& rotation,
+                  const Vector3d& centre) {
+  for (BodyState& body : bodies) {
+    body.x = centre + rotation * (body.x - centre);
+    body.q = (rotation * body.q).normalized();
+    body.v = rotation * body.v;
+    body.w = rotation * body.w;
+  }
+}
+
+Vector3d centre_of_mass(const Model& model, const std::vector<BodyState>& bodies) {
+  Vector3d com{0, 0, 0};
+  for (int i = 0; i < model.segment_count(); ++i) com += model.segments[i].mass * bodies[i].x;
+  return com / model.total_mass;
+}
+
+HandPath circling_hand(const ScenarioOptions& options) {
+  constexpr double kCircleRadius = 0.3;  // m
+  return {.segment = "r_forearm",
+          .path = TargetPath::kCircle,
+          .radius = kCircleRadius,
+          .hz = options.start ? options.start->hz : options.hz};
+}
+
+Scenario held_figure(const Model& model, const ScenarioOptions& options, bool head,
+                     const std::optional<HandPath>& hand) {
+  Scenario s;
+  s.environment.gravity = model.gravity;
+  const std::optional<StartInputs>& start = options.start;
+  // the pins, chosen on the rest pose
+  Pin head_pin, hand_pin;
+  if (head) {
+    head_pin =
+        choose_point(model, options.pin, default_pin_segment(model), Vector3d::UnitZ(), "pin");
+  }
+  if (hand) {
+    hand_pin = choose_point(model, options.grab, default_grab_segment(model, hand->segment),
+                            -Vector3d::UnitZ(), "grab");
+    if (start && !(options.grab && options.grab->local_point)) {
+      hand_pin.local_point =
+          support_point(model.segments[hand_pin.segment].shape, start->grab_direction);
+    }
+  }
+  // a random start poses the figure from the segment held first (it stays at rest, so a held
+  // point starts still), else from the root
+  const int anchor = head ? head_pin.segment : hand ? hand_pin.segment : 0;
+  s.initial = start ? posed_start(model, *start, anchor) : rest_pose(model);
+
+  if (head) {
+    // a marionette: the pin point fixed, the figure tilted about world x through it
+    const Vector3d pivot = world_of(s.initial, head_pin);
+    const double tilt_deg = start ? start->tilt_deg : options.tilt_deg;
+    rotate_about(s.initial,
+                 Quaterniond(Eigen::AngleAxisd(tilt_deg * M_PI / 180.0, Vector3d::UnitX())), pivot);
+    PinPath fixed;
+    fixed.pin = head_pin;
+    fixed.pin.target = pivot;
+    s.pins.push_back(fixed);
+  }
+  if (hand) {
+    PinPath grab;
+    grab.pin = hand_pin;
+    grab.pin.target = world_of(s.initial, hand_pin);
+    grab.pin.compliance = options.grab_compliance;
+    grab.path = hand->path;
+    grab.radius = hand->radius;
+    grab.hz = hand->hz;
+    if (start) grab.phase = start->phase;
+    s.pins.push_back(grab);
+  }
+  return s;
+}
+
+}  // namespace puppet::compare

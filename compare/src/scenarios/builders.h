@@ -1,0 +1,54 @@
+// What the scenarios share (scenarios/*.cpp, one file each): the figure held by its head, its
+// hand or both, at rest or from a random start; the figure free; the rows of the catalogue.
+#pragma once
+
+#include <optional>
+#include <string_view>
+
+#include "puppet/compare/scenario.h"
+
+namespace puppet::compare {
+
+// one scenario of the catalogue (catalogue.cpp lists them): its name, as --scenario, the CSVs
+// and the plots spell it, and how to build it; make_scenario sets the name and applies the
+// command line's overrides of the environment afterwards
+struct ScenarioRow {
+  std::string_view name;
+  Scenario (*make)(const Model& model, const ScenarioOptions& options) = nullptr;
+};
+
+ScenarioRow hang_scenario();
+ScenarioRow drag_scenario();
+ScenarioRow shake_scenario();
+ScenarioRow spin_scenario();
+ScenarioRow drop_scenario();
+ScenarioRow water_scenario();
+ScenarioRow tremble_scenario();
+ScenarioRow yank_scenario();
+
+// a held hand: the segment named (else the one reaching lowest at rest), its point from --grab
+// or its lowest at rest (a random start picks its own), and the path its target follows
+struct HandPath {
+  std::string_view segment;  // the default segment's name in the Pinocchio model
+  TargetPath path = TargetPath::kCircle;
+  double radius = 0.0;  // m
+  double hz = 0.0;
+};
+
+// the circle of drag, water, tremble and yank (docs/design.md): 0.3 m, at --hz or a start's
+HandPath circling_hand(const ScenarioOptions& options);
+
+// The figure at rest (or at options.start, posed from the segment held first), with gravity the
+// model's and no other force. `head`: a marionette, its head's top (--pin) fixed where it is, the
+// figure tilted by --tilt (or the start's) about world x through it. `hand`: a second pin on a
+// hand whose target follows the path, compliant by --grab-compliance.
+Scenario held_figure(const Model& model, const ScenarioOptions& options, bool head,
+                     const std::optional<HandPath>& hand);
+
+// the centre of mass of a state
+Vector3d centre_of_mass(const Model& model, const std::vector<BodyState>& bodies);
+// every body rotated rigidly by `rotation` about `centre`
+void rotate_about(std::vector<BodyState>& bodies, const Quaterniond& rotation,
+                  const Vector3d& centre);
+
+}  // namespace puppet::compare

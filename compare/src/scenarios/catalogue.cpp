@@ -1,0 +1,43 @@
+// The scenario catalogue: the rows (one file each), the names every client reads, and
+// make_scenario, which builds a row and applies the command line's overrides.
+#include <algorithm>
+
+#include "builders.h"
+#include "puppet/model/text.h"
+
+namespace puppet::compare {
+namespace {
+
+const std::vector<ScenarioRow>& rows() {
+  static const std::vector<ScenarioRow> all = {
+      hang_scenario(), drag_scenario(),  shake_scenario(),   spin_scenario(),
+      drop_scenario(), water_scenario(), tremble_scenario(), yank_scenario()};
+  return all;
+}
+
+}  // namespace
+
+const std::vector<std::string>& scenario_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (const ScenarioRow& row : rows()) out.emplace_back(row.name);
+    return out;
+  }();
+  return names;
+}
+
+Scenario make_scenario(const std::string& name, const Model& model,
+                       const ScenarioOptions& options) {
+  const auto row = std::find_if(rows().begin(), rows().end(),
+                                [&](const ScenarioRow& r) { return r.name == name; });
+  if (row == rows().end()) throw ScenarioError("unknown scenario " + shown(name), "scenario");
+  Scenario s = row->make(model, options);
+  s.name = name;
+  // command-line overrides of the environment
+  if (options.gravity) s.environment.gravity = *options.gravity;
+  if (options.air_drag) s.environment.air_drag = *options.air_drag;
+  if (options.ground) s.environment.ground = *options.ground;
+  return s;
+}
+
+}  // namespace puppet::compare

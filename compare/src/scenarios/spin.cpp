@@ -1,0 +1,21 @@
+// spin: the free figure spun rigidly at ω = (0.3, 0, 2) rad/s about its centre of mass, without
+// gravity: energy and momentum are conserved.
+#include "builders.h"
+
+namespace puppet::compare {
+
+ScenarioRow spin_scenario() {
+  return {"spin", [](const Model& model, const ScenarioOptions& options) {
+            Scenario s = held_figure(model, options, /*head=*/false, std::nullopt);
+            s.environment.gravity.setZero();
+            const Vector3d com = centre_of_mass(model, s.initial);
+            const Vector3d omega(0.3, 0.0, 2.0);
+            for (BodyState& body : s.initial) {
+              body.w += omega;
+              body.v += omega.cross(body.x - com);
+            }
+            return s;
+          }};
+}
+
+}  // namespace puppet::compare
