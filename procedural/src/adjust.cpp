@@ -1,12 +1,13 @@
 // Stage 2, adjust (seed §3.3): pins, joints and limits from the anchor (the first pinned
-// segment, else the root), as the settings' rule does it (rules/<rule>.cpp):
+// segment, else the root), as the settings' rule does it (its row's adjust, rules/catalogue.cpp;
+// its code in rules/<rule>.cpp):
 //
 //   literal, smoothed, weighted, subtree   one one-sided pass (one_sided_pass.cpp); a compliant
 //                                          pin's target is first softened by its compliance
 //   relaxed                                two-sided sweeps, then a one-sided weighted pass
 //   xpbd                                   two-sided sweeps only (compliant, substepped)
 //   tree                                   the exact projection, Newton-iterated
-#include "rules/rules.h"
+#include "rules/catalogue.h"
 
 namespace puppet::procedural {
 
@@ -21,27 +22,8 @@ void adjust(const Model& model, const Settings& settings, const Environment& env
     state.pin_force[i] = 2.0 * model.segments[pin.segment].mass * gap / (h * h);
   }
   const AnchorOrder& order = anchor_order(model, tables, ws, anchor);
-  switch (settings.rule) {
-    case Rule::kXpbd:
-      xpbd_adjust(model, tables.joints, settings, environment, order, targets, state, ws, h);
-      return;
-    case Rule::kTree:
-      tree_adjust(model, tables.joints, settings, environment, order, targets, state, ws, h);
-      return;
-    case Rule::kRelaxed:
-      relaxed_adjust(model, tables.joints, settings, environment, order, targets, state, ws, h);
-      return;
-    case Rule::kLiteral:
-    case Rule::kSmoothed:
-    case Rule::kWeighted:
-    case Rule::kSubtree: {
-      PinTargets closing = targets;
-      soften_compliant_targets(model, state, h, closing);
-      one_sided_pass(model, tables.joints, settings.rule, order, PinClosure::kAll, closing, state,
-                     ws);
-      return;
-    }
-  }
+  rule_row(settings.rule)
+      .adjust(model, tables.joints, settings, environment, order, targets, state, ws, h);
 }
 
 }  // namespace puppet::procedural

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rules/catalogue.h"
 #include "stages.h"
 
 namespace puppet::procedural {
@@ -111,26 +112,7 @@ int resolve_contacts(const Model& model, const Environment& environment, State& 
   return lowest;
 }
 
-ContactPolicy contact_policy(Rule rule) {
-  switch (rule) {
-    case Rule::kXpbd:
-    case Rule::kTree:
-      return ContactPolicy::kInAdjust;
-    case Rule::kRelaxed:
-      // seed: relaxed has resolved contacts inside its sweeps; re-anchoring its final pass at a
-      // foot made the whole body swing on the ankle's limit (measured: 100 m/s in `drop`), so
-      // what this push-out leaves open is reported as joint gap instead
-      return ContactPolicy::kPushOut;
-    case Rule::kLiteral:
-    case Rule::kSmoothed:
-    case Rule::kWeighted:
-    case Rule::kSubtree:
-      // a contact move may reopen joints: the one-sided rules re-run their pass from the segment
-      // that hit deepest
-      return ContactPolicy::kPushOutAndRepass;
-  }
-  return ContactPolicy::kPushOut;
-}
+ContactPolicy contact_policy(Rule rule) { return rule_row(rule).contacts; }
 
 void contacts(const Model& model, const Settings& settings, const Environment& environment,
               const ModelTables& tables, const PinTargets& targets, State& state,

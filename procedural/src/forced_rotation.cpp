@@ -14,6 +14,7 @@
 // seed: when r ∥ s there is no rotation axis; R = identity and the joint closes by translation.
 #include <cmath>
 
+#include "rules/catalogue.h"
 #include "rules/rules.h"
 
 namespace puppet::procedural {
@@ -37,25 +38,7 @@ Correction close_point(Rule rule, const MovingBody& body, const Vector3d& c_b,
   const double cross_norm2 = cross.squaredNorm();
   Quaterniond rotation = Quaterniond::Identity();
   if (cross_norm2 >= kParallel * kParallel) {
-    switch (rule) {
-      case Rule::kLiteral: {
-        // in SI units nearly every link: no axis, no sqrt
-        const double bound = literal_still_cross(body.largest_moment());
-        if (cross_norm2 < bound * bound) break;
-        rotation = literal_rotation(body, r, s, cross, std::sqrt(cross_norm2));
-        break;
-      }
-      case Rule::kSmoothed:
-        rotation = smoothed_rotation(body, r, s, cross, std::sqrt(cross_norm2));
-        break;
-      case Rule::kWeighted:
-      case Rule::kSubtree:
-      case Rule::kRelaxed:
-      case Rule::kXpbd:  // never close one-sidedly; the weighted reading if asked
-      case Rule::kTree:
-        rotation = weighted_rotation(body, r, s);
-        break;
-    }
+    rotation = rule_row(rule).forced_rotation(body, r, s, cross, cross_norm2);
   }
   // eq. 5: x ↦ x + T with T = (I − R) r + s
   Correction correction{rotation, s};

@@ -6,7 +6,7 @@
 
 #include "joint_limits.h"
 #include "model_tables.h"
-#include "rules/rules.h"
+#include "rules/catalogue.h"
 
 namespace puppet::procedural {
 
@@ -112,9 +112,10 @@ JointTerms make_joint_terms(const Model& model, const Joint& joint) {
     const Segment& segment = *segments[side];
     const Vector3d& r = *anchors[side];
     terms.point_mass[side] = diagonal_point_mass_matrix(segment.inv_mass, segment.inv_inertia, r);
-    terms.rotation_gain[side] = weighted_gain(segment, r, terms.point_mass[side]);
-    const double still = literal_still_cross(segment.inertia.maxCoeff());
-    terms.literal_still_cross2[side] = still * still;
+    // what each rule keeps of the joint (its row's prepare_joint)
+    for (const RuleRow& rule : rule_rows()) {
+      if (rule.prepare_joint) rule.prepare_joint(segment, r, side, terms);
+    }
   }
   return terms;
 }

@@ -127,4 +127,13 @@ void one_sided_pass(const Model& model, std::span<const JointTerms> joints, Rule
   }
 }
 
+void one_sided_adjust(const Model& model, std::span<const JointTerms> joints,
+                      const Settings& settings, const Environment& /*environment*/,
+                      const AnchorOrder& order, const PinTargets& targets, State& state,
+                      Workspace& ws, double h) {
+  PinTargets closing = targets;
+  soften_compliant_targets(model, state, h, closing);
+  one_sided_pass(model, joints, settings.rule, order, PinClosure::kAll, closing, state, ws);
+}
+
 }  // namespace puppet::procedural

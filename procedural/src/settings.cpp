@@ -1,29 +1,9 @@
-// The rules' names and the settings' ranges and defaults.
+// The settings' ranges and defaults (each rule's own are its row in rules/catalogue.cpp).
 #include <string>
 
 #include "puppet/procedural/settings.h"
 
 namespace puppet::procedural {
-
-std::string_view rule_name(Rule rule) {
-  switch (rule) {
-    case Rule::kLiteral:
-      return "literal";
-    case Rule::kSmoothed:
-      return "smoothed";
-    case Rule::kWeighted:
-      return "weighted";
-    case Rule::kSubtree:
-      return "subtree";
-    case Rule::kRelaxed:
-      return "relaxed";
-    case Rule::kXpbd:
-      return "xpbd";
-    case Rule::kTree:
-      return "tree";
-  }
-  return "?";
-}
 
 std::optional<Rule> parse_rule(std::string_view name) {
   for (Rule rule : kAllRules) {
@@ -47,20 +27,9 @@ std::string validate(const Settings& settings) {
 }
 
 Settings rule_defaults(Settings settings) {
-  // xpbd: many short substeps of one sweep each (Müller et al. 2020), the count chosen by
-  // measurement (docs: the substep sweep); relaxed: the four sweeps of one step the seed's pass
-  // closes; the other rules make one pass and read no iterations
-  // tree: a few substeps of a few Newton iterations of the exact projection
-  int iterations = 4, substeps = 1;
-  if (settings.rule == Rule::kXpbd) {
-    iterations = 1;
-    substeps = kXpbdSubsteps;
-  } else if (settings.rule == Rule::kTree) {
-    iterations = kTreeIterations;
-    substeps = kTreeSubsteps;
-  }
-  if (settings.iterations == kRuleDefault) settings.iterations = iterations;
-  if (settings.substeps == kRuleDefault) settings.substeps = substeps;
+  const RuleInfo rule = rule_info(settings.rule);
+  if (settings.iterations == kRuleDefault) settings.iterations = rule.iterations;
+  if (settings.substeps == kRuleDefault) settings.substeps = rule.substeps;
   return settings;
 }
 

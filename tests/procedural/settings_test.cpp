@@ -9,6 +9,7 @@
 #include <set>
 
 #include "puppet/procedural/solver.h"
+#include "rules/catalogue.h"
 
 namespace puppet::procedural {
 namespace {
@@ -86,6 +87,35 @@ TEST(Settings, ARulesDefaultsFillOnlyWhatWasLeftToTheRule) {
   Settings relaxed;
   EXPECT_EQ(rule_defaults(relaxed).iterations, 4);  // the four sweeps of docs/design.md
   EXPECT_EQ(rule_defaults(relaxed).substeps, 1);
+}
+
+// the rule catalogue (rules/catalogue.cpp): every stage reads a rule's row, so a row out of the
+// enum's order or missing a function would run another rule's code
+TEST(RuleCatalogue, OneRowPerRuleInTheEnumsOrder) {
+  ASSERT_EQ(rule_rows().size(), kAllRules.size());
+  std::set<std::string_view> names;
+  for (size_t i = 0; i < kAllRules.size(); ++i) {
+    const RuleRow& row = rule_rows()[i];
+    EXPECT_EQ(row.rule, kAllRules[i]);
+    EXPECT_EQ(&rule_row(kAllRules[i]), &row);
+    EXPECT_NE(row.adjust, nullptr) << row.info.name;
+    EXPECT_NE(row.forced_rotation, nullptr) << row.info.name;
+    EXPECT_EQ(parse_rule(row.info.name), kAllRules[i]);
+    EXPECT_EQ(rule_name(kAllRules[i]), row.info.name);
+    EXPECT_TRUE(names.insert(row.info.name).second) << row.info.name << " twice";
+  }
+}
+
+TEST(RuleCatalogue, TheDefaultsAreTheRowsOwn) {
+  for (const Rule rule : kAllRules) {
+    Settings settings;
+    settings.rule = rule;
+    const Settings filled = rule_defaults(settings);
+    EXPECT_EQ(filled.iterations, rule_info(rule).iterations) << rule_name(rule);
+    EXPECT_EQ(filled.substeps, rule_info(rule).substeps) << rule_name(rule);
+    EXPECT_GE(filled.iterations, 0);
+    EXPECT_GE(filled.substeps, 1);
+  }
 }
 
 }  // namespace

@@ -2,7 +2,10 @@
 // interface, with its flags (--iterations, --substeps, --no-velocities; --rule picks the rules a
 // sweep runs, flags.cpp).
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "engine_rows.h"
 #include "puppet/compare/simulator.h"
@@ -85,16 +88,46 @@ std::unique_ptr<Simulator> make(const SolverOptions& options) {
 
 std::string model_problem(const Model&) { return {}; }  // it runs every valid model
 
+// what --iterations and --substeps mean to each rule, from the rule catalogue (rule_info):
+// "relaxed, xpbd: two-sided sweeps per substep; tree: Newton iterations per substep (default:
+// the rule's: relaxed 4, xpbd 1, tree 1)"
+std::string iterations_help() {
+  std::string meanings, defaults;
+  std::vector<std::string_view> seen;
+  for (const procedural::Rule rule : procedural::kAllRules) {
+    const procedural::RuleInfo info = procedural::rule_info(rule);
+    if (info.iterations_are.empty()) continue;
+    defaults += (defaults.empty() ? "" : ", ") + std::string(info.name) + " " +
+                std::to_string(info.iterations);
+    if (std::find(seen.begin(), seen.end(), info.iterations_are) != seen.end()) continue;
+    seen.push_back(info.iterations_are);
+    std::string names;
+    for (const procedural::Rule other : procedural::kAllRules) {
+      const procedural::RuleInfo o = procedural::rule_info(other);
+      if (o.iterations_are == info.iterations_are) {
+        names += (names.empty() ? "" : ", ") + std::string(o.name);
+      }
+    }
+    meanings += (meanings.empty() ? "" : "; ") + names + ": " + std::string(info.iterations_are);
+  }
+  return meanings + "; the others make one pass (default: the rule's: " + defaults + ")";
+}
+
+std::string substeps_help() {
+  std::string defaults;
+  for (const procedural::Rule rule : procedural::kAllRules) {
+    const procedural::RuleInfo info = procedural::rule_info(rule);
+    if (info.substeps == 1) continue;
+    defaults += std::string(info.name) + " " + std::to_string(info.substeps) + ", ";
+  }
+  return "procedural substeps per step (default: the rule's: " + defaults + "the others 1)";
+}
+
 void add_flags(CLI::App& command, SolverOptions& options) {
-  command
-      .add_option("--iterations", options.iterations,
-                  "relaxed, xpbd: two-sided sweeps per substep; tree: Newton iterations "
-                  "(default: the rule's, 4, 1, 1)")
+  command.add_option("--iterations", options.iterations, iterations_help())
       ->check(whole_number_check())
       ->check(CLI::Range(0, procedural::kMaxIterations));
-  command
-      .add_option("--substeps", options.substeps,
-                  "procedural substeps per step (default: the rule's, 8 for xpbd and tree, else 1)")
+  command.add_option("--substeps", options.substeps, substeps_help())
       ->check(whole_number_check())
       ->check(CLI::Range(1, procedural::kMaxSubsteps));
   command.add_flag_callback(

@@ -35,4 +35,18 @@ double literal_still_cross(double largest_moment) {
   return std::max(kParallel, kSurelyUnderflows / largest_moment);
 }
 
+Quaterniond literal_forced_rotation(const MovingBody& body, const Vector3d& r, const Vector3d& s,
+                                    const Vector3d& cross, double cross_norm2) {
+  // in SI units nearly every link: no axis, no sqrt
+  const double bound = literal_still_cross(body.largest_moment());
+  if (cross_norm2 < bound * bound) return Quaterniond::Identity();
+  return literal_rotation(body, r, s, cross, std::sqrt(cross_norm2));
+}
+
+void literal_prepare_joint(const Segment& segment, const Vector3d& /*r*/, int side,
+                           JointTerms& terms) {
+  const double still = literal_still_cross(segment.inertia.maxCoeff());
+  terms.literal_still_cross2[side] = still * still;
+}
+
 }  // namespace puppet::procedural

@@ -32,10 +32,16 @@ Quaterniond literal_rotation(const MovingBody& body, const Vector3d& r, const Ve
 // principal moment is `largest_moment` (its θ = φ·exp(−1/(I_b |r × s|)) is exactly 0), never
 // below the threshold under which r ∥ s
 double literal_still_cross(double largest_moment);
+// its row's forced rotation (the bound above first) and what it keeps per joint side
+Quaterniond literal_forced_rotation(const MovingBody& body, const Vector3d& r, const Vector3d& s,
+                                    const Vector3d& cross, double cross_norm2);
+void literal_prepare_joint(const Segment& segment, const Vector3d& r, int side, JointTerms& terms);
 
 // --- smoothed.cpp: eq. 2 over one step, bounded by the angle that closes the gap
 Quaterniond smoothed_rotation(const MovingBody& body, const Vector3d& r, const Vector3d& s,
                               const Vector3d& cross, double cross_norm);
+Quaterniond smoothed_forced_rotation(const MovingBody& body, const Vector3d& r, const Vector3d& s,
+                                     const Vector3d& cross, double cross_norm2);
 
 // --- weighted.cpp: the minimum-kinetic-energy correction of a point
 // for a composite body (rule subtree); a single segment takes close_segment_point() or its joint's
@@ -43,11 +49,23 @@ Quaterniond smoothed_rotation(const MovingBody& body, const Vector3d& r, const V
 Quaterniond weighted_rotation(const MovingBody& body, const Vector3d& r, const Vector3d& s);
 // a segment's rotation vector per unit gap of its point r (both in its frame): D⁻¹ [r]× K⁻¹
 Matrix3d weighted_gain(const Segment& segment, const Vector3d& r, const Matrix3d& point_mass);
+// its row's forced rotation (every two-sided rule's too, should one close a point one-sidedly)
+// and the gain it keeps per joint side (after the side's point mass)
+Quaterniond weighted_forced_rotation(const MovingBody& body, const Vector3d& r, const Vector3d& s,
+                                     const Vector3d& cross, double cross_norm2);
+void weighted_prepare_joint(const Segment& segment, const Vector3d& r, int side, JointTerms& terms);
 
 // --- subtree.cpp: the one-sided pass of rule subtree after the secondary pins: the anchor's
 // whole body to its pin when `pinned`, then every joint moving the subtree beyond it as one body
 void subtree_pass(const Model& model, std::span<const JointTerms> joints, const AnchorOrder& order,
                   bool pinned, const PinTargets& targets, State& state, Workspace& ws);
+
+// --- one_sided_pass.cpp: the adjust of literal, smoothed, weighted and subtree: compliant pins'
+// targets softened, then one one-sided pass from the anchor
+void one_sided_adjust(const Model& model, std::span<const JointTerms> joints,
+                      const Settings& settings, const Environment& environment,
+                      const AnchorOrder& order, const PinTargets& targets, State& state,
+                      Workspace& ws, double h);
 
 // --- relaxed.cpp, xpbd.cpp, tree.cpp: the whole adjust of the rule for one substep of length h
 void relaxed_adjust(const Model& model, std::span<const JointTerms> joints,

@@ -19,4 +19,9 @@ Quaterniond smoothed_rotation(const MovingBody& body, const Vector3d& r, const V
   return quat_exp((theta / cross_norm) * cross);
 }
 
+Quaterniond smoothed_forced_rotation(const MovingBody& body, const Vector3d& r, const Vector3d& s,
+                                     const Vector3d& cross, double cross_norm2) {
+  return smoothed_rotation(body, r, s, cross, std::sqrt(cross_norm2));
+}
+
 }  // namespace puppet::procedural

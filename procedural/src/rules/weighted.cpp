@@ -26,4 +26,14 @@ Matrix3d weighted_gain(const Segment& segment, const Vector3d& r, const Matrix3d
   return segment.inv_inertia.asDiagonal() * cross_matrix(r) * point_mass.inverse();
 }
 
+Quaterniond weighted_forced_rotation(const MovingBody& body, const Vector3d& r, const Vector3d& s,
+                                     const Vector3d& /*cross*/, double /*cross_norm2*/) {
+  return weighted_rotation(body, r, s);
+}
+
+void weighted_prepare_joint(const Segment& segment, const Vector3d& r, int side,
+                            JointTerms& terms) {
+  terms.rotation_gain[side] = weighted_gain(segment, r, terms.point_mass[side]);
+}
+
 }  // namespace puppet::procedural

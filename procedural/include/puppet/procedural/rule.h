@@ -16,6 +16,16 @@ inline constexpr std::array kAllRules = {Rule::kLiteral, Rule::kSmoothed, Rule::
                                          Rule::kSubtree, Rule::kRelaxed,  Rule::kXpbd,
                                          Rule::kTree};
 
+/// what a rule is, as its row in the rule catalogue says (procedural/src/rules/catalogue.cpp)
+struct RuleInfo {
+  std::string_view name;  ///< as the command lines and CSVs spell it ("literal", …, "tree")
+  int iterations = 1;     ///< its iterations per substep unless told
+  int substeps = 1;       ///< its substeps per step unless told
+  /// what its iterations count ("two-sided sweeps per substep"); empty when it reads none
+  std::string_view iterations_are;
+};
+RuleInfo rule_info(Rule rule);
+
 /// the rule's name as the command lines and CSVs spell it ("literal", …, "tree")
 std::string_view rule_name(Rule rule);
 /// the rule of that name; nullopt for any other text

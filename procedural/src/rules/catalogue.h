@@ -1,0 +1,43 @@
+// The rule catalogue: one row per rule (rule.h's enum), holding everything the stages ask of a
+// rule, so that no stage switches on the rule (Box2D's joint function tables). Private to
+// procedural/; rule_info() gives its public part.
+//
+// A rule is its file (rules/<rule>.cpp, declared in rules.h), its row here (catalogue.cpp), its
+// enum value in rule.h, its CMake line and its test.
+#pragma once
+
+#include <span>
+
+#include "../stages.h"
+
+namespace puppet::procedural {
+
+// the rule's position pass over one substep of length h, from the anchor's order
+using AdjustFn = void (*)(const Model& model, std::span<const JointTerms> joints,
+                          const Settings& settings, const Environment& environment,
+                          const AnchorOrder& order, const PinTargets& targets, State& state,
+                          Workspace& ws, double h);
+// the rotation R that a one-sided closure of point r (from the body's centre) by the gap s
+// turns the body by, given r × s and |r × s|² ≥ kParallel² (eq. 5 then closes the gap)
+using ForcedRotationFn = Quaterniond (*)(const MovingBody& body, const Vector3d& r,
+                                         const Vector3d& s, const Vector3d& cross,
+                                         double cross_norm2);
+// what the rule keeps in the model tables for one side of a joint (the segment, its anchor r in
+// its frame), written into terms at `side`
+using PrepareJointFn = void (*)(const Segment& segment, const Vector3d& r, int side,
+                                JointTerms& terms);
+
+struct RuleRow {
+  Rule rule;
+  RuleInfo info;
+  ContactPolicy contacts;
+  AdjustFn adjust;
+  ForcedRotationFn forced_rotation;
+  PrepareJointFn prepare_joint = nullptr;  // null: the rule keeps nothing per joint
+};
+
+const RuleRow& rule_row(Rule rule);
+// every row, in rule.h's order
+std::span<const RuleRow> rule_rows();
+
+}  // namespace puppet::procedural
