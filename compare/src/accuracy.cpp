@@ -1,5 +1,7 @@
 #include "puppet/compare/accuracy.h"
 
+#include "puppet/compare/summary_metrics.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -152,8 +154,8 @@ std::vector<SummaryRow> accuracy_rows(Simulator& simulator, const Model& model,
   std::vector<SummaryRow> rows;
   auto add = [&](const char* stat, double pose_m, double angle_deg) {
     if (!std::isfinite(pose_m) || !std::isfinite(angle_deg)) return;
-    rows.push_back({"pose_err_m", stat, pose_m, "m", label});
-    rows.push_back({"joint_angle_err_deg", stat, angle_deg, "deg", label});
+    rows.push_back(summary_row(metric::kPoseError, stat, pose_m, label));
+    rows.push_back(summary_row(metric::kJointAngleError, stat, angle_deg, label));
   };
   const ErrorSeries errors = trajectory_errors(model, run, reference);
   const int samples = static_cast<int>(errors.pose_m.size());
@@ -189,7 +191,8 @@ std::vector<SummaryRow> accuracy_rows(Simulator& simulator, const Model& model,
     worst_angle = std::max(worst_angle, reseeded.joint_angle_deg[i]);
   }
   if (worst_pose >= 0.0) add("reseeded_max", worst_pose, worst_angle);
-  rows.push_back({"reseeded_diverged", "count", static_cast<double>(diverged), "1", label});
+  rows.push_back(
+      summary_row(metric::kReseededDiverged, "count", static_cast<double>(diverged), label));
   return rows;
 }
 

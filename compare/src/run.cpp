@@ -1,5 +1,7 @@
 #include "puppet/compare/run.h"
 
+#include "puppet/compare/summary_metrics.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -39,26 +41,26 @@ void summarise(const Scenario& scenario, RunResult& result) {
     speed_max = std::max(speed_max, m.peak_speed);
   }
   const double n = static_cast<double>(std::max<size_t>(trace.size(), 1));
-  auto add = [&](const char* metric, const char* stat, double value, const char* unit) {
-    result.summary.push_back({metric, stat, value, unit, ""});
+  auto add = [&](const MetricInfo& metric, const char* stat, double value) {
+    result.summary.push_back(summary_row(metric, stat, value));
   };
-  add("joint_gap_m", "max", gap_max, "m");
-  add("joint_gap_m", "rms", std::sqrt(gap_sum2 / n), "m");
-  add("joint_gap_m", "final", trace.empty() ? 0.0 : trace.back().joint_gap_max, "m");
+  add(metric::kJointGap, "max", gap_max);
+  add(metric::kJointGap, "rms", std::sqrt(gap_sum2 / n));
+  add(metric::kJointGap, "final", trace.empty() ? 0.0 : trace.back().joint_gap_max);
   if (!scenario.pins.empty()) {
-    add("pin_gap_m", "max", pin_max, "m");
-    add("pin_gap_m", "rms", std::sqrt(pin_sum2 / n), "m");
+    add(metric::kPinGap, "max", pin_max);
+    add(metric::kPinGap, "rms", std::sqrt(pin_sum2 / n));
   }
-  add("limit_violation_deg", "max", limit_max, "deg");
-  add("energy_drift", "final", trace.empty() ? 0.0 : trace.back().energy_drift, "1");
-  add("energy_drift", "max_abs", energy_abs, "1");
+  add(metric::kLimitViolation, "max", limit_max);
+  add(metric::kEnergyDrift, "final", trace.empty() ? 0.0 : trace.back().energy_drift);
+  add(metric::kEnergyDrift, "max_abs", energy_abs);
   if (scenario.conserves_momentum()) {
-    add("momentum_drift", "linear_max", lin_max, "1");
-    add("momentum_drift", "angular_max", ang_max, "1");
+    add(metric::kMomentumDrift, "linear_max", lin_max);
+    add(metric::kMomentumDrift, "angular_max", ang_max);
   }
-  if (scenario.environment.ground) add("penetration_m", "max", pen_max, "m");
-  add("peak_speed_mps", "max", speed_max, "m/s");
-  if (result.diverged) add("diverged_at_s", "value", result.diverged_at, "s");
+  if (scenario.environment.ground) add(metric::kPenetration, "max", pen_max);
+  add(metric::kPeakSpeed, "max", speed_max);
+  if (result.diverged) add(metric::kDivergedAt, "value", result.diverged_at);
 }
 
 }  // namespace
@@ -150,10 +152,12 @@ void time_scenario(Simulator& simulator, const Model& model, const Scenario& sce
   if (step_seconds.empty()) return;
   double total = 0.0;
   for (double s : step_seconds) total += s;
-  result.summary.push_back({"step_us", "median", 1e6 * percentile(step_seconds, 0.5), "us", ""});
-  result.summary.push_back({"step_us", "p95", 1e6 * percentile(step_seconds, 0.95), "us", ""});
   result.summary.push_back(
-      {"realtime_factor", "value", step_seconds.size() * options.dt / total, "1", ""});
+      summary_row(metric::kStepTime, "median", 1e6 * percentile(step_seconds, 0.5)));
+  result.summary.push_back(
+      summary_row(metric::kStepTime, "p95", 1e6 * percentile(step_seconds, 0.95)));
+  result.summary.push_back(
+      summary_row(metric::kRealtimeFactor, "value", step_seconds.size() * options.dt / total));
 
   // per stage, from its own pass (the stage clocks cost time of their own)
   const auto names = simulator.stage_names();
@@ -171,9 +175,10 @@ void time_scenario(Simulator& simulator, const Model& model, const Scenario& sce
   }
   simulator.set_stage_timing(false);
   for (size_t s = 0; s < names.size(); ++s) {
-    const std::string metric = std::string(names[s]) + "_us";
-    result.summary.push_back({metric, "median", 1e6 * percentile(stages[s], 0.5), "us", ""});
-    result.summary.push_back({metric, "p95", 1e6 * percentile(stages[s], 0.95), "us", ""});
+    const std::string metric = stage_metric(names[s]);
+    const std::string unit(metric::kStageTime.unit);
+    result.summary.push_back({metric, "median", 1e6 * percentile(stages[s], 0.5), unit, ""});
+    result.summary.push_back({metric, "p95", 1e6 * percentile(stages[s], 0.95), unit, ""});
   }
 }
 

@@ -1,6 +1,7 @@
 #include "puppet/compare/sweep.h"
 
 #include "puppet/compare/engines.h"
+#include "puppet/compare/summary_metrics.h"
 #include "puppet/compare/truth_cache.h"
 #include "puppet/model/mjcf.h"
 
@@ -166,7 +167,8 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
         result.summary.insert(result.summary.end(), rows.begin(), rows.end());
       };
       for (size_t t = 0; t < truths; ++t) add(truth[s][t][0], truth_list[t].reference.c_str());
-      if (pairwise && !is_pairwise_solver(config)) add(paired[s * dt_count + d], "pairwise");
+      if (pairwise && !is_pairwise_solver(config))
+        add(paired[s * dt_count + d], kPairwiseReference);
     }
     if (spec.on_run) spec.on_run(result);
     if (pairwise && is_pairwise_solver(config))
@@ -194,7 +196,7 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
           r.solver = truth_list[0].solver;
           r.dt = truth_list[0].dt;
           r.diverged = truth[i][0][0].diverged;
-          r.summary.push_back({"truth_dt", "h", r.dt, "s", truth_list[0].reference});
+          r.summary.push_back(summary_row(metric::kTruthDt, "h", r.dt, truth_list[0].reference));
           return;
         }
         if (i < check_jobs) {
@@ -217,12 +219,13 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
                                     truth[s][against][0], label.c_str());
           if (level == 2) return;
           // how far the truth itself leaves the model's limits and holds its pins
-          r.summary.push_back({"limit_violation_deg", "max",
-                               max_limit_violation_deg(model, truth[s][t][level]), "deg", label});
+          r.summary.push_back(summary_row(metric::kLimitViolation, "max",
+                                          max_limit_violation_deg(model, truth[s][t][level]),
+                                          label));
           const PinGaps pin = trajectory_pin_gaps(spec.scenarios[s], truth[s][t][level]);
-          r.summary.push_back({"pin_gap_m", "max", pin.max, "m", label});
-          r.summary.push_back({"pin_gap_m", "rms", pin.rms, "m", label});
-          if (own) r.summary.push_back({"truth_dt", "h", run.dt, "s", label});
+          r.summary.push_back(summary_row(metric::kPinGap, "max", pin.max, label));
+          r.summary.push_back(summary_row(metric::kPinGap, "rms", pin.rms, label));
+          if (own) r.summary.push_back(summary_row(metric::kTruthDt, "h", run.dt, label));
           return;
         }
         const size_t k = pairwise_runs[i - check_jobs];

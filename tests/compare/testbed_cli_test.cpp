@@ -15,6 +15,10 @@
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -67,6 +71,39 @@ TEST(TestbedCli, HelpAndList) {
   EXPECT_EQ(list.status, 0);
   EXPECT_NE(list.output.find("yank"), std::string::npos);
   EXPECT_NE(list.output.find("subtree"), std::string::npos);
+}
+
+// the catalogues as JSON, which the scripts read instead of keeping copies: every metric the
+// committed main run wrote is in it (a stage's time by its pattern), in the unit it was written
+TEST(TestbedCli, ListJsonHasEveryNameTheResultsUse) {
+  const Outcome list = testbed("list --json");
+  ASSERT_EQ(list.status, 0) << list.output;
+  const auto json = nlohmann::json::parse(list.output);
+  for (const char* key : {"scenarios", "engines", "rules", "stages", "truths", "metrics",
+                          "summary_header", "trace"}) {
+    EXPECT_TRUE(json.contains(key)) << key;
+  }
+  std::map<std::string, std::string> units;
+  for (const auto& m : json["metrics"]) units[m["name"]] = m["unit"];
+  std::ifstream summary(std::string(PUPPET_SOURCE_DIR) + "/results/main/summary.csv");
+  std::string line;
+  ASSERT_TRUE(std::getline(summary, line));
+  EXPECT_EQ(line, json["summary_header"].get<std::string>());
+  std::set<std::string> seen;
+  while (std::getline(summary, line)) {
+    std::vector<std::string> fields;
+    std::stringstream in(line);
+    for (std::string field; std::getline(in, field, ',');) fields.push_back(field);
+    ASSERT_GE(fields.size(), 9u) << line;
+    std::string metric = fields[5];
+    for (const auto& stage : json["stages"]) {
+      if (metric == stage.get<std::string>() + "_us") metric = "{stage}_us";
+    }
+    if (!seen.insert(metric).second) continue;
+    ASSERT_TRUE(units.count(metric)) << fields[5] << " is not in the metric catalogue";
+    EXPECT_EQ(units[metric], fields[8]) << metric;
+  }
+  EXPECT_GE(seen.size(), 15u);
 }
 
 TEST(TestbedCli, Validate) {

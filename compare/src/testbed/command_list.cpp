@@ -1,26 +1,88 @@
-// testbed list: the names every other command accepts.
+// testbed list: the names every other command accepts; with --json, every catalogue the scripts
+// that read the testbed's CSVs need (scenarios, engines, rules, stages, truths, metrics, the
+// summary's columns and how a trace's file is named), so that no script keeps a copy.
 #include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "puppet/compare/engines.h"
+#include "puppet/compare/output.h"
 #include "puppet/compare/scenario.h"
-#include "puppet/compare/simulator.h"
+#include "puppet/compare/summary_metrics.h"
+#include "puppet/compare/sweep.h"
 #include "puppet/procedural/rule.h"
+#include "puppet/procedural/solver.h"
 
 namespace puppet::testbed {
+namespace {
+
+using namespace puppet::compare;
+
+int list_text() {
+  std::cout << "scenarios:";
+  for (const auto& s : scenario_names()) std::cout << ' ' << s;
+  std::cout << "\nsolvers:  ";
+  for (const auto& s : solver_names()) std::cout << ' ' << s;
+  std::cout << "\nrules:    ";
+  for (auto rule : procedural::kAllRules) std::cout << ' ' << procedural::rule_name(rule);
+  std::cout << " (procedural only; default " << procedural::rule_name(SolverOptions{}.rule)
+            << ")\nmodels:    pinocchio (" << builtin_model_path()
+            << "), chain:N, or any model file\n";
+  return 0;
+}
+
+int list_json() {
+  nlohmann::ordered_json out;
+  out["scenarios"] = scenario_names();
+  auto& engines_out = out["engines"] = nlohmann::ordered_json::array();
+  for (const Engine& engine : engines()) {
+    engines_out.push_back(
+        {{"name", engine.name}, {"summary", engine.summary}, {"built", engine.built}});
+  }
+  auto& rules = out["rules"] = nlohmann::ordered_json::array();
+  for (const procedural::Rule rule : procedural::kAllRules) {
+    const procedural::RuleInfo info = procedural::rule_info(rule);
+    rules.push_back({{"name", info.name},
+                     {"iterations", info.iterations},
+                     {"substeps", info.substeps},
+                     {"iterations_are", info.iterations_are}});
+  }
+  out["default_rule"] = procedural::rule_name(SolverOptions{}.rule);
+  out["stages"] = procedural::kStageNames;
+  // the references an accuracy row may name: the truths in the order a model gets them when
+  // both can run it (sweep.h's truths_for), then the pairwise comparison
+  out["truths"] = {
+      {{"reference", kTruthReference}, {"solver", kMujocoTruthSolver}, {"dt", kMujocoTruthDt}},
+      {{"reference", kSecondTruthReference},
+       {"solver", kBulletTruthSolver},
+       {"dt", kBulletTruthDt}}};
+  out["pairwise"] = {{"reference", kPairwiseReference}, {"solver", kPairwiseSolver}};
+  auto& metrics = out["metrics"] = nlohmann::ordered_json::array();
+  for (const MetricInfo& m : summary_metrics()) {
+    metrics.push_back({{"name", m.name}, {"unit", m.unit}, {"meaning", m.meaning}});
+  }
+  out["summary_header"] = kSummaryHeader;
+  // traces/<stem>.csv and <stem>__poses.csv: each name's characters outside the safe set become
+  // the replacement, a run without a rule has the no-rule mark, dt as summary.csv writes it
+  out["trace"] = {{"stem", "{model}__{scenario}__{solver}__{rule}__{dt}"},
+                  {"no_rule", "-"},
+                  {"safe_characters", "A-Za-z0-9._-"},
+                  {"replacement", "-"},
+                  {"poses_suffix", "__poses"}};
+  std::cout << out.dump(1) << '\n';
+  return 0;
+}
+
+}  // namespace
 
 Command add_list_command(CLI::App& app) {
+  auto json = std::make_shared<bool>(false);
   CLI::App* command = app.add_subcommand("list", "list scenarios, solvers, rules and models");
-  return {command, [] {
-            std::cout << "scenarios:";
-            for (const auto& s : compare::scenario_names()) std::cout << ' ' << s;
-            std::cout << "\nsolvers:  ";
-            for (const auto& s : compare::solver_names()) std::cout << ' ' << s;
-            std::cout << "\nrules:    ";
-            for (auto rule : procedural::kAllRules) std::cout << ' ' << procedural::rule_name(rule);
-            std::cout << " (procedural only; default relaxed)\nmodels:    pinocchio ("
-                      << compare::builtin_model_path() << "), chain:N, or any model file\n";
-            return 0;
-          }};
+  command->add_flag("--json", *json,
+                    "every catalogue as JSON: scenarios, engines, rules, stages, truths, metrics, "
+                    "the summary's columns and the traces' file names (the scripts read it)");
+  return {command, [json] { return *json ? list_json() : list_text(); }};
 }
 
 }  // namespace puppet::testbed

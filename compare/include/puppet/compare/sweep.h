@@ -38,6 +38,7 @@ constexpr double kBulletTruthDt = 1.0 / 3840.0;
 std::vector<Truth> truths_for(const Model& model);
 // the engine and dt bullet-multibody's pairwise rows are measured against (the same dt)
 inline constexpr const char* kPairwiseSolver = "bullet-multibody";
+inline constexpr const char* kPairwiseReference = "pairwise";  // its rows' reference column
 
 // the dts of the default sweep
 const std::vector<double>& sweep_dts();

@@ -1,0 +1,25 @@
+#include "puppet/compare/summary_metrics.h"
+
+#include <array>
+
+namespace puppet::compare {
+
+std::span<const MetricInfo> summary_metrics() {
+  static constexpr std::array kAll = {
+      metric::kJointGap,        metric::kPinGap,           metric::kLimitViolation,
+      metric::kEnergyDrift,     metric::kMomentumDrift,    metric::kPenetration,
+      metric::kPeakSpeed,       metric::kDivergedAt,       metric::kStepTime,
+      metric::kRealtimeFactor,  metric::kStageTime,        metric::kPoseError,
+      metric::kJointAngleError, metric::kReseededDiverged, metric::kTruthDt};
+  return kAll;
+}
+
+std::string stage_metric(std::string_view stage) { return std::string(stage) + "_us"; }
+
+SummaryRow summary_row(const MetricInfo& metric, std::string_view stat, double value,
+                       std::string_view reference) {
+  return {std::string(metric.name), std::string(stat), value, std::string(metric.unit),
+          std::string(reference)};
+}
+
+}  // namespace puppet::compare
