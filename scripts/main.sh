@@ -31,5 +31,8 @@ trap 'rm -rf "$truths"' EXIT
 ./build/release/testbed run --model models/humanoid.xml --dt 1/240 --no-timing --sample-hz 1 \
   --first-truth-only --out results/humanoid
 scripts/ablation.sh results/ablation --truth-cache "$truths"
+# the catalogues the scripts read instead of keeping copies of names (testbed list --json)
+./build/release/testbed list --json >results/catalogue.json.tmp
+mv results/catalogue.json.tmp results/catalogue.json
 /usr/bin/python3 scripts/plot.py results
 /usr/bin/python3 scripts/docs_tables.py  # the generated blocks of README.md and docs/ from the committed CSVs

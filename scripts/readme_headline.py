@@ -14,7 +14,10 @@ import math
 import os
 import sys
 
-from plot import SCENARIOS, Summary, fmt, verdict_headline
+from report.catalogue import SCENARIOS, PAIRWISE_CONFIG
+from report.common import fmt
+from report.readers import Summary
+from report.sections.verdict import verdict_headline
 
 def headline(summary_path):
     s = Summary(summary_path)
@@ -26,7 +29,7 @@ def headline(summary_path):
         times = [t for t in times if not math.isnan(t) and t > 0]
         return math.exp(sum(math.log(t) for t in times) / len(times)) if times else math.nan
 
-    base = step_us(("bullet-multibody", ""))
+    base = step_us(PAIRWISE_CONFIG)
     limit = s.truth_limit("drag")
     lines = [
         f"| solver | µs per step (geometric mean of the {len(scenarios)} scenarios) "

@@ -104,6 +104,13 @@ TEST(TestbedCli, ListJsonHasEveryNameTheResultsUse) {
     EXPECT_EQ(units[metric], fields[8]) << metric;
   }
   EXPECT_GE(seen.size(), 15u);
+  // what the scripts read is this build's catalogue (scripts/main.sh writes it), where the build
+  // has every engine (the committed one was written by such a build)
+  if (list.output.find("\"built\": false") != std::string::npos) return;
+  std::ifstream committed(std::string(PUPPET_SOURCE_DIR) + "/results/catalogue.json");
+  const std::string text((std::istreambuf_iterator<char>(committed)),
+                         std::istreambuf_iterator<char>());
+  EXPECT_EQ(text, list.output) << "results/catalogue.json is stale: run testbed list --json";
 }
 
 TEST(TestbedCli, Validate) {

@@ -37,8 +37,10 @@ int list_json() {
   out["scenarios"] = scenario_names();
   auto& engines_out = out["engines"] = nlohmann::ordered_json::array();
   for (const Engine& engine : engines()) {
-    engines_out.push_back(
-        {{"name", engine.name}, {"summary", engine.summary}, {"built", engine.built}});
+    engines_out.push_back({{"name", engine.name},
+                           {"summary", engine.summary},
+                           {"built", engine.built},
+                           {"rules", engine.has_rules}});
   }
   auto& rules = out["rules"] = nlohmann::ordered_json::array();
   for (const procedural::Rule rule : procedural::kAllRules) {

@@ -149,7 +149,7 @@ std::vector<SolverConfig> parse_solver_configs(const Flags& f) {
   const auto rules = expand("--rule", f.rule, all_rules());
   std::vector<SolverConfig> configs;
   for (const auto& solver : solvers) {
-    if (solver == "procedural") {
+    if (compare::find_engine(solver)->has_rules) {
       for (const auto& rule : rules) {
         SolverOptions o = options;
         o.rule = *procedural::parse_rule(rule);  // expand() accepted only rule names

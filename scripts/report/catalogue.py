@@ -1,0 +1,77 @@
+"""The testbed's catalogues, as `testbed list --json` gives them and the main job commits them
+(results/catalogue.json; a test checks it against the build): the scenarios, engines, rules,
+stages, truths, metrics, the summary's columns and how a trace's file is named. No name is
+spelled here or anywhere in the report: what a new scenario, rule or engine needs is read from
+the catalogue, and a name the catalogue does not know gets a default style and is listed after
+the known ones, never dropped."""
+import json
+import os
+import re
+
+from .common import dt_text
+
+PATH = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "results",
+                    "catalogue.json")
+
+with open(PATH) as _file:
+    _CATALOGUE = json.load(_file)
+
+SCENARIOS = list(_CATALOGUE["scenarios"])
+RULES = [rule["name"] for rule in _CATALOGUE["rules"]]
+# the engine a sweep runs once per rule
+RULES_ENGINE = next(engine["name"] for engine in _CATALOGUE["engines"] if engine["rules"])
+# (solver, rule) in the tables' order: the rules' engine once per rule, then the others
+CONFIGS = [config for engine in _CATALOGUE["engines"]
+           for config in ([(engine["name"], rule) for rule in RULES] if engine["rules"]
+                          else [(engine["name"], "")])]
+STAGES = list(_CATALOGUE["stages"])
+# the accuracy rows' references: the truth, the second truth (compare/sweep.h), the pairwise
+TRUTH, SECOND_TRUTH = (truth["reference"] for truth in _CATALOGUE["truths"])
+TRUTHS = (TRUTH, SECOND_TRUTH)
+PAIRWISE = _CATALOGUE["pairwise"]["reference"]
+PAIRWISE_SOLVER = _CATALOGUE["pairwise"]["solver"]
+PAIRWISE_CONFIG = (PAIRWISE_SOLVER, "")
+METRICS = {metric["name"]: metric for metric in _CATALOGUE["metrics"]}
+SUMMARY_HEADER = _CATALOGUE["summary_header"].split(",")
+
+# Plot styles by the catalogue's order: the rules from light to dark blue, then green and purple
+# for the two substepped ones; the other engines black, red and brown (orange rings mark diverged
+# seeds). Anything past the palettes is grey.
+_RULE_STYLES = [("#9ecae1", "o"), ("#c6dbef", "v"), ("#6baed6", "s"), ("#3182bd", "D"),
+                ("#08519c", "^"), ("#2ca02c", "P"), ("#9467bd", "*")]
+_ENGINE_STYLES = [("#000000", "o"), ("#d62728", "s"), ("#8c564b", "X")]
+DEFAULT_STYLE = ("grey", "o")
+STYLE = dict(zip([c for c in CONFIGS if c[0] == RULES_ENGINE], _RULE_STYLES))
+STYLE.update(zip([c for c in CONFIGS if c[0] != RULES_ENGINE], _ENGINE_STYLES))
+
+
+def style(config):
+    """(colour, marker) of a (solver, rule)"""
+    return STYLE.get(config, DEFAULT_STYLE)
+
+
+def metric(name):
+    """a metric's name, checked against the catalogue: a misspelt name fails here, not as a
+    silently empty table"""
+    if name not in METRICS:
+        raise KeyError(f"metric {name!r} is not in the testbed's catalogue ({PATH})")
+    return name
+
+
+def stage_metric(stage):
+    """the summary's metric of a stage's time"""
+    return metric("{stage}_us").replace("{stage}", stage)
+
+
+_TRACE = _CATALOGUE["trace"]
+
+
+def trace_stem(model, scenario, config, dt_text):
+    """a run's trace file name without .csv, as the testbed names it (dt as summary.csv has it)"""
+    def safe(text):
+        return re.sub(f"[^{_TRACE['safe_characters']}]", _TRACE["replacement"], text)
+    solver, rule = config
+    return (_TRACE["stem"].replace("{model}", safe(model)).replace("{scenario}", safe(scenario))
+            .replace("{solver}", safe(solver)).replace("{rule}", safe(rule) if rule
+                                                       else _TRACE["no_rule"])
+            .replace("{dt}", dt_text))

@@ -1,0 +1,131 @@
+import math
+
+from ..catalogue import CONFIGS, PAIRWISE_CONFIG, RULES_ENGINE
+from ..common import dt_text, fmt, geometric_mean, label
+
+
+def findings(s, frontier, dt, robustness=None):
+    found = []
+    multibody = PAIRWISE_CONFIG
+    rules = [c for c in s.configs if c[0] == RULES_ENGINE]
+    finished = [sc for sc in s.scenarios
+                if all(not math.isnan(s.get(sc, c, dt, "pose_err_m", "reseeded_mean", "truth"))
+                       for c in rules + [multibody] if c in s.configs)]
+    if rules and finished:
+        score = {c: geometric_mean([s.get(sc, c, dt, "pose_err_m", "reseeded_mean", "truth")
+                                    for sc in finished]) for c in rules}
+        best = min(score, key=score.get)
+        ref = geometric_mean([s.get(sc, multibody, dt, "pose_err_m", "reseeded_mean", "truth")
+                              for sc in finished])
+        text = (f"Of the procedural rules, **{best[1]}** tracks the truth best: a re-seeded pose "
+                f"error of {fmt(score[best])} m (geometric mean over {', '.join(finished)}) at "
+                f"dt = {dt_text(dt)} s")
+        if not math.isnan(ref):
+            text += (f", against {fmt(ref)} m for bullet-multibody at the same dt "
+                     f"({score[best] / ref:.1f}x)")
+        found.append(text + ".")
+        fine, coarse = s.dts[0], s.dts[-1]
+
+        def mean_at(config, d):
+            return geometric_mean([s.get(sc, config, d, "pose_err_m", "reseeded_mean", "truth")
+                                   for sc in finished])
+
+        if len(s.dts) > 1 and multibody in s.configs:
+            found.append(
+                f"Across dt the best procedural rule's error hardly moves: {best[1]} has "
+                f"{fmt(mean_at(best, fine))} m at dt = {dt_text(fine)} s and "
+                f"{fmt(mean_at(best, coarse))} m at {dt_text(coarse)} s, while bullet-multibody "
+                f"goes from {fmt(mean_at(multibody, fine))} m to {fmt(mean_at(multibody, coarse))} "
+                "m (\"What made the difference\" finds where the floor comes from).")
+    limits = {sc: s.truth_limit(sc) for sc in s.scenarios} if s.truths() else {}
+    loose = [sc for sc in limits if limits[sc] > 0.01]
+    if loose:
+        found.append(
+            "The truth cannot judge errors below a centimetre everywhere: its floor (its error "
+            "bar or the truths' disagreement, whichever is larger) is "
+            + ", ".join(f"{fmt(limits[sc])} m in {sc}" for sc in loose)
+            + " (the `≤` cells).")
+    rigid = ("bullet-rigid", "")
+    if rigid in s.configs:
+        gaps = {sc: s.get(sc, rigid, dt, "joint_gap_m", "max") for sc in s.scenarios}
+        worst = max(gaps, key=lambda k: -1 if math.isnan(gaps[k]) else gaps[k])
+        coarse_worst = max((s.get(sc, rigid, s.dts[-1], "joint_gap_m", "max"), sc)
+                           for sc in s.scenarios)
+        found.append(
+            f"The Bullet ragdoll (bullet-rigid) opens its joints: up to {fmt(gaps[worst])} m in "
+            f"{worst} at dt = {dt_text(dt)} s and {fmt(coarse_worst[0])} m in {coarse_worst[1]} at "
+            f"{dt_text(s.dts[-1])} s"
+            f"{' (before it diverged)' if s.diverged(coarse_worst[1], rigid, s.dts[-1]) else ''}.")
+    closed, opened = [], []
+    for c in s.configs:
+        if c == rigid:
+            continue
+        worst = max(((s.get(sc, c, dt, "joint_gap_m", "max"), sc) for sc in s.scenarios),
+                    key=lambda p: -1 if math.isnan(p[0]) else p[0])
+        (closed if worst[0] < 1e-9 else opened).append((c, worst))
+    if closed:
+        verb = "keeps" if len(closed) == 1 else "keep"
+        text = (f"At dt = {dt_text(dt)} s, {', '.join(label(c) for c, _ in closed)} {verb} every "
+                "joint closed to rounding (< 1e-9 m) in every scenario, up to any divergence")
+        if opened:
+            text += "; " + ", ".join(f"{label(c)} opens {fmt(w[0])} m in {w[1]}"
+                                     for c, w in opened)
+        found.append(text + ".")
+    for c in s.configs:
+        failed = sorted({sc for sc in s.scenarios for d in s.dts if s.diverged(sc, c, d)},
+                        key=s.scenarios.index)
+        if failed:
+            at = {sc: [d for d in s.dts if s.diverged(sc, c, d)] for sc in failed}
+            parts = [f"{sc} ({', '.join(dt_text(d) for d in at[sc])})" for sc in failed]
+            found.append(f"{label(c)} diverges in {'; '.join(parts)}.")
+        elif any((sc, c, d) in s.status for sc in s.scenarios for d in s.dts):
+            found.append(f"{label(c)} stays bounded in every scenario at every dt.")
+    for r in frontier:
+        if r["quantity"] != "hz":
+            continue
+        name = label((r["solver"], r["rule"]))
+        if not r["largest_ok"]:
+            found.append(f"Held by the hand (yank), {name} diverges even at "
+                         f"{fmt(float(r['first_diverged']), 3)} Hz ({r['reason']}).")
+        elif not r["first_diverged"]:
+            found.append(f"Held by the hand (yank), {name} stays ok up to the top of the range, "
+                         f"{fmt(float(r['largest_ok']), 3)} Hz, with the hand pin up to "
+                         f"{fmt(float(r['pin_gap_at_largest_ok_m']))} m from its target.")
+        else:
+            found.append(f"Held by the hand (yank), {name} stays ok up to "
+                         f"{fmt(float(r['largest_ok']), 3)} Hz and diverges at "
+                         f"{fmt(float(r['first_diverged']), 3)} Hz ({r['reason']}).")
+    speeds = {c: geometric_mean([s.get(sc, c, dt, "step_us", "median") for sc in s.scenarios])
+              for c in s.configs}
+    if multibody in speeds and not math.isnan(speeds[multibody]):
+        parts = [f"{label(c)} {speeds[multibody] / v:.1f}x" for c, v in speeds.items()
+                 if c != multibody and not math.isnan(v)]
+        found.append(f"Time per step against bullet-multibody ({fmt(speeds[multibody], 3)} µs, "
+                     f"geometric mean over scenarios): {', '.join(parts)} faster.")
+    found += robustness_findings(robustness)
+    return found
+
+
+def robustness_findings(rows):
+    """per dt of the robustness sweep: who never diverged, and each configuration's worst scenario"""
+    if not rows:
+        return []
+    found = []
+    for d in sorted({r["dt"] for r in rows}, reverse=True):
+        at = [r for r in rows if r["dt"] == d]
+        configs = [c for c in CONFIGS if any((r["solver"], r["rule"]) == c for r in at)]
+        never = [label(c) for c in configs
+                 if all(r["diverged"] == 0 for r in at if (r["solver"], r["rule"]) == c)]
+        worst = []
+        for c in configs:
+            mine = [r for r in at if (r["solver"], r["rule"]) == c and r["diverged"] > 0]
+            if mine:
+                r = max(mine, key=lambda r: r["rate"])
+                worst.append(f"{label(c)} {r['diverged']}/{r['runs']} in {r['scenario']}")
+        runs = sorted({r["runs"] for r in at})
+        found.append(f"From {' or '.join(str(n) for n in runs)} random starts per scenario at "
+                     f"dt = {dt_text(d)} s: "
+                     + (f"{', '.join(never)} never diverged, and the others' worst scenario "
+                        if never else "every solver diverged somewhere; each one's worst ")
+                     + "(runs diverged of runs): " + ", ".join(worst) + ".")
+    return found

@@ -1,0 +1,48 @@
+import math
+import os
+
+from ..catalogue import SECOND_TRUTH
+from ..common import dt_text, fmt, label, md_table
+from ..readers import Summary
+
+
+def humanoid_section(folder):
+    """the main scenarios on models/humanoid.xml in every solver (main.sh)"""
+    path = os.path.join(folder, "humanoid", "summary.csv")
+    if not os.path.exists(path):
+        return []
+    h = Summary(path)
+    dt = h.table_dt()
+    second = h.has_second_truth()
+
+    def cell(sc, c):
+        if (sc, c, dt) not in h.status:
+            return "–"
+        if h.diverged(sc, c, dt):
+            return f"div@{fmt(h.get(sc, c, dt, 'diverged_at_s', 'value'))}s"
+        parts = [fmt(h.get(sc, c, dt, "pose_err_m", "reseeded_mean", "truth"))]
+        if second:
+            parts.append(fmt(h.get(sc, c, dt, "pose_err_m", "reseeded_mean", SECOND_TRUTH)))
+        return " / ".join(parts) + f", gap {fmt(h.get(sc, c, dt, 'joint_gap_m', 'max'))}"
+
+    out = ["## The humanoid (`models/humanoid.xml`)", "",
+           f"`humanoid/`: the scenarios on `{h.model}` (MJCF after MuJoCo's classic humanoid, "
+           "docs/mjcf.md), every solver, dt = " + dt_text(dt) + " s. Each cell: re-seeded pose "
+           "error against the truth" + (" / against the second truth" if second else "") +
+           " (m), and the largest joint gap (m); `div@t`: the run diverged at t.", "",
+           md_table(["scenario"] + [label(c) for c in h.configs],
+                    [[sc] + [cell(sc, c) for c in h.configs] for sc in h.scenarios]), ""]
+    if all(math.isnan(h.truth_bar(sc)) for sc in h.scenarios):
+        return out + [f"The humanoid is judged against its first truth alone ({h.truth_text()}), "
+                      "at its own dt only (`--first-truth-only`): no error bar, no second truth. "
+                      "It shows the scenarios on a second model; the judging with error bars is "
+                      "Pinocchio's.", ""]
+    rows = [[sc, fmt(h.truth_bar(sc))] +
+            ([fmt(h.truth_bar(sc, SECOND_TRUTH)), fmt(h.truths_agreement(sc, "reseeded_mean"))]
+             if second else []) for sc in h.scenarios]
+    out += [f"The truths on the humanoid ({h.truth_text()}"
+            + (f"; second {h.truth_text(SECOND_TRUTH)}" if second else "") + "): each one's "
+            "error bar and their agreement (re-seeded pose error, m):", "",
+            md_table(["scenario", "truth's bar"] +
+                     (["second truth's bar", "truths' agreement"] if second else []), rows), ""]
+    return out

@@ -1,0 +1,30 @@
+
+from ..catalogue import CONFIGS, SCENARIOS
+from ..common import ROBUSTNESS, dt_text, label, md_table
+
+
+def robustness_section(rows):
+    if not rows:
+        return []
+    scenarios = [sc for sc in SCENARIOS if any(r["scenario"] == sc for r in rows)]
+    configs = [c for c in CONFIGS if any((r["solver"], r["rule"]) == c for r in rows)]
+    dts = sorted({r["dt"] for r in rows})
+    by_key = {(r["scenario"], (r["solver"], r["rule"]), r["dt"]): r for r in rows}
+    runs = sorted({r["runs"] for r in rows})
+    out = ["## Robustness over random starts", "",
+           f"`{ROBUSTNESS}/`: `testbed robustness`, each scenario from "
+           f"{' or '.join(str(n) for n in runs)} random starts (a pose and joint velocities "
+           "inside the limits, the tilt, the grab's point, frequency and phase; "
+           "docs/robustness.md). Each cell: the share of runs that diverged (the testbed's "
+           "criteria) and its 95 % Wilson interval. `worst.csv` has the worst starts of each "
+           "configuration as `testbed run` and viewer command lines.", ""]
+    for d in dts:
+        def cell(sc, c):
+            r = by_key.get((sc, c, d))
+            if r is None:
+                return "–"
+            return f"{r['rate']:.2f} [{r['ci95_low']:.2f}, {r['ci95_high']:.2f}]"
+        out += [f"dt = {dt_text(d)} s:", "",
+                md_table(["solver"] + scenarios,
+                         [[label(c)] + [cell(sc, c) for sc in scenarios] for c in configs]), ""]
+    return out

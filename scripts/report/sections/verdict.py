@@ -1,0 +1,144 @@
+
+from ..catalogue import RULES_ENGINE
+from ..common import (HEADLINE_BUDGET, VERDICT, WHY, budget_name, dt_text, fmt, label, md_table, wilson_upper)
+from ..plots import frame_puppets
+from ..readers import Verdict
+
+
+def setting_text(row):
+    """a chosen configuration in a few words: 1/120 s, 8 substeps"""
+    text = dt_text(row["dt"]) + " s"
+    flags = row["setting"].split()
+    for flag, value in zip(flags[::2], flags[1::2]):
+        if flag == "--mujoco-integrator":
+            text += ", " + {"rk4": "RK4", "euler": "Euler"}.get(value, value)
+            continue
+        noun = {"--substeps": "substep", "--iterations": "sweep",
+                "--bullet-iterations": "sweep"}.get(flag, flag)
+        text += f", {value} {noun}{'' if value == '1' else 's'}"
+    return text
+
+
+def verdict_cell(v, scenario, config, view, budget, show_setting=False):
+    r = v.row(scenario, config, view, budget)
+    if r is None:
+        return "–"
+    if r["verdict"] != "met":
+        text = WHY.get(r["verdict"], r["verdict"])
+        if r["verdict"] == "error-floor":
+            text += f" ({fmt(r['best_error_m'])} m)"
+        return text
+    cost = r["us_per_frame"] if view == "frame" else r["cost_us_per_s"]
+    text = f"{cost:,.0f}" if cost >= 100 else fmt(cost, 2)
+    reference = v.cheapest_reference(scenario, view, budget)
+    if reference and config[0] == RULES_ENGINE:
+        ratio = reference["cost_us_per_s"] / r["cost_us_per_s"]
+        text += f" ({ratio:.1f}×)" if ratio < 9.5 else f" ({ratio:.0f}×)"
+    elif reference and r is reference:
+        text += " (ref)"
+    if show_setting:
+        text += f"<br>{setting_text(r)}"
+    return text
+
+
+def verdict_table(v, view, budget, show_setting=False):
+    scenarios = [sc for sc in v.scenarios if v.judged(sc, budget)]
+    rows = [[label(c)] + [verdict_cell(v, sc, c, view, budget, show_setting) for sc in scenarios]
+            for c in v.configs]
+    return md_table(["solver"] + scenarios, rows), [sc for sc in v.scenarios if sc not in scenarios]
+
+
+def refused_text(v, refused):
+    if not refused:
+        return ""
+    return ("Not judged at this budget, because it is finer than the truth's floor there: "
+            + ", ".join(f"{sc} (floor {fmt(v.floor[sc])} m)" for sc in refused) + ".")
+
+
+def verdict_headline(folder, budget=HEADLINE_BUDGET):
+    """the README's headline: µs per simulated second at one budget, per solver and scenario"""
+    v = Verdict(folder)
+    table, refused = verdict_table(v, "second", budget)
+    return (f"CPU µs per simulated second to keep Pinocchio within {budget_name(budget)} of "
+            f"the truth ({v.truth}) and never diverge in {v.starts} random starts, with the "
+            "cheapest configuration each solver has (dt from 1/30 to 1/960 s, its substeps or "
+            "sweeps); in brackets, how many times cheaper than the cheapest reference engine "
+            "(`(ref)`: that engine). From `results/verdict/verdict.csv` (commit "
+            f"`{v.git_sha}`, {v.machine}), printed by `scripts/readme_headline.py`. "
+            + refused_text(v, refused) + "\n\n" + table + "\n\n"
+            + "\n".join(f"- {line}" for line in family_findings(v, budgets=[budget])) + "\n")
+
+
+def family_findings(v, view="second", budgets=None):
+    """where the procedural family wins and loses, per budget"""
+    out = []
+    for budget in budgets or v.budgets:
+        wins, losses, none = [], [], []
+        for sc in v.scenarios:
+            if not v.judged(sc, budget):
+                continue
+            p = v.cheapest_procedural(sc, view, budget)
+            r = v.cheapest_reference(sc, view, budget)
+            if p and r:
+                ratio = r["cost_us_per_s"] / p["cost_us_per_s"]
+                (wins if ratio >= 1 else losses).append(
+                    f"{sc} ({p['rule']}, {ratio:.2g}× as fast as {label(r['config'])})")
+            elif p:
+                wins.append(f"{sc} ({p['rule']}; no reference meets it)")
+            elif r:
+                losses.append(f"{sc} (no procedural rule meets it; {label(r['config'])} does)")
+            else:
+                none.append(sc)
+        parts = []
+        if wins:
+            parts.append("the procedural family is cheaper in " + ", ".join(wins))
+        if losses:
+            parts.append("dearer in " + ", ".join(losses))
+        if none:
+            parts.append("no solver meets it in " + ", ".join(none))
+        if parts:
+            out.append(f"Within {budget_name(budget)}: " + "; ".join(parts) + ".")
+    return out
+
+
+def verdict_section(v):
+    if v is None:
+        return []
+    budgets = ", ".join(budget_name(b) for b in v.budgets)
+    out = ["## The verdict: cost at equal accuracy and robustness", "",
+           f"`{VERDICT}/`: `testbed verdict`. For every solver and scenario, every configuration "
+           "was measured: dt from 1/30 to 1/960 s, and xpbd's and tree's substeps, relaxed's "
+           "sweeps, Bullet's sweeps and MuJoCo's integrator (`candidates.csv`). Each was timed "
+           "through the whole scenario in one thread, the configurations of a scenario in turn "
+           "a quarter of a simulated second at a time, as CPU µs per simulated second; and "
+           f"judged by its re-seeded pose error against the truth ({v.truth}); a configuration "
+           "whose scenario run or any re-seeded run diverged is out. For each budget "
+           f"({budgets}), the configurations within it were put, cheapest first, through "
+           f"{v.starts} random starts (docs/robustness.md) until one survived them all: no "
+           f"divergence in {v.starts} starts, a divergence rate below "
+           f"{fmt(wilson_upper(0, v.starts), 2)} at 95 % (Wilson). A budget below the truth's "
+           "floor in a scenario is refused there. Cells: CPU µs per simulated second of the "
+           "chosen configuration, and for the procedural rules how many times cheaper than the "
+           "cheapest reference engine (`(ref)`); otherwise why none: `diverges` (every "
+           "configuration), `error floor` (its least error, m), `not robust` (within the "
+           "budget only where a random start diverged). The budget is on the pose error: a "
+           "solver may meet it with its joints opened (the joint gaps are in \"Joint gaps and "
+           "divergence\"). Why the exact solvers read `not robust` in the two-pin scenarios: "
+           "docs/tried.md, \"The verdict's search and its random starts\".", ""]
+    out += ["Where the procedural family wins and where it loses (its cheapest rule against the "
+            "cheapest reference, per simulated second):", ""]
+    out += [f"- {line}" for line in family_findings(v)] + [""]
+    for budget in v.budgets:
+        table, refused = verdict_table(v, "second", budget, show_setting=True)
+        out += [f"### Within {budget_name(budget)}, any dt", "", table, "",
+                refused_text(v, refused), ""]
+    for budget in v.budgets:
+        table, refused = verdict_table(v, "frame", budget, show_setting=True)
+        hz = f"{v.frame_hz:g}"
+        puppets = frame_puppets(v, budget)
+        out += [f"### Within {budget_name(budget)} at {hz} Hz", "",
+                f"µs per {hz} Hz frame, the frame taken in whole steps (dt = 1/{hz} s or a "
+                f"divisor of it). A core keeps 10⁶/({hz} × µs per frame) puppets at {hz} Hz"
+                + (": in drag " + ", ".join(f"{label(c)} {n:,.0f}" for c, n in puppets)
+                   if puppets else "") + ".", "", table, "", refused_text(v, refused), ""]
+    return out
