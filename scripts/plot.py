@@ -1,8 +1,10 @@
 #!/usr/bin/python3
-"""Plots and REPORT.md from the testbed's CSV files, and nothing else.
+"""Plots and REPORT.md from the testbed's CSV files, and nothing else (the package report/:
+its catalogue of names, readers, plots, and one module per section of the report).
 
     scripts/plot.py [RESULTS]            (default: results/)
-    scripts/plot.py --section TITLE [RESULTS]   (one section of the report, to stdout)
+    scripts/plot.py --section ID [RESULTS]      (one section of the report, to stdout, by its
+                                                 ID: report/contents.py lists them)
 
 reads RESULTS/main/summary.csv and RESULTS/main/traces/*.csv (testbed run --out RESULTS/main),
 RESULTS/frontier/frontier.csv (testbed frontier, optional) and the optional folders beside them
@@ -21,9 +23,9 @@ from report.readers import Summary, read_frontier, read_robustness, read_verdict
 
 
 def main(argv):
-    title = None
+    ident = None
     if len(argv) >= 3 and argv[1] == "--section":
-        title = argv[2]
+        ident = argv[2]
         argv = argv[:1] + argv[3:]
     if len(argv) > 2 or (len(argv) == 2 and argv[1].startswith("-")):
         print(__doc__.strip(), file=sys.stderr)
@@ -41,9 +43,9 @@ def main(argv):
     except (ReportError, ValueError, KeyError) as error:
         print(f"plot.py: {error}", file=sys.stderr)
         return 2
-    if title is not None:
+    if ident is not None:
         try:
-            sys.stdout.write(section(s, frontier, folder, title))
+            sys.stdout.write(section(s, frontier, folder, ident))
         except ReportError as error:
             print(f"plot.py: {error}", file=sys.stderr)
             return 2

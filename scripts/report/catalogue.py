@@ -8,7 +8,7 @@ import json
 import os
 import re
 
-from .common import dt_text
+
 
 PATH = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "results",
                     "catalogue.json")

@@ -6,7 +6,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from .catalogue import CONFIGS, RULES_ENGINE, SCENARIOS, STAGES, style
-from .common import dt_text, fmt, label
+from .common import dt_text, fmt, label, ordered
 from .readers import read_trace
 
 
@@ -203,8 +203,9 @@ def plot_frontier(rows, out):
 def plot_robustness(rows, out):
     if not rows:
         return None
-    scenarios = [sc for sc in SCENARIOS if any(r["scenario"] == sc for r in rows)]
-    configs = [c for c in CONFIGS if any((r["solver"], r["rule"]) == c for r in rows)]
+    # the catalogue's order, and any name it does not know after it: nothing is dropped
+    scenarios = ordered({r["scenario"] for r in rows}, SCENARIOS)
+    configs = ordered({(r["solver"], r["rule"]) for r in rows}, CONFIGS)
     dts = sorted({r["dt"] for r in rows})
     by_key = {(r["scenario"], (r["solver"], r["rule"]), r["dt"]): r for r in rows}
     fig, axes = plt.subplots(len(dts), 1, figsize=(11, 3.6 * len(dts)), squeeze=False)

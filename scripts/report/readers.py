@@ -2,15 +2,16 @@ import csv
 import math
 import os
 
-from .catalogue import CONFIGS, RULES_ENGINE, SCENARIOS, SECOND_TRUTH, TRUTH, TRUTHS, metric
-from .common import (BAR_MARGIN, MAIN, MIN_ORDER, ROBUSTNESS, ReportError, TABLE_DT, VERDICT, dt_text, ordered)
+from .catalogue import (CONFIGS, RULES_ENGINE, SCENARIOS, SECOND_TRUTH, SUMMARY_HEADER, TRUTH,
+                        TRUTHS, trace_stem)
+from .common import (BAR_MARGIN, MAIN, MIN_ORDER, ROBUSTNESS, ReportError, TABLE_DT, VERDICT,
+                     dt_text, ordered)
 
 
 class Summary:
     """summary.csv, indexed by (scenario, solver, rule, dt, metric, stat, reference)."""
 
-    HEADER = ("scenario,solver,rule,dt,substeps,metric,stat,value,unit,model,reference,status,"
-              "git_sha,machine").split(",")
+    HEADER = SUMMARY_HEADER  # the testbed's (catalogue)
 
     def __init__(self, path):
         self.values = {}
@@ -131,7 +132,7 @@ def read_frontier(path):
 
 def read_trace(folder, model, scenario, config, dt):
     solver, rule = config
-    name = f"{model}__{scenario}__{solver}__{rule or '-'}__{dt:.9g}.csv"
+    name = trace_stem(model, scenario, (solver, rule), f"{dt:.9g}") + ".csv"
     path = os.path.join(folder, MAIN, "traces", name)
     if not os.path.exists(path):
         return None

@@ -40,15 +40,26 @@ grep -q "| drop | " "$out/REPORT.md" || fail "REPORT.md has no row for drop"
 grep -q "tracks the truth best" "$out/REPORT.md" || fail "REPORT.md names no best rule"
 
 # one section alone (what docs/ holds as a generated block) is the report's own text
-$plot --section Findings "$out" >"$out/findings.md" || fail "plot.py --section Findings failed"
-[ -s "$out/findings.md" ] || fail "plot.py --section Findings printed nothing"
+$plot --section findings "$out" >"$out/findings.md" || fail "plot.py --section findings failed"
+[ -s "$out/findings.md" ] || fail "plot.py --section findings printed nothing"
 if grep -vxFf "$out/REPORT.md" "$out/findings.md"; then
-  fail "plot.py --section Findings printed lines REPORT.md does not have"
+  fail "plot.py --section findings printed lines REPORT.md does not have"
 fi
 set +e
 message=$($plot --section "No such section" "$out" 2>&1); status=$?
 set -e
 [ "$status" -eq 2 ] && [[ "$message" == *"no section"* ]] || fail "an unknown section: status $status, $message"
+
+# a name the testbed's catalogue does not list (an engine or scenario added without regenerating
+# results/catalogue.json) is reported and drawn in grey, never dropped
+odd="$out/odd"
+mkdir -p "$odd"
+cp -r "$out/main" "$odd/main"
+sed -i 's/^drop,bullet-rigid,/dropped,bullet-rigid-2,/' "$odd/main/summary.csv"
+$plot "$odd" >/dev/null || fail "plot.py failed on a name outside the catalogue"
+grep -q "Not in the testbed's catalogue.*dropped.*bullet-rigid-2" "$odd/REPORT.md" ||
+  fail "REPORT.md does not list the names outside the catalogue"
+grep -q "| dropped | " "$odd/REPORT.md" || fail "REPORT.md dropped the scenario outside the catalogue"
 
 # bad input: one message, status 2, nothing written
 empty=$(mktemp -d "$out/empty.XXXX")

@@ -1,3 +1,5 @@
+"""The report's section `ablation`: what made the difference: the ablation of the position-based
+rules."""
 import math
 import os
 
@@ -159,3 +161,10 @@ def ablation_section(folder, frontier):
                 md_table(["solver", "largest Hz, hard", "largest Hz, compliant", "largest dt, hard",
                           "largest dt, compliant"], rows), ""]
     return out
+
+
+ID = "ablation"
+
+
+def lines(r):
+    return ablation_section(r.folder, r.frontier)

@@ -1,7 +1,9 @@
+"""The report's section `findings`: what the tables above say, in sentences."""
 import math
 
 from ..catalogue import CONFIGS, PAIRWISE_CONFIG, RULES_ENGINE
-from ..common import dt_text, fmt, geometric_mean, label
+from ..common import dt_text, fmt, geometric_mean, label, ordered
+from ..readers import read_robustness
 
 
 def findings(s, frontier, dt, robustness=None):
@@ -113,7 +115,7 @@ def robustness_findings(rows):
     found = []
     for d in sorted({r["dt"] for r in rows}, reverse=True):
         at = [r for r in rows if r["dt"] == d]
-        configs = [c for c in CONFIGS if any((r["solver"], r["rule"]) == c for r in at)]
+        configs = ordered({(r["solver"], r["rule"]) for r in at}, CONFIGS)
         never = [label(c) for c in configs
                  if all(r["diverged"] == 0 for r in at if (r["solver"], r["rule"]) == c)]
         worst = []
@@ -129,3 +131,12 @@ def robustness_findings(rows):
                         if never else "every solver diverged somewhere; each one's worst ")
                      + "(runs diverged of runs): " + ", ".join(worst) + ".")
     return found
+
+
+ID = "findings"
+
+
+def lines(r):
+    return (["## Findings", ""] + [f"- {f}" for f in findings(r.s, r.frontier, r.dt,
+                                                                read_robustness(r.folder))]
+            + [""])

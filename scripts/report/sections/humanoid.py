@@ -1,3 +1,4 @@
+"""The report's section `humanoid`: the scenarios on the humanoid model."""
 import math
 import os
 
@@ -46,3 +47,10 @@ def humanoid_section(folder):
             md_table(["scenario", "truth's bar"] +
                      (["second truth's bar", "truths' agreement"] if second else []), rows), ""]
     return out
+
+
+ID = "humanoid"
+
+
+def lines(r):
+    return humanoid_section(r.folder)

@@ -1,3 +1,4 @@
+"""The report's section `open-limits`: both truths with every joint free."""
 import math
 import os
 
@@ -53,3 +54,10 @@ def open_limits_section(folder):
             f"second truth, dt = {dt_text(dt)} s (†: the full run diverged):", "",
             md_table(["scenario"] + [label(c) for c in o.configs],
                      [[sc] + [cell(sc, c) for c in o.configs] for sc in o.scenarios]), ""]
+
+
+ID = "open-limits"
+
+
+def lines(r):
+    return open_limits_section(r.folder)

@@ -1,13 +1,16 @@
+"""The report's section `robustness`: divergence rates over random starts."""
 
 from ..catalogue import CONFIGS, SCENARIOS
-from ..common import ROBUSTNESS, dt_text, label, md_table
+from ..common import ROBUSTNESS, dt_text, label, md_table, ordered
+from ..readers import read_robustness
 
 
 def robustness_section(rows):
     if not rows:
         return []
-    scenarios = [sc for sc in SCENARIOS if any(r["scenario"] == sc for r in rows)]
-    configs = [c for c in CONFIGS if any((r["solver"], r["rule"]) == c for r in rows)]
+    # the catalogue's order, and any name it does not know after it: nothing is dropped
+    scenarios = ordered({r["scenario"] for r in rows}, SCENARIOS)
+    configs = ordered({(r["solver"], r["rule"]) for r in rows}, CONFIGS)
     dts = sorted({r["dt"] for r in rows})
     by_key = {(r["scenario"], (r["solver"], r["rule"]), r["dt"]): r for r in rows}
     runs = sorted({r["runs"] for r in rows})
@@ -28,3 +31,10 @@ def robustness_section(rows):
                 md_table(["solver"] + scenarios,
                          [[label(c)] + [cell(sc, c) for sc in scenarios] for c in configs]), ""]
     return out
+
+
+ID = "robustness"
+
+
+def lines(r):
+    return robustness_section(read_robustness(r.folder))

@@ -1,8 +1,10 @@
+"""The report's section `verdict`: the verdict: cost at equal accuracy and robustness."""
 
 from ..catalogue import RULES_ENGINE
-from ..common import (HEADLINE_BUDGET, VERDICT, WHY, budget_name, dt_text, fmt, label, md_table, wilson_upper)
+from ..common import (HEADLINE_BUDGET, VERDICT, WHY, budget_name, dt_text, fmt, label, md_table,
+                      wilson_upper)
 from ..plots import frame_puppets
-from ..readers import Verdict
+from ..readers import Verdict, read_verdict
 
 
 def setting_text(row):
@@ -142,3 +144,10 @@ def verdict_section(v):
                 + (": in drag " + ", ".join(f"{label(c)} {n:,.0f}" for c, n in puppets)
                    if puppets else "") + ".", "", table, "", refused_text(v, refused), ""]
     return out
+
+
+ID = "verdict"
+
+
+def lines(r):
+    return verdict_section(read_verdict(r.folder))

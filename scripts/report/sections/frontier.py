@@ -1,0 +1,28 @@
+"""The report's section `frontier`: the stability frontier of yank."""
+
+from ..common import dt_text, fmt, label, md_table
+
+ID = "frontier"
+
+
+def lines(r):
+    frontier = r.frontier
+    out = []
+    if frontier:
+        rows = []
+        for r in frontier:
+            quantity = r["quantity"]
+            show = (lambda v: fmt(float(v), 3)) if quantity == "hz" else (
+                lambda v: dt_text(float(v)))
+            ok = show(r["largest_ok"]) if r["largest_ok"] else "none"
+            bad = show(r["first_diverged"]) if r["first_diverged"] else "none in range"
+            gap = fmt(float(r["pin_gap_at_largest_ok_m"])) if r["pin_gap_at_largest_ok_m"] else "–"
+            rows.append([label((r["solver"], r["rule"])), quantity, ok, bad,
+                         r["reason"] or "–", gap])
+        out += ["## Stability frontier (yank, no air drag)", "",
+                "The largest circle frequency (0.3 m circle, at dt = 1/240 s) and the largest dt "
+                "(at 0.5 Hz) at which a puppet held only by its hand stays `ok`, bisected to 5 %. "
+                "The pin gap says whether the hand was really followed.", "",
+                md_table(["solver", "search", "largest ok", "first diverged", "why",
+                          "pin gap at largest ok (m)"], rows), ""]
+    return out

@@ -1,0 +1,33 @@
+"""The report's section `time-per-step`: µs per step, and the speed over the pairwise solver."""
+
+from ..catalogue import PAIRWISE_CONFIG
+from ..common import dt_text, fmt, label, md_table
+
+ID = "time-per-step"
+
+
+def lines(r):
+    s = r.s
+    dt = r.dt
+    out = []
+    # timing
+    multibody = PAIRWISE_CONFIG
+    rows = []
+    for c in s.configs:
+        row = [label(c)]
+        for sc in s.scenarios:
+            us = s.get(sc, c, dt, "step_us", "median")
+            ref = s.get(sc, multibody, dt, "step_us", "median")
+            ratio = ""
+            if c != multibody and us > 0 and ref > 0:
+                # whole times from 10x, one decimal below (a solver slower than the reference
+                # reads 0.5x, not 0x)
+                ratio = f" ({ref / us:.0f}x)" if ref >= 9.5 * us else f" ({ref / us:.1f}x)"
+            row.append(fmt(us, 3) + ratio)
+        rows.append(row)
+    out += ["## Time per step", "",
+            f"Median µs per step at dt = {dt_text(dt)} s; in brackets, how many times faster than "
+            "bullet-multibody in the same run. These come from one timing pass on a shared "
+            "machine; the benchmarks measure speed properly.", "",
+            md_table(["solver"] + s.scenarios, rows), ""]
+    return out
