@@ -14,7 +14,7 @@ import math
 import os
 import sys
 
-from report.catalogue import SCENARIOS, PAIRWISE_CONFIG
+from report.catalogue import M, PAIRWISE_CONFIG, SCENARIOS, TRUTH
 from report.common import fmt
 from report.readers import Summary
 from report.sections.verdict import verdict_headline
@@ -25,7 +25,7 @@ def headline(summary_path):
     scenarios = [x for x in SCENARIOS if x in s.scenarios]
 
     def step_us(config):
-        times = [s.get(x, config, dt, "step_us", "median") for x in scenarios]
+        times = [s.get(x, config, dt, M.step_us, "median") for x in scenarios]
         times = [t for t in times if not math.isnan(t) and t > 0]
         return math.exp(sum(math.log(t) for t in times) / len(times)) if times else math.nan
 
@@ -40,7 +40,7 @@ def headline(summary_path):
     for config in s.configs:
         t = step_us(config)
         diverged = sum(1 for x in scenarios if s.diverged(x, config, dt))
-        err = s.get("drag", config, dt, "pose_err_m", "reseeded_mean", "truth")
+        err = s.get("drag", config, dt, M.pose_err_m, "reseeded_mean", TRUTH)
         err_text = f"≤ {fmt(limit)}" if err < limit else fmt(err)
         name = config[0] + (" " + config[1] if config[1] else "")
         lines.append(f"| {name} | {fmt(t)} | {fmt(base / t)} | {diverged} | {err_text} |")

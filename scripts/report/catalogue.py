@@ -58,6 +58,17 @@ def metric(name):
     return name
 
 
+class _Metrics:
+    """the summary's metric names as attributes (M.pose_err_m), each checked against the
+    catalogue when read"""
+
+    def __getattr__(self, name):
+        return metric(name)
+
+
+M = _Metrics()
+
+
 def stage_metric(stage):
     """the summary's metric of a stage's time"""
     return metric("{stage}_us").replace("{stage}", stage)

@@ -2,7 +2,7 @@ import csv
 import math
 import os
 
-from .catalogue import (CONFIGS, RULES_ENGINE, SCENARIOS, SECOND_TRUTH, SUMMARY_HEADER, TRUTH,
+from .catalogue import (CONFIGS, M, RULES_ENGINE, SCENARIOS, SECOND_TRUTH, SUMMARY_HEADER, TRUTH,
                         TRUTHS, trace_stem)
 from .common import (BAR_MARGIN, MAIN, MIN_ORDER, ROBUSTNESS, ReportError, TABLE_DT, VERDICT,
                      dt_text, ordered)
@@ -34,7 +34,7 @@ class Summary:
                 config = (r["solver"], r["rule"])
                 value = float(r["value"]) if r["value"] else math.nan
                 self.values[(r["scenario"], config, dt, r["metric"], r["stat"], r["reference"])] = value
-                if r["reference"] == "" and r["metric"] == "joint_gap_m":
+                if r["reference"] == "" and r["metric"] == M.joint_gap_m:
                     self.status[(r["scenario"], config, dt)] = r["status"]
                     self.dts.add(dt)
                     if r["scenario"] not in self.scenarios:
@@ -60,7 +60,7 @@ class Summary:
     def truth_engine(self, reference=TRUTH):
         """(solver, h) of a truth, from its truth_dt rows; None when the run had no such truth"""
         for k, v in self.values.items():
-            if k[3] == "truth_dt" and k[5] == reference:
+            if k[3] == M.truth_dt and k[5] == reference:
                 h = 1 / round(1 / v)
                 return k[1][0], h
         return None
@@ -76,7 +76,7 @@ class Summary:
         return f"{'MuJoCo (RK4)' if solver == 'mujoco' else solver} at {dt_text(h)} s"
 
     def truth_own(self, scenario, reference=TRUTH, scale=0.5, stat="reseeded_mean",
-                  metric="pose_err_m"):
+                  metric=M.pose_err_m):
         """a truth's run at scale·h against its run at h"""
         engine = self.truth_engine(reference)
         if not engine:
@@ -84,11 +84,11 @@ class Summary:
         solver, h = engine
         return self.get(scenario, (solver, ""), 1 / round(1 / (scale * h)), metric, stat, reference)
 
-    def truth_check(self, scenario, reference=TRUTH, stat="reseeded_mean", metric="pose_err_m"):
+    def truth_check(self, scenario, reference=TRUTH, stat="reseeded_mean", metric=M.pose_err_m):
         """a truth's own difference: its run at h/2 against it"""
         return self.truth_own(scenario, reference, 0.5, stat, metric)
 
-    def truth_order(self, scenario, reference=TRUTH, stat="reseeded_mean", metric="pose_err_m"):
+    def truth_order(self, scenario, reference=TRUTH, stat="reseeded_mean", metric=M.pose_err_m):
         """the order p of convergence: log2 of the 2h difference over the h/2 difference"""
         fine = self.truth_check(scenario, reference, stat, metric)
         coarse = self.truth_own(scenario, reference, 2.0, stat, metric)
@@ -96,14 +96,14 @@ class Summary:
             return math.nan
         return math.log2(coarse / fine)
 
-    def truth_bar(self, scenario, reference=TRUTH, stat="reseeded_mean", metric="pose_err_m"):
+    def truth_bar(self, scenario, reference=TRUTH, stat="reseeded_mean", metric=M.pose_err_m):
         """a bound on a truth's own error: BAR_MARGIN × 2^p/(2^p − 1) × its h/2 difference"""
         fine = self.truth_check(scenario, reference, stat, metric)
         p = self.truth_order(scenario, reference, stat, metric)
         p = MIN_ORDER if math.isnan(p) else max(p, MIN_ORDER)
         return BAR_MARGIN * 2 ** p / (2 ** p - 1) * fine
 
-    def truths_agreement(self, scenario, stat, against=TRUTH, metric="pose_err_m"):
+    def truths_agreement(self, scenario, stat, against=TRUTH, metric=M.pose_err_m):
         """the other truth's run at its h against this one"""
         other = SECOND_TRUTH if against == TRUTH else TRUTH
         engine = self.truth_engine(other)
@@ -112,7 +112,7 @@ class Summary:
         solver, h = engine
         return self.get(scenario, (solver, ""), h, metric, stat, against)
 
-    def truth_limit(self, scenario, reference=TRUTH, stat="reseeded_mean", metric="pose_err_m"):
+    def truth_limit(self, scenario, reference=TRUTH, stat="reseeded_mean", metric=M.pose_err_m):
         """the smallest error a truth can judge (its floor): its error bar, and never below the
         other truth's error against it, judged as every solver is (re-seeded from its states)"""
         agreement = self.truths_agreement(scenario, stat, reference, metric)
@@ -187,7 +187,7 @@ class Verdict:
             c["starts"], c["diverged_starts"] = int(c["starts"]), int(c["diverged_starts"])
         first = self.rows[0]
         self.model, self.git_sha, self.machine = first["model"], first["git_sha"], first["machine"]
-        self.truth, self.frame_hz = first["truth"], first["frame_hz"]
+        self.truth, self.frame_hz = first[TRUTH], first["frame_hz"]
         self.budgets = sorted({r["budget_m"] for r in self.rows})
         self.scenarios = ordered({r["scenario"] for r in self.rows}, SCENARIOS)
         self.configs = ordered({r["config"] for r in self.rows}, CONFIGS)

@@ -3,7 +3,7 @@ rules."""
 import math
 import os
 
-from ..catalogue import RULES_ENGINE
+from ..catalogue import M, RULES_ENGINE, TRUTH
 from ..common import FRONTIER, dt_text, fmt, label, md_table
 from ..readers import read_ablation, read_frontier
 
@@ -16,11 +16,11 @@ def ablation_cell(s, scenario, config):
     dt = s.table_dt()
     if (scenario, config, dt) not in s.status:
         return "–"
-    error = s.get(scenario, config, dt, "pose_err_m", "reseeded_mean", "truth")
-    gap = s.get(scenario, config, dt, "joint_gap_m", "max")
+    error = s.get(scenario, config, dt, M.pose_err_m, "reseeded_mean", TRUTH)
+    gap = s.get(scenario, config, dt, M.joint_gap_m, "max")
     cell = f"{fmt(error)} / {fmt(gap)}"
     if s.diverged(scenario, config, dt):
-        cell += f" (div@{fmt(s.get(scenario, config, dt, 'diverged_at_s', 'value'))}s)"
+        cell += f" (div@{fmt(s.get(scenario, config, dt, M.diverged_at_s, 'value'))}s)"
     return cell
 
 
@@ -34,10 +34,10 @@ def ablation_findings(by_name):
         return s.get(scenario, config, s.table_dt(), metric, stat, reference)
 
     def error(name, scenario):
-        return value(name, scenario, "pose_err_m", "reseeded_mean", "truth")
+        return value(name, scenario, M.pose_err_m, "reseeded_mean", TRUTH)
 
     def gap(name, scenario):
-        return value(name, scenario, "joint_gap_m", "max")
+        return value(name, scenario, M.joint_gap_m, "max")
 
     found = []
     if {"relaxed", "relaxed-64"} <= by_name.keys():
@@ -70,8 +70,8 @@ def ablation_findings(by_name):
         for config in [c for c in s.configs if c[0] == RULES_ENGINE]:
             ratios = []
             for sc in s.scenarios:
-                a = s.get(sc, config, coarse, "pose_err_m", "reseeded_mean", "truth")
-                b = s.get(sc, config, fine, "pose_err_m", "reseeded_mean", "truth")
+                a = s.get(sc, config, coarse, M.pose_err_m, "reseeded_mean", TRUTH)
+                b = s.get(sc, config, fine, M.pose_err_m, "reseeded_mean", TRUTH)
                 diverged = any(s.diverged(sc, config, d) for d in s.dts)
                 ratios.append(f"{a / b:.1f}x in {sc}" + (" (diverged)" if diverged else ""))
             parts.append(f"{config[1]}'s by {', '.join(ratios)}")
@@ -110,7 +110,7 @@ def ablation_section(folder, frontier):
         rows = []
         for config in [c for c in s.configs if c[0] == RULES_ENGINE]:
             for sc in s.scenarios:
-                errors = [s.get(sc, config, dt, "pose_err_m", "reseeded_mean", "truth")
+                errors = [s.get(sc, config, dt, M.pose_err_m, "reseeded_mean", TRUTH)
                           for dt in reversed(s.dts)]
                 cells = [fmt(e) + (" †" if s.diverged(sc, config, dt) else "")
                          for e, dt in zip(errors, reversed(s.dts))]
@@ -129,7 +129,7 @@ def ablation_section(folder, frontier):
             for sc in ("drag", "yank"):
                 for s in (hard, soft):
                     cell = ablation_cell(s, sc, config)
-                    pin = s.get(sc, config, s.table_dt(), "pin_gap_m", "rms")
+                    pin = s.get(sc, config, s.table_dt(), M.pin_gap_m, "rms")
                     row.append(f"{cell}, pin {fmt(pin)}")
             rows.append(row)
         out += [f"Hard grab against the {by_name['compliant']['label']}; the truth is "

@@ -2,8 +2,9 @@
 and against dt."""
 import math
 
-from ..catalogue import PAIRWISE_CONFIG, SECOND_TRUTH, TRUTHS
+from ..catalogue import M, PAIRWISE, PAIRWISE_CONFIG, SECOND_TRUTH, TRUTH, TRUTHS
 from ..common import dt_text, fmt, geometric_mean, label, md_table
+
 
 ID = "accuracy"
 
@@ -13,16 +14,16 @@ def lines(r):
     dt = r.dt
     second = r.s.has_second_truth()
     out = []
-    def accuracy_cell(sc, config, d, metric="pose_err_m", reference="truth"):
+    def accuracy_cell(sc, config, d, metric=M.pose_err_m, reference=TRUTH):
         v = s.get(sc, config, d, metric, "reseeded_mean", reference)
         if math.isnan(v):
             return "div" if s.diverged(sc, config, d) else "–"
         cell = fmt(v)
-        if reference in TRUTHS and metric == "pose_err_m":
+        if reference in TRUTHS and metric == M.pose_err_m:
             limit = s.truth_limit(sc, reference)
             if v < limit:
                 cell = f"≤ {fmt(limit)}"
-        seeds = s.get(sc, config, d, "reseeded_diverged", "count", reference)
+        seeds = s.get(sc, config, d, M.reseeded_diverged, "count", reference)
         if seeds > 0:
             cell += f" ({int(seeds)}/8 div)"
         if s.diverged(sc, config, d):
@@ -37,7 +38,7 @@ def lines(r):
                      [[sc] + [accuracy_cell(sc, c, dt) for c in s.configs] for sc in s.scenarios]),
             "", "The same, as joint-angle error (deg):", "",
             md_table(["scenario"] + [label(c) for c in s.configs],
-                     [[sc] + [accuracy_cell(sc, c, dt, "joint_angle_err_deg") for c in s.configs]
+                     [[sc] + [accuracy_cell(sc, c, dt, M.joint_angle_err_deg) for c in s.configs]
                       for sc in s.scenarios]), ""]
     if second:
         out += [f"Against the second truth ({s.truth_text(SECOND_TRUTH)}): re-seeded pose error (m), "
@@ -46,11 +47,11 @@ def lines(r):
                          [[sc] + [accuracy_cell(sc, c, dt, reference=SECOND_TRUTH)
                                   for c in s.configs] for sc in s.scenarios]), ""]
     pair_configs = [c for c in s.configs if c != PAIRWISE_CONFIG]
-    if any(not math.isnan(s.get(sc, c, dt, "pose_err_m", "reseeded_mean", "pairwise"))
+    if any(not math.isnan(s.get(sc, c, dt, M.pose_err_m, "reseeded_mean", PAIRWISE))
            for sc in s.scenarios for c in pair_configs):
         out += ["Pairwise: re-seeded pose error against bullet-multibody at the same dt (m):", "",
                 md_table(["scenario"] + [label(c) for c in pair_configs],
-                         [[sc] + [accuracy_cell(sc, c, dt, reference="pairwise")
+                         [[sc] + [accuracy_cell(sc, c, dt, reference=PAIRWISE)
                                   for c in pair_configs] for sc in s.scenarios]), ""]
     out += ["Against dt (re-seeded pose error, m, geometric mean over the scenarios each solver "
             "finished at every dt):", ""]
@@ -58,8 +59,8 @@ def lines(r):
     for c in s.configs:
         row = [label(c)]
         for d in s.dts:
-            row.append(fmt(geometric_mean([s.get(sc, c, d, "pose_err_m", "reseeded_mean",
-                                                 "truth") for sc in s.scenarios])))
+            row.append(fmt(geometric_mean([s.get(sc, c, d, M.pose_err_m, "reseeded_mean",
+                                                 TRUTH) for sc in s.scenarios])))
         rows.append(row)
     out += [md_table(["solver"] + [dt_text(d) for d in s.dts], rows), ""]
     return out

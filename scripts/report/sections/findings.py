@@ -1,7 +1,7 @@
 """The report's section `findings`: what the tables above say, in sentences."""
 import math
 
-from ..catalogue import CONFIGS, PAIRWISE_CONFIG, RULES_ENGINE
+from ..catalogue import CONFIGS, M, PAIRWISE_CONFIG, RULES_ENGINE, TRUTH
 from ..common import dt_text, fmt, geometric_mean, label, ordered
 from ..readers import read_robustness
 
@@ -11,13 +11,13 @@ def findings(s, frontier, dt, robustness=None):
     multibody = PAIRWISE_CONFIG
     rules = [c for c in s.configs if c[0] == RULES_ENGINE]
     finished = [sc for sc in s.scenarios
-                if all(not math.isnan(s.get(sc, c, dt, "pose_err_m", "reseeded_mean", "truth"))
+                if all(not math.isnan(s.get(sc, c, dt, M.pose_err_m, "reseeded_mean", TRUTH))
                        for c in rules + [multibody] if c in s.configs)]
     if rules and finished:
-        score = {c: geometric_mean([s.get(sc, c, dt, "pose_err_m", "reseeded_mean", "truth")
+        score = {c: geometric_mean([s.get(sc, c, dt, M.pose_err_m, "reseeded_mean", TRUTH)
                                     for sc in finished]) for c in rules}
         best = min(score, key=score.get)
-        ref = geometric_mean([s.get(sc, multibody, dt, "pose_err_m", "reseeded_mean", "truth")
+        ref = geometric_mean([s.get(sc, multibody, dt, M.pose_err_m, "reseeded_mean", TRUTH)
                               for sc in finished])
         text = (f"Of the procedural rules, **{best[1]}** tracks the truth best: a re-seeded pose "
                 f"error of {fmt(score[best])} m (geometric mean over {', '.join(finished)}) at "
@@ -29,7 +29,7 @@ def findings(s, frontier, dt, robustness=None):
         fine, coarse = s.dts[0], s.dts[-1]
 
         def mean_at(config, d):
-            return geometric_mean([s.get(sc, config, d, "pose_err_m", "reseeded_mean", "truth")
+            return geometric_mean([s.get(sc, config, d, M.pose_err_m, "reseeded_mean", TRUTH)
                                    for sc in finished])
 
         if len(s.dts) > 1 and multibody in s.configs:
@@ -49,9 +49,9 @@ def findings(s, frontier, dt, robustness=None):
             + " (the `≤` cells).")
     rigid = ("bullet-rigid", "")
     if rigid in s.configs:
-        gaps = {sc: s.get(sc, rigid, dt, "joint_gap_m", "max") for sc in s.scenarios}
+        gaps = {sc: s.get(sc, rigid, dt, M.joint_gap_m, "max") for sc in s.scenarios}
         worst = max(gaps, key=lambda k: -1 if math.isnan(gaps[k]) else gaps[k])
-        coarse_worst = max((s.get(sc, rigid, s.dts[-1], "joint_gap_m", "max"), sc)
+        coarse_worst = max((s.get(sc, rigid, s.dts[-1], M.joint_gap_m, "max"), sc)
                            for sc in s.scenarios)
         found.append(
             f"The Bullet ragdoll (bullet-rigid) opens its joints: up to {fmt(gaps[worst])} m in "
@@ -62,7 +62,7 @@ def findings(s, frontier, dt, robustness=None):
     for c in s.configs:
         if c == rigid:
             continue
-        worst = max(((s.get(sc, c, dt, "joint_gap_m", "max"), sc) for sc in s.scenarios),
+        worst = max(((s.get(sc, c, dt, M.joint_gap_m, "max"), sc) for sc in s.scenarios),
                     key=lambda p: -1 if math.isnan(p[0]) else p[0])
         (closed if worst[0] < 1e-9 else opened).append((c, worst))
     if closed:
@@ -97,7 +97,7 @@ def findings(s, frontier, dt, robustness=None):
             found.append(f"Held by the hand (yank), {name} stays ok up to "
                          f"{fmt(float(r['largest_ok']), 3)} Hz and diverges at "
                          f"{fmt(float(r['first_diverged']), 3)} Hz ({r['reason']}).")
-    speeds = {c: geometric_mean([s.get(sc, c, dt, "step_us", "median") for sc in s.scenarios])
+    speeds = {c: geometric_mean([s.get(sc, c, dt, M.step_us, "median") for sc in s.scenarios])
               for c in s.configs}
     if multibody in speeds and not math.isnan(speeds[multibody]):
         parts = [f"{label(c)} {speeds[multibody] / v:.1f}x" for c, v in speeds.items()

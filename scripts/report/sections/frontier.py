@@ -2,6 +2,7 @@
 
 from ..common import dt_text, fmt, label, md_table
 
+
 ID = "frontier"
 
 

@@ -2,7 +2,7 @@
 import math
 import os
 
-from ..catalogue import SECOND_TRUTH
+from ..catalogue import M, SECOND_TRUTH, TRUTH
 from ..common import dt_text, fmt, label, md_table
 from ..readers import Summary
 
@@ -20,11 +20,11 @@ def humanoid_section(folder):
         if (sc, c, dt) not in h.status:
             return "–"
         if h.diverged(sc, c, dt):
-            return f"div@{fmt(h.get(sc, c, dt, 'diverged_at_s', 'value'))}s"
-        parts = [fmt(h.get(sc, c, dt, "pose_err_m", "reseeded_mean", "truth"))]
+            return f"div@{fmt(h.get(sc, c, dt, M.diverged_at_s, 'value'))}s"
+        parts = [fmt(h.get(sc, c, dt, M.pose_err_m, "reseeded_mean", TRUTH))]
         if second:
-            parts.append(fmt(h.get(sc, c, dt, "pose_err_m", "reseeded_mean", SECOND_TRUTH)))
-        return " / ".join(parts) + f", gap {fmt(h.get(sc, c, dt, 'joint_gap_m', 'max'))}"
+            parts.append(fmt(h.get(sc, c, dt, M.pose_err_m, "reseeded_mean", SECOND_TRUTH)))
+        return " / ".join(parts) + f", gap {fmt(h.get(sc, c, dt, M.joint_gap_m, 'max'))}"
 
     out = ["## The humanoid (`models/humanoid.xml`)", "",
            f"`humanoid/`: the scenarios on `{h.model}` (MJCF after MuJoCo's classic humanoid, "

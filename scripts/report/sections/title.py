@@ -3,6 +3,7 @@ from datetime import datetime, timezone
 
 from ..common import FRONTIER, MAIN
 
+
 ID = "title"
 
 

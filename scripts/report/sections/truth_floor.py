@@ -4,6 +4,7 @@ import math
 from ..catalogue import SECOND_TRUTH, TRUTH
 from ..common import BAR_MARGIN, MIN_ORDER, fmt, md_table
 
+
 ID = "truth-floor"
 
 

@@ -1,8 +1,9 @@
 """The report's section `truths-agree`: the two truths against each other."""
 
-from ..catalogue import SECOND_TRUTH, TRUTHS
+from ..catalogue import M, SECOND_TRUTH, TRUTHS
 from ..common import fmt, md_table
 from .open_limits import open_limits_agreement
+
 
 ID = "truths-agree"
 
@@ -13,7 +14,7 @@ def lines(r):
     second = r.s.has_second_truth()
     out = []
     if second:
-        pin_rows = any(k[3] == "pin_gap_m" and k[5] in TRUTHS and k[2] not in s.dts
+        pin_rows = any(k[3] == M.pin_gap_m and k[5] in TRUTHS and k[2] not in s.dts
                        for k in s.values)
         rows = []
         for sc in s.scenarios:
@@ -21,12 +22,12 @@ def lines(r):
                                 ("at_0.267s", "at_1s", "mean_1s", "reseeded_mean")] +
                         [fmt(s.truths_agreement(sc, "reseeded_mean", SECOND_TRUTH)),
                          fmt(s.truths_agreement(sc, "reseeded_mean",
-                                                metric="joint_angle_err_deg")),
+                                                metric=M.joint_angle_err_deg)),
                          fmt(s.truths_agreement(sc, "max", SECOND_TRUTH,
-                                                "limit_violation_deg"), 2),
-                         fmt(s.truths_agreement(sc, "max", metric="limit_violation_deg"), 2)] +
-                        ([fmt(s.truths_agreement(sc, "max", SECOND_TRUTH, "pin_gap_m")),
-                          fmt(s.truths_agreement(sc, "max", metric="pin_gap_m"))]
+                                                M.limit_violation_deg), 2),
+                         fmt(s.truths_agreement(sc, "max", metric=M.limit_violation_deg), 2)] +
+                        ([fmt(s.truths_agreement(sc, "max", SECOND_TRUTH, M.pin_gap_m)),
+                          fmt(s.truths_agreement(sc, "max", metric=M.pin_gap_m))]
                          if pin_rows else []) +
                         [open_limits_agreement(folder, sc)])
         out += ["## Where the truths agree", "",

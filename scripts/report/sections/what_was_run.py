@@ -4,6 +4,7 @@ errors are measured."""
 from ..catalogue import SECOND_TRUTH
 from ..common import dt_text, label
 
+
 ID = "what-was-run"
 
 
