@@ -3,7 +3,7 @@
 // (--bullet-iterations, --bullet-euler-limits) that both read.
 #include <CLI/CLI.hpp>
 
-#include "engine_rows.h"
+#include "puppet/compare/engines.h"
 #include "puppet/reference/bullet.h"
 #include "reference_adapter.h"
 

@@ -2,10 +2,16 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 
-#include "engine_rows.h"
+#include "puppet/compare/engines.h"
 #include "puppet/model/text.h"
 
 namespace puppet::compare {
+
+// the rows, one per engine file (engines/<name>.cpp; Bullet's two worlds share bullet.cpp)
+Engine procedural_engine();
+Engine bullet_multibody_engine();
+Engine bullet_rigid_engine();
+Engine mujoco_engine();
 
 std::span<const Engine> engines() {
   static const std::vector<Engine> rows = {procedural_engine(), bullet_multibody_engine(),

@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "engine_rows.h"
+#include "puppet/compare/engines.h"
 #include "puppet/reference/mujoco.h"
 #include "reference_adapter.h"
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "engine_rows.h"
+#include "puppet/compare/engines.h"
 #include "puppet/compare/simulator.h"
 #include "puppet/model/text.h"
 #include "puppet/procedural/solver.h"

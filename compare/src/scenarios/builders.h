@@ -1,5 +1,6 @@
 // What the scenarios share (scenarios/*.cpp, one file each): the figure held by its head, its
-// hand or both, at rest or from a random start; the figure free; the rows of the catalogue.
+// hand or both, at rest or from a random start; the figure free; the row a file gives the
+// catalogue (catalogue.cpp).
 #pragma once
 
 #include <optional>
@@ -16,15 +17,6 @@ struct ScenarioRow {
   std::string_view name;
   Scenario (*make)(const Model& model, const ScenarioOptions& options) = nullptr;
 };
-
-ScenarioRow hang_scenario();
-ScenarioRow drag_scenario();
-ScenarioRow shake_scenario();
-ScenarioRow spin_scenario();
-ScenarioRow drop_scenario();
-ScenarioRow water_scenario();
-ScenarioRow tremble_scenario();
-ScenarioRow yank_scenario();
 
 // a held hand: the segment named (else the one reaching lowest at rest), its point from --grab
 // or its lowest at rest (a random start picks its own), and the path its target follows

@@ -6,6 +6,17 @@
 #include "puppet/model/text.h"
 
 namespace puppet::compare {
+
+// the rows, one per file (scenarios/<name>.cpp)
+ScenarioRow hang_scenario();
+ScenarioRow drag_scenario();
+ScenarioRow shake_scenario();
+ScenarioRow spin_scenario();
+ScenarioRow drop_scenario();
+ScenarioRow water_scenario();
+ScenarioRow tremble_scenario();
+ScenarioRow yank_scenario();
+
 namespace {
 
 const std::vector<ScenarioRow>& rows() {
