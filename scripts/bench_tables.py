@@ -15,9 +15,11 @@ import os
 import sys
 
 from gate_thresholds import medians  # the same reading of a machine's CSV
+from report.catalogue import CONFIGS, PAIRWISE_SOLVER, RULES, RULES_ENGINE, RULE_INFO, SCENARIOS
 
-RULES = ["literal", "smoothed", "weighted", "subtree", "relaxed", "xpbd", "tree"]
-SCENARIOS = ["hang", "drag", "drop"]
+# the engines beside the rules and the pairwise solver (the speed baseline), in the catalogue's
+# order
+OTHER_ENGINES = [solver for solver, _ in CONFIGS if solver not in (RULES_ENGINE, PAIRWISE_SOLVER)]
 
 
 def floors(t, gates_path, machine):
@@ -71,16 +73,27 @@ def rules(t):
     return [rule for rule in RULES if in_run(t, rule)]
 
 
+def others(t):
+    """the engines other than the rules and the baseline that this run timed"""
+    return [solver for solver in OTHER_ENGINES if any(k.endswith("/" + solver) for k in t)]
+
+
+def scenarios(t):
+    """the scenarios the step benchmark timed, in the catalogue's order"""
+    timed = {key.split("/")[1] for key in t if key.startswith("step/")}
+    return [scenario for scenario in SCENARIOS if scenario in timed]
+
+
 def step_tables(t):
     RULES = rules(t)
-    others = ["bullet-rigid"] + (["mujoco"] if any(k.endswith("/mujoco") for k in t) else [])
-    print("| scenario | " + " | ".join(RULES) + " | bullet-multibody | " + " | ".join(others)
+    OTHERS = others(t)
+    print("| scenario | " + " | ".join(RULES) + f" | {PAIRWISE_SOLVER} | " + " | ".join(OTHERS)
           + " | floor |")
-    print("|---" * (len(RULES) + 3 + len(others)) + "|")
-    for scenario in SCENARIOS:
-        multibody = t.get(f"step/{scenario}/bullet-multibody")
+    print("|---" * (len(RULES) + 3 + len(OTHERS)) + "|")
+    for scenario in scenarios(t):
+        multibody = t.get(f"step/{scenario}/{PAIRWISE_SOLVER}")
         cells = []
-        for solver in RULES + others:
+        for solver in RULES + OTHERS:
             time = t.get(f"step/{scenario}/{solver}")
             if time is None:
                 cells.append("diverged")
@@ -92,27 +105,31 @@ def step_tables(t):
         print(f"| {scenario} | " + " | ".join(cells) + " |")
     print()
 
-    floor = t["floor/hang"]
+    first = scenarios(t)[0]
+    floor = t[f"floor/{first}"]
     parts = []
     for rule in RULES:
-        time = t.get(f"step/hang/{rule}")
+        time = t.get(f"step/{first}/{rule}")
         parts.append(f"{rule} " + ("diverged" if time is None else f"{time / floor:.2f}"))
-    print("Procedural step ÷ floor in hang: " + ", ".join(parts) + ".")
+    print(f"Procedural step ÷ floor in {first}: " + ", ".join(parts) + ".")
 
 
 def scaling_table(t):
     RULES = rules(t)
-    others = ["bullet-rigid"] + (["mujoco"] if any(k.endswith("/mujoco") for k in t) else [])
     sizes = [4, 16, 64, 256, 1024]
     print("| solver | " + " | ".join(f"N={n}" for n in sizes) + " | 1024 ÷ 16 |")
     print("|---" * (len(sizes) + 2) + "|")
-    for solver in RULES + ["bullet-multibody"] + others:
+    for solver in RULES + [PAIRWISE_SOLVER] + others(t):
         per_segment = {n: t[f"scaling/{solver}/{n}"] / n for n in sizes
                        if f"scaling/{solver}/{n}" in t}
-        # bench_scaling.cpp stops MuJoCo's chains at 64 (its XML parser nests 100 elements deep)
-        not_run = "not MJCF" if solver == "mujoco" else "diverged"
+        # bench_scaling.cpp leaves out the chains a reference engine refuses (MuJoCo's beyond
+        # 64: its XML parser nests 100 elements deep); the rules take every model, so a rule's
+        # missing size diverged
+        longest = max((n for n in sizes if n in per_segment), default=0)
+        refused = solver not in RULES and all(n in per_segment for n in sizes if n <= longest)
         cells = [f"{per_segment[n] * 1e9:.0f}" if n in per_segment
-                 else (not_run if n > 64 else "diverged") for n in sizes]
+                 else ("model refused" if refused and n > longest else "diverged")
+                 for n in sizes]
         growth = (f"{per_segment[1024] / per_segment[16]:.2f}"
                   if 16 in per_segment and 1024 in per_segment else "-")
         print(f"| {solver} | " + " | ".join(cells) + f" | {growth} |")
@@ -139,23 +156,28 @@ def crowd_table(t):
                 if time is not None:
                     rate[k, threads] = 1.0 / time
         # the substepped rules' crowds stop at 1,000 puppets (bench_scaling.cpp)
+        substepped = RULE_INFO[rule]["substeps"] > 1
         cells = [f"{rate[key] / 1e3:.0f}k" if key in rate
-                 else ("not run" if rule in ("xpbd", "tree") and key[0] == 20000 else "diverged")
+                 else ("not run" if substepped and key[0] == 20000 else "diverged")
                  for key in [(1000, 1), (1000, 2), (20000, 1), (20000, 2)]]
         scaling = [f"{rate[k, 2] / rate[k, 1]:.2f}×" for k in (1000, 20000)
                    if (k, 1) in rate and (k, 2) in rate]
         print(f"| {rule} | " + " | ".join(cells) + " | " + (" / ".join(scaling) or "-") + " |")
-    # xpbd's crowd in SIMD lanes (CrowdLanes), from runs that measured them
-    if crowd_time(t, "xpbd", 1000, 2, 4) is None:
-        return
+    # a crowd in SIMD lanes (CrowdLanes), for the rules whose runs measured them
+    for rule in RULES:
+        if crowd_time(t, rule, 1000, 2, 4) is not None:
+            lanes_table(t, rule)
+
+
+def lanes_table(t, rule):
     print()
-    print("| xpbd, K=1000, puppets per batch | 1 thread | 2 threads | 2 ÷ 1 thread "
+    print(f"| {rule}, K=1000, puppets per batch | 1 thread | 2 threads | 2 ÷ 1 thread "
           "| over one by one (2 threads) |")
     print("|---" * 5 + "|")
-    alone = crowd_time(t, "xpbd", 1000, 2)
+    alone = crowd_time(t, rule, 1000, 2)
     for lanes, name in ((1, "1 (one by one)"), (2, "2 (SSE2)"), (4, "4 (AVX2)"),
                         (8, "8 (AVX-512)")):
-        one, two = crowd_time(t, "xpbd", 1000, 1, lanes), crowd_time(t, "xpbd", 1000, 2, lanes)
+        one, two = crowd_time(t, rule, 1000, 1, lanes), crowd_time(t, rule, 1000, 2, lanes)
         if one is None or two is None:
             print(f"| {name} | this processor has none | | | |")
             continue

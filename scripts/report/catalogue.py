@@ -18,6 +18,8 @@ with open(PATH) as _file:
 
 SCENARIOS = list(_CATALOGUE["scenarios"])
 RULES = [rule["name"] for rule in _CATALOGUE["rules"]]
+# each rule's defaults and what its iterations count ("": it makes one pass)
+RULE_INFO = {rule["name"]: rule for rule in _CATALOGUE["rules"]}
 # the engine a sweep runs once per rule
 RULES_ENGINE = next(engine["name"] for engine in _CATALOGUE["engines"] if engine["rules"])
 # (solver, rule) in the tables' order: the rules' engine once per rule, then the others
