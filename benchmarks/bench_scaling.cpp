@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bench_support.h"
+#include "puppet/compare/engines.h"
 #include "puppet/procedural/crowd.h"
 
 using namespace puppet;
@@ -92,9 +93,14 @@ int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   for (const SolverConfig& config : solver_configs()) {
-    // MuJoCo's XML parser nests at most 100 elements (its tinyxml2's depth limit; chain:256 is
-    // refused at its 99th body): a longer chain, each body inside its parent, cannot be MJCF
-    const int64_t longest = config.solver == "mujoco" ? 64 : 1024;
+    // the longest chain the engine takes (MuJoCo's XML parser nests at most 100 elements, its
+    // tinyxml2's depth limit, so chain:256 cannot be MJCF): its catalogue row says
+    int64_t longest = 4;
+    while (longest < 1024 &&
+           compare::engine_model_problem(config.solver, chain(static_cast<int>(4 * longest)))
+               .empty()) {
+      longest *= 4;
+    }
     benchmark::RegisterBenchmark(
         ("scaling/" + config.label).c_str(),
         [config](benchmark::State& state) { scaling_benchmark(state, config); })

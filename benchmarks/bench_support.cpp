@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "puppet/compare/engines.h"
 #include "puppet/compare/metrics.h"
 #include "puppet/compare/simulator.h"
 
@@ -14,14 +15,14 @@ std::vector<SolverConfig> solver_configs() {
   std::vector<SolverConfig> configs;
   // every rule of procedural, then every other engine this build has, in the catalogue's order
   for (const std::string& solver : compare::solver_names()) {
-    if (solver != "procedural") {
+    if (!compare::has_rules(solver)) {
       configs.push_back({solver, solver, {}});
       continue;
     }
     for (procedural::Rule rule : procedural::kAllRules) {
       compare::SolverOptions options;
       options.rule = rule;
-      configs.push_back({std::string(procedural::rule_name(rule)), "procedural", options});
+      configs.push_back({std::string(procedural::rule_name(rule)), solver, options});
     }
   }
   return configs;

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "bench_support.h"
+#include "puppet/compare/engines.h"
 #include "puppet/compare/output.h"
 #include "puppet/compare/verdict.h"
 
@@ -96,7 +97,8 @@ int main(int argc, char** argv) {
   // per scenario and budget, the cheapest of each family
   std::map<std::pair<std::string, double>, std::map<std::string, Choice>> best;
   for (const Choice& c : choices) {
-    const std::string family = c.solver == "procedural" ? "procedural" : "reference";
+    const std::string family =
+        compare::has_rules(c.solver) ? std::string(compare::kProceduralEngine) : "reference";
     auto& slot = best[{c.scenario, c.budget_m}];
     auto it = slot.find(family);
     if (it == slot.end() || c.cost < it->second.cost) slot[family] = c;

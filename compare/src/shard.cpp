@@ -1,4 +1,5 @@
 #include "puppet/compare/shard.h"
+#include "puppet/compare/engines.h"
 
 #include <algorithm>
 #include <cmath>
@@ -28,8 +29,8 @@ constexpr int64_t kMaxStarts = 1000000;
 constexpr uint64_t kMaxSteps = 10000001;
 
 std::string config_name(const SolverConfig& config) {
-  return config.solver == "procedural"
-             ? "procedural:" + std::string(procedural::rule_name(config.options.rule))
+  return has_rules(config.solver)
+             ? config.solver + ":" + std::string(procedural::rule_name(config.options.rule))
              : config.solver;
 }
 
@@ -40,13 +41,14 @@ std::string joined(const std::vector<std::string>& items) {
 }
 
 bool known_config(const std::string& config) {
-  const std::string prefix = "procedural:";
-  if (config.rfind(prefix, 0) == 0) {
-    return procedural::parse_rule(config.substr(prefix.size())).has_value();
+  // ENGINE:RULE for an engine that runs the rules, else the engine's name alone
+  const size_t colon = config.find(':');
+  if (colon != std::string::npos) {
+    return has_rules(config.substr(0, colon)) &&
+           procedural::parse_rule(config.substr(colon + 1)).has_value();
   }
   const auto& solvers = solver_names();
-  return config != "procedural" &&
-         std::find(solvers.begin(), solvers.end(), config) != solvers.end();
+  return !has_rules(config) && std::find(solvers.begin(), solvers.end(), config) != solvers.end();
 }
 
 // the rows a shard holds: the jobs j < jobs with j mod count = index

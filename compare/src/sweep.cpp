@@ -52,8 +52,8 @@ std::vector<Truth> truths_for(const Model& model) {
 }
 
 std::string rule_of(const SolverConfig& config) {
-  return config.solver == "procedural" ? std::string(procedural::rule_name(config.options.rule))
-                                       : std::string();
+  return has_rules(config.solver) ? std::string(procedural::rule_name(config.options.rule))
+                                  : std::string();
 }
 
 const std::vector<double>& sweep_dts() {

@@ -1,4 +1,5 @@
 #include "puppet/compare/verdict.h"
+#include "puppet/compare/engines.h"
 
 #include <time.h>
 
@@ -136,7 +137,7 @@ std::vector<Setting> settings_searched(const SolverConfig& solver) {
     change(s.options);
     out.push_back(std::move(s));
   };
-  if (solver.solver == "procedural") {
+  if (has_rules(solver.solver)) {
     switch (solver.options.rule) {
       case procedural::Rule::kXpbd:
         for (int n : {1, 2, 4, 8, 16}) {
@@ -176,7 +177,7 @@ std::vector<Setting> settings_searched(const SolverConfig& solver) {
 SolverOptions candidate_options(const std::string& solver, const std::string& rule,
                                 const std::string& setting) {
   SolverConfig base{solver, {}};
-  if (solver == "procedural") {
+  if (has_rules(solver)) {
     const auto parsed = procedural::parse_rule(rule);
     if (!parsed) throw ScenarioError("unknown rule " + rule, "rule");
     base.options.rule = *parsed;

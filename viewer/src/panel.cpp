@@ -8,6 +8,7 @@
 #include <exception>
 #include <vector>
 
+#include "puppet/compare/engines.h"
 #include "puppet/procedural/solver.h"
 #include "renderer.h"
 
@@ -58,7 +59,7 @@ bool rule_count_slider(const char* label, const SessionConfig& config, int* coun
 void solver_section(Session& session, PanelState& state) {
   SessionConfig config = session.config();
   bool changed = combo("solver", config.solver, compare::solver_names());
-  if (config.solver == "procedural" || config.ghost == "procedural") {
+  if (compare::has_rules(config.solver) || compare::has_rules(config.ghost)) {
     std::vector<std::string> rules;
     for (const procedural::Rule r : procedural::kAllRules) {
       rules.emplace_back(procedural::rule_name(r));
@@ -148,7 +149,7 @@ void time_section(Session& session, Controller& controller, PanelState& state) {
     }
     ImGui::EndCombo();
   }
-  if (config.solver == "procedural" || config.ghost == "procedural") {
+  if (compare::has_rules(config.solver) || compare::has_rules(config.ghost)) {
     changed |= rule_count_slider("substeps", config, &config.options.substeps, 1, 32);
   }
   // the mouse's spring: 0 is the hard pin; compliance from 1e-5 (100 kN/m) to 0.01 m/N

@@ -37,6 +37,11 @@ const std::vector<std::string>& solver_names() {
   return names;
 }
 
+bool has_rules(std::string_view solver) {
+  const Engine* engine = find_engine(solver);
+  return engine && engine->has_rules;
+}
+
 std::string engine_model_problem(std::string_view name, const Model& model) {
   const Engine* engine = find_engine(name);
   if (!engine) return "unknown solver " + shown(name);

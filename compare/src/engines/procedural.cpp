@@ -155,7 +155,7 @@ procedural::Settings procedural_settings(const SolverOptions& options, const Sce
 }
 
 Engine procedural_engine() {
-  return {.name = "procedural",
+  return {.name = kProceduralEngine,
           .summary = "the seed's update/adjust solver and its rules (--rule)",
           .has_rules = true,
           .model_problem = model_problem,

@@ -89,7 +89,7 @@ Flags robustness_defaults() {
   Flags f;
   f.dt = "1/240";
   f.out = "results/robustness";
-  f.solver = "procedural";
+  f.solver = compare::kProceduralEngine;
   return f;
 }
 

@@ -47,6 +47,10 @@ std::span<const Engine> engines();
 const Engine* find_engine(std::string_view name);
 // the names of the engines this build has
 const std::vector<std::string>& solver_names();
+// the engine whose row runs the procedural rules, one configuration per rule
+inline constexpr std::string_view kProceduralEngine = "procedural";
+// whether the engine named runs once per procedural rule (its row's has_rules)
+bool has_rules(std::string_view solver);
 // why the engine cannot run the model (empty when it can); an unknown name says so
 std::string engine_model_problem(std::string_view name, const Model& model);
 

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "puppet/compare/engines.h"
 #include "puppet/compare/scenario.h"
 #include "puppet/compare/simulator.h"
 
@@ -33,7 +34,7 @@ class History {
 struct SessionConfig {
   std::string model = "pinocchio";  // "pinocchio", a model file or chain:N
   std::string scenario = "hang";
-  std::string solver = "procedural";
+  std::string solver{compare::kProceduralEngine};
   std::string ghost;  // a second solver drawn as a ghost; empty for none
   compare::SolverOptions options;
   double dt = 1.0 / 240.0;
