@@ -72,11 +72,12 @@ void solver_section(Session& session, PanelState& state) {
       config.options.substeps = procedural::kRuleDefault;
       changed = true;
     }
-    using procedural::Rule;
-    if (config.options.rule == Rule::kRelaxed || config.options.rule == Rule::kXpbd) {
-      changed |= rule_count_slider("sweeps", config, &config.options.iterations, 1, 16);
-    } else if (config.options.rule == Rule::kTree) {
-      changed |= rule_count_slider("Newton", config, &config.options.iterations, 1, 8);
+    // a rule that reads its iterations gets a slider, labelled with what they count (its row
+    // in the rule catalogue: "two-sided sweeps per substep" reads "two-sided sweeps")
+    const std::string_view counts = procedural::rule_info(config.options.rule).iterations_are;
+    if (!counts.empty()) {
+      const std::string label(counts.substr(0, counts.find(" per ")));
+      changed |= rule_count_slider(label.c_str(), config, &config.options.iterations, 1, 16);
     }
   }
   changed |= combo("anchor", config.anchor, {"auto", "grab", "scenario"});
