@@ -119,7 +119,6 @@ class MujocoSolver final : public Solver {
   }
   ~MujocoSolver() override { release(); }
 
-
   void set_pins(std::span<const Pin> pins) override {
     read_state(bodies_);
     // the exact pin stays exact while it is among the pins, hard, and its target unchanged

@@ -24,12 +24,14 @@ class Inputs:
     frontier: list
     plots: list
     folder: str
-    dt: float = field(init=False)
-    truths: list = field(init=False)
+    dt: float = field(init=False)  # the tables' dt
+    truths: list = field(init=False)  # the references the run has truths for
+    second: bool = field(init=False)  # whether it has the second truth
 
     def __post_init__(self):
         self.dt = self.s.table_dt()
         self.truths = self.s.truths()
+        self.second = self.s.has_second_truth()
 
     def unknown_names(self):
         """the summary's scenarios and solvers that the testbed's catalogue does not list"""

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "puppet/compare/engines.h"
@@ -92,23 +93,22 @@ std::string model_problem(const Model&) { return {}; }  // it runs every valid m
 // "relaxed, xpbd: two-sided sweeps per substep; tree: Newton iterations per substep (default:
 // the rule's: relaxed 4, xpbd 1, tree 1)"
 std::string iterations_help() {
-  std::string meanings, defaults;
-  std::vector<std::string_view> seen;
+  // the rules that read their iterations, grouped by what the iterations count
+  std::vector<std::pair<std::string_view, std::string>> groups;  // meaning, rule names
+  std::string defaults;
   for (const procedural::Rule rule : procedural::kAllRules) {
     const procedural::RuleInfo info = procedural::rule_info(rule);
     if (info.iterations_are.empty()) continue;
     defaults += (defaults.empty() ? "" : ", ") + std::string(info.name) + " " +
                 std::to_string(info.iterations);
-    if (std::find(seen.begin(), seen.end(), info.iterations_are) != seen.end()) continue;
-    seen.push_back(info.iterations_are);
-    std::string names;
-    for (const procedural::Rule other : procedural::kAllRules) {
-      const procedural::RuleInfo o = procedural::rule_info(other);
-      if (o.iterations_are == info.iterations_are) {
-        names += (names.empty() ? "" : ", ") + std::string(o.name);
-      }
-    }
-    meanings += (meanings.empty() ? "" : "; ") + names + ": " + std::string(info.iterations_are);
+    auto group = std::find_if(groups.begin(), groups.end(),
+                              [&](const auto& g) { return g.first == info.iterations_are; });
+    if (group == groups.end()) group = groups.insert(groups.end(), {info.iterations_are, ""});
+    group->second += (group->second.empty() ? "" : ", ") + std::string(info.name);
+  }
+  std::string meanings;
+  for (const auto& [meaning, names] : groups) {
+    meanings += (meanings.empty() ? "" : "; ") + names + ": " + std::string(meaning);
   }
   return meanings + "; the others make one pass (default: the rule's: " + defaults + ")";
 }

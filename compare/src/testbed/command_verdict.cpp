@@ -121,11 +121,8 @@ Command add_verdict_command(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--budget", f->budget, "error budgets, comma list (1mm, 1cm, 0.05m)")
       ->capture_default_str();
-  command
-      ->add_option("--starts", f->starts,
-                   "random starts a chosen configuration must survive without diverging")
-      ->capture_default_str();
-  command->add_option("--seed", f->seed, "the starts' seed")->capture_default_str();
+  add_starts_flags(command, *f,
+                   "random starts a chosen configuration must survive without diverging");
   command
       ->add_option("--frame-hz", f->frame_hz,
                    "the frame rate of the per-frame view (a whole number of steps per frame)")

@@ -85,6 +85,11 @@ void add_sweep_flags(CLI::App* command, Flags& f) {
                     "procedural: no tremble even in the tremble scenario");
 }
 
+void add_starts_flags(CLI::App* command, Flags& f, const char* starts_help) {
+  command->add_option("--starts", f.starts, starts_help)->capture_default_str();
+  command->add_option("--seed", f.seed, "the starts' seed")->capture_default_str();
+}
+
 Flags robustness_defaults() {
   Flags f;
   f.dt = "1/240";
@@ -97,9 +102,7 @@ void add_robustness_flags(CLI::App* command, Flags& f) {
   f = robustness_defaults();
   add_solver_flags(command, f);
   add_sweep_flags(command, f);
-  command->add_option("--starts", f.starts, "random starts per scenario, solver, rule and dt")
-      ->capture_default_str();
-  command->add_option("--seed", f.seed, "the starts' seed")->capture_default_str();
+  add_starts_flags(command, f, "random starts per scenario, solver, rule and dt");
   command->add_option("--shard", f.shard,
                       "run only shard I of N (jobs j with j mod N = I); merge the shards with "
                       "testbed merge");

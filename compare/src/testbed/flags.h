@@ -59,6 +59,10 @@ void add_sweep_flags(CLI::App* command, Flags& f);
 // the whole of model, solver, output, engine and grab flags: what run and frontier share
 void add_solver_flags(CLI::App* command, Flags& f);
 
+// --starts (what they are for: `starts_help`) and --seed, the random starts of robustness and
+// verdict
+void add_starts_flags(CLI::App* command, Flags& f, const char* starts_help);
+
 // robustness's flags and their defaults: the command line's, and merge's reading of a shard's
 // replay flags
 Flags robustness_defaults();

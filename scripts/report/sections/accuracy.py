@@ -12,8 +12,9 @@ ID = "accuracy"
 def lines(r):
     s = r.s
     dt = r.dt
-    second = r.s.has_second_truth()
+    second = r.second
     out = []
+
     def accuracy_cell(sc, config, d, metric=M.pose_err_m, reference=TRUTH):
         v = s.get(sc, config, d, metric, "reseeded_mean", reference)
         if math.isnan(v):

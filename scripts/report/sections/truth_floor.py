@@ -13,7 +13,7 @@ def lines(r):
     truths = r.truths
     out = []
     # the truths' error bars and their agreement
-    second = s.has_second_truth()
+    second = r.second
     if truths:
         rows = []
         for sc in s.scenarios:

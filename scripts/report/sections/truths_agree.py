@@ -11,7 +11,7 @@ ID = "truths-agree"
 def lines(r):
     s = r.s
     folder = r.folder
-    second = r.s.has_second_truth()
+    second = r.second
     out = []
     if second:
         pin_rows = any(k[3] == M.pin_gap_m and k[5] in TRUTHS and k[2] not in s.dts

@@ -19,7 +19,7 @@ def lines(r):
             f"- dt: {', '.join(dt_text(d) for d in s.dts)} s. Tables use dt = {dt_text(dt)} s "
             "unless they say otherwise.",
             ("- Truth: " + s.truth_text()
-             + (f"; the second truth {s.truth_text(SECOND_TRUTH)}" if s.has_second_truth() else "")
+             + (f"; the second truth {s.truth_text(SECOND_TRUTH)}" if r.second else "")
              + ", each run at h/2 and 2h too, sampled every 1/30 s. " if truths else
              "- No truth: this model runs in neither truth engine. ") +
             "Errors: "
