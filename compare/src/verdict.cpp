@@ -130,50 +130,6 @@ int steps_per_frame(double dt, double hz) {
   return n >= 1.0 && std::abs(n * dt * hz - 1.0) < 1e-9 ? static_cast<int>(n) : 0;
 }
 
-std::vector<Setting> settings_searched(const SolverConfig& solver) {
-  std::vector<Setting> out;
-  auto add = [&](const std::string& flags, auto&& change) {
-    Setting s{flags, solver.options};
-    change(s.options);
-    out.push_back(std::move(s));
-  };
-  if (has_rules(solver.solver)) {
-    switch (solver.options.rule) {
-      case procedural::Rule::kXpbd:
-        for (int n : {1, 2, 4, 8, 16}) {
-          add("--substeps " + std::to_string(n), [n](SolverOptions& o) { o.substeps = n; });
-        }
-        return out;
-      case procedural::Rule::kTree:
-        for (int n : {1, 2, 4, 8}) {
-          add("--substeps " + std::to_string(n), [n](SolverOptions& o) { o.substeps = n; });
-        }
-        return out;
-      case procedural::Rule::kRelaxed:
-        for (int n : {4, 16}) {
-          add("--iterations " + std::to_string(n), [n](SolverOptions& o) { o.iterations = n; });
-        }
-        return out;
-      default:
-        out.push_back({"", solver.options});  // one pass: dt is all there is to choose
-        return out;
-    }
-  }
-  if (solver.solver == "mujoco") {
-    add("--mujoco-integrator euler",
-        [](SolverOptions& o) { o.mujoco.integrator = reference::MujocoIntegrator::kEuler; });
-    add("--mujoco-integrator rk4",
-        [](SolverOptions& o) { o.mujoco.integrator = reference::MujocoIntegrator::kRk4; });
-    return out;
-  }
-  // the Bullet solvers: Bullet's default sweeps, and enough for its limits to converge
-  for (int n : {10, 50}) {
-    add("--bullet-iterations " + std::to_string(n),
-        [n](SolverOptions& o) { o.bullet.iterations = n; });
-  }
-  return out;
-}
-
 SolverOptions candidate_options(const std::string& solver, const std::string& rule,
                                 const std::string& setting) {
   SolverConfig base{solver, {}};
@@ -182,7 +138,7 @@ SolverOptions candidate_options(const std::string& solver, const std::string& ru
     if (!parsed) throw ScenarioError("unknown rule " + rule, "rule");
     base.options.rule = *parsed;
   }
-  for (const Setting& s : settings_searched(base)) {
+  for (const Setting& s : settings_searched(base.solver, base.options)) {
     if (s.flags == setting) return s.options;
   }
   throw ScenarioError("no setting \"" + setting + "\" is searched for " + solver, "setting");
@@ -295,7 +251,8 @@ VerdictResult run_verdict(const VerdictSpec& spec) {
   std::vector<Job> jobs;
   for (size_t s = 0; s < scenario_count; ++s) {
     for (size_t k = 0; k < spec.solvers.size(); ++k) {
-      for (const Setting& setting : settings_searched(spec.solvers[k])) {
+      for (const Setting& setting :
+           settings_searched(spec.solvers[k].solver, spec.solvers[k].options)) {
         for (double dt : spec.dts) {
           jobs.push_back({s, k, setting, dt});
           Candidate c;

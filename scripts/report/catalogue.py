@@ -26,6 +26,10 @@ RULES_ENGINE = next(engine["name"] for engine in _CATALOGUE["engines"] if engine
 CONFIGS = [config for engine in _CATALOGUE["engines"]
            for config in ([(engine["name"], rule) for rule in RULES] if engine["rules"]
                           else [(engine["name"], "")])]
+# what a verdict searches for each configuration besides dt: [(flags, label)], the flags as
+# candidates.csv names a setting ("--substeps 8"; "": the defaults), the label as tables show it
+SEARCH = {(entry["solver"], entry["rule"]): [(s["flags"], s["label"]) for s in entry["settings"]]
+          for entry in _CATALOGUE["verdict_search"]}
 STAGES = list(_CATALOGUE["stages"])
 # the accuracy rows' references: the truth, the second truth (compare/sweep.h), the pairwise
 TRUTH, SECOND_TRUTH = (truth["reference"] for truth in _CATALOGUE["truths"])
@@ -69,6 +73,12 @@ class _Metrics:
 
 
 M = _Metrics()
+
+
+def setting_label(config, flags):
+    """a verdict's setting in a few words ("8 substeps"), as the catalogue labels it; flags the
+    catalogue does not search for that configuration are shown as they are"""
+    return dict(SEARCH.get(config, [])).get(flags, flags)
 
 
 def stage_metric(stage):

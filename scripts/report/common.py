@@ -51,6 +51,12 @@ BAR_MARGIN = 1.5
 MIN_ORDER = 0.5
 
 
+def or_list(items):
+    """a, b or c"""
+    items = list(items)
+    return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " or " + items[-1]
+
+
 def md_table(header, rows):
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     lines += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]

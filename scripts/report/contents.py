@@ -9,9 +9,9 @@ from .common import ReportError, label, write_atomically
 from .readers import Summary
 from .sections import (ablation, accuracy, findings, frontier, humanoid, joint_gaps, open_limits,
                        plot_list, robustness, time_per_step, title, truth_floor, truths_agree,
-                       verdict, what_was_run)
+                       verdict, verdict_search, what_was_run)
 
-SECTIONS = [title, what_was_run, verdict, truth_floor, truths_agree, accuracy, open_limits,
+SECTIONS = [title, what_was_run, verdict, verdict_search, truth_floor, truths_agree, accuracy, open_limits,
             joint_gaps, time_per_step, frontier, humanoid, robustness, ablation, findings,
             plot_list]
 

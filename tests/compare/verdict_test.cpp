@@ -7,11 +7,17 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <set>
 #include <stdexcept>
-
 #include <string>
+#include <tuple>
 #include <vector>
+
+#include "../support/csv.h"
+#include "../support/source_dir.h"
 
 namespace puppet::compare {
 namespace {
@@ -155,7 +161,7 @@ TEST(Verdict, EverySettingSearchedIsFoundByItsFlags) {
   for (const char* rule : {"literal", "relaxed", "xpbd", "tree"}) {
     SolverConfig base{"procedural", {}};
     base.options.rule = *procedural::parse_rule(rule);
-    for (const Setting& s : settings_searched(base)) {
+    for (const Setting& s : settings_searched(base.solver, base.options)) {
       const SolverOptions o = candidate_options("procedural", rule, s.flags);
       EXPECT_EQ(o.substeps, s.options.substeps) << rule << " " << s.flags;
       EXPECT_EQ(o.iterations, s.options.iterations) << rule << " " << s.flags;
@@ -163,7 +169,7 @@ TEST(Verdict, EverySettingSearchedIsFoundByItsFlags) {
     }
   }
   for (const char* solver : {"bullet-multibody", "mujoco"}) {
-    for (const Setting& s : settings_searched({solver, {}})) {
+    for (const Setting& s : settings_searched(solver, {})) {
       const SolverOptions o = candidate_options(solver, "", s.flags);
       EXPECT_EQ(o.bullet.iterations, s.options.bullet.iterations) << s.flags;
       EXPECT_EQ(o.mujoco.integrator, s.options.mujoco.integrator) << s.flags;
@@ -175,6 +181,44 @@ TEST(Verdict, EverySettingSearchedIsFoundByItsFlags) {
   EXPECT_EQ(budget_text(0.05), "5cm");
   EXPECT_EQ(budget_text(0.001), "1mm");
   EXPECT_EQ(budget_text(5e-5), "50um");
+}
+
+// the committed verdict searched what the catalogue rows search: every configuration of every
+// built engine (procedural once per rule), setting for setting; a grid changed in a row without
+// the verdict re-run fails here
+TEST(Verdict, TheCommittedCandidatesAreTheCataloguesSearch) {
+  std::ifstream in(std::string(PUPPET_SOURCE_DIR) + "/results/verdict/candidates.csv");
+  ASSERT_TRUE(in) << "results/verdict/candidates.csv";
+  std::string line;
+  std::getline(in, line);
+  const std::vector<std::string> header = test::split_csv_line(line);
+  auto column = [&](const std::string& name) {
+    const auto at = std::find(header.begin(), header.end(), name);
+    EXPECT_NE(at, header.end()) << name;
+    return static_cast<size_t>(at - header.begin());
+  };
+  const size_t solver = column("solver"), rule = column("rule"), setting = column("setting");
+  using Key = std::tuple<std::string, std::string, std::string>;
+  std::set<Key> committed;
+  while (std::getline(in, line)) {
+    const std::vector<std::string> f = test::split_csv_line(line);
+    ASSERT_GT(f.size(), std::max({solver, rule, setting})) << line;
+    committed.insert({f[solver], f[rule], f[setting]});
+  }
+  std::set<Key> searched;
+  for (const std::string& name : solver_names()) {
+    for (const procedural::Rule r : procedural::kAllRules) {
+      SolverOptions base;
+      base.rule = r;
+      const std::string rule_name = has_rules(name) ? std::string(procedural::rule_name(r)) : "";
+      for (const Setting& s : settings_searched(name, base)) {
+        searched.insert({name, rule_name, s.flags});
+        EXPECT_EQ(s.flags.empty(), s.label.empty()) << name << " " << s.flags;
+      }
+      if (!has_rules(name)) break;
+    }
+  }
+  EXPECT_EQ(committed, searched);
 }
 
 // the floors a sweep's summary.csv implies: the truth's h/2 and 2h rows and the second truth's,

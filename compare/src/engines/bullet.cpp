@@ -41,6 +41,15 @@ void replay_flags(const SolverOptions& options, std::string& out) {
   if (options.bullet.euler_ball_limits) out += " --bullet-euler-limits";
 }
 
+// Bullet's default sweeps, and enough for its limits to converge
+void search(const SolverOptions& base, std::vector<Setting>& out) {
+  for (const int n : {10, 50}) {
+    Setting s{"--bullet-iterations " + std::to_string(n), std::to_string(n) + " sweeps", base};
+    s.options.bullet.iterations = n;
+    out.push_back(std::move(s));
+  }
+}
+
 }  // namespace
 
 Engine bullet_multibody_engine() {
@@ -50,7 +59,8 @@ Engine bullet_multibody_engine() {
       .model_problem = reference::bullet_model_problem,
       .make = make<reference::Kind::kMultibody>,
       .add_flags = add_flags,
-      .replay_flags = replay_flags};
+      .replay_flags = replay_flags,
+      .search = search};
 }
 
 Engine bullet_rigid_engine() {
@@ -58,7 +68,8 @@ Engine bullet_rigid_engine() {
   return {.name = "bullet-rigid",
           .summary = "a Bullet btRigidBody ragdoll: maximal coordinates, the games' ragdoll",
           .model_problem = reference::bullet_model_problem,
-          .make = make<reference::Kind::kRigid>};
+          .make = make<reference::Kind::kRigid>,
+          .search = search};
 }
 
 }  // namespace puppet::compare

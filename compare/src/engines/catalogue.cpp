@@ -42,6 +42,14 @@ bool has_rules(std::string_view solver) {
   return engine && engine->has_rules;
 }
 
+std::vector<Setting> settings_searched(std::string_view solver, const SolverOptions& base) {
+  std::vector<Setting> out;
+  const Engine* engine = find_engine(solver);
+  if (engine && engine->search) engine->search(base, out);
+  if (out.empty()) out.push_back({"", "", base});  // dt is all there is to choose
+  return out;
+}
+
 std::string engine_model_problem(std::string_view name, const Model& model) {
   const Engine* engine = find_engine(name);
   if (!engine) return "unknown solver " + shown(name);

@@ -57,6 +57,16 @@ void replay_flags(const SolverOptions& options, std::string& out) {
   }
 }
 
+// its default integrator (semi-implicit Euler) and its most accurate (RK4)
+void search(const SolverOptions& base, std::vector<Setting>& out) {
+  for (const auto& [integrator, label] :
+       {std::pair{MujocoIntegrator::kEuler, "Euler"}, std::pair{MujocoIntegrator::kRk4, "RK4"}}) {
+    Setting s{std::string("--mujoco-integrator ") + integrator_name(integrator), label, base};
+    s.options.mujoco.integrator = integrator;
+    out.push_back(std::move(s));
+  }
+}
+
 }  // namespace
 
 Engine mujoco_engine() {
@@ -66,7 +76,8 @@ Engine mujoco_engine() {
           .model_problem = reference::mujoco_model_problem,
           .make = make,
           .add_flags = add_flags,
-          .replay_flags = replay_flags};
+          .replay_flags = replay_flags,
+          .search = search};
 }
 
 }  // namespace puppet::compare

@@ -146,6 +146,19 @@ void replay_flags(const SolverOptions& options, std::string& out) {
   if (!options.derive_velocities) out += " --no-velocities";
 }
 
+// the rule's own search (its row in the rule catalogue): its substeps or its sweeps
+void search(const SolverOptions& base, std::vector<Setting>& out) {
+  const procedural::RuleSearch grid = procedural::rule_info(base.rule).search;
+  if (grid.knob == procedural::RuleKnob::kNone) return;
+  const bool substeps = grid.knob == procedural::RuleKnob::kSubsteps;
+  for (const int n : grid.values) {
+    Setting s{(substeps ? "--substeps " : "--iterations ") + std::to_string(n),
+              std::to_string(n) + " " + std::string(grid.noun) + (n == 1 ? "" : "s"), base};
+    (substeps ? s.options.substeps : s.options.iterations) = n;
+    out.push_back(std::move(s));
+  }
+}
+
 }  // namespace
 
 procedural::Settings procedural_settings(const SolverOptions& options, const Scenario& scenario) {
@@ -161,7 +174,8 @@ Engine procedural_engine() {
           .model_problem = model_problem,
           .make = make,
           .add_flags = add_flags,
-          .replay_flags = replay_flags};
+          .replay_flags = replay_flags,
+          .search = search};
 }
 
 }  // namespace puppet::compare

@@ -1,6 +1,6 @@
 """The report's section `verdict`: the verdict: cost at equal accuracy and robustness."""
 
-from ..catalogue import RULES_ENGINE
+from ..catalogue import RULES_ENGINE, setting_label
 from ..common import (HEADLINE_BUDGET, VERDICT, WHY, budget_name, dt_text, fmt, label, md_table,
                       wilson_upper)
 from ..plots import frame_puppets
@@ -10,15 +10,16 @@ from ..readers import Verdict, read_verdict
 def setting_text(row):
     """a chosen configuration in a few words: 1/120 s, 8 substeps"""
     text = dt_text(row["dt"]) + " s"
-    flags = row["setting"].split()
-    for flag, value in zip(flags[::2], flags[1::2]):
-        if flag == "--mujoco-integrator":
-            text += ", " + {"rk4": "RK4", "euler": "Euler"}.get(value, value)
-            continue
-        noun = {"--substeps": "substep", "--iterations": "sweep",
-                "--bullet-iterations": "sweep"}.get(flag, flag)
-        text += f", {value} {noun}{'' if value == '1' else 's'}"
-    return text
+    setting = setting_label(row["config"], row["setting"])
+    return f"{text}, {setting}" if setting else text
+
+
+def searched_summary(v):
+    """what the verdict searched, in a phrase: dt from 1/30 to 1/960 s and each solver's own
+    settings"""
+    dts = [c["dt"] for c in v.candidates]
+    return (f"dt from {dt_text(max(dts))} to {dt_text(min(dts))} s, and each solver's own "
+            "settings")
 
 
 def verdict_cell(v, scenario, config, view, budget, show_setting=False):
@@ -63,8 +64,7 @@ def verdict_headline(folder, budget=HEADLINE_BUDGET):
     table, refused = verdict_table(v, "second", budget)
     return (f"CPU µs per simulated second to keep Pinocchio within {budget_name(budget)} of "
             f"the truth ({v.truth}) and never diverge in {v.starts} random starts, with the "
-            "cheapest configuration each solver has (dt from 1/30 to 1/960 s, its substeps or "
-            "sweeps); in brackets, how many times cheaper than the cheapest reference engine "
+            f"cheapest configuration each solver has ({searched_summary(v)}); in brackets, how many times cheaper than the cheapest reference engine "
             "(`(ref)`: that engine). From `results/verdict/verdict.csv` (commit "
             f"`{v.git_sha}`, {v.machine}), printed by `scripts/readme_headline.py`. "
             + refused_text(v, refused) + "\n\n" + table + "\n\n"
@@ -109,8 +109,8 @@ def verdict_section(v):
     budgets = ", ".join(budget_name(b) for b in v.budgets)
     out = ["## The verdict: cost at equal accuracy and robustness", "",
            f"`{VERDICT}/`: `testbed verdict`. For every solver and scenario, every configuration "
-           "was measured: dt from 1/30 to 1/960 s, and xpbd's and tree's substeps, relaxed's "
-           "sweeps, Bullet's sweeps and MuJoCo's integrator (`candidates.csv`). Each was timed "
+           f"was measured ({searched_summary(v)}; \"What the verdict searched\" lists them, "
+           "`candidates.csv` has each). Each was timed "
            "through the whole scenario in one thread, the configurations of a scenario in turn "
            "a quarter of a simulated second at a time, as CPU µs per simulated second; and "
            f"judged by its re-seeded pose error against the truth ({v.truth}); a configuration "

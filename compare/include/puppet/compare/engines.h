@@ -21,6 +21,15 @@ class Validator;
 
 namespace puppet::compare {
 
+// one configuration a verdict searches besides dt (docs/verdict.md): the flags that set it, as
+// candidates.csv names it ("--substeps 8"; empty: the defaults), a few words for tables ("8
+// substeps", "RK4"), and the options it makes
+struct Setting {
+  std::string flags;
+  std::string label;
+  SolverOptions options;
+};
+
 struct Engine {
   std::string_view name;     // as --solver, the CSVs and the plots spell it
   std::string_view summary;  // one line: what it is (testbed list)
@@ -35,6 +44,9 @@ struct Engine {
   // the flags add_flags would read back as `options`, for those that differ from SolverOptions'
   // defaults, each as " --flag value" (a robustness run's replay command)
   void (*replay_flags)(const SolverOptions& options, std::string& out) = nullptr;
+  // what a verdict searches besides dt, from `base` (its rule's row for procedural), appended
+  // to `out` (null: dt alone)
+  void (*search)(const SolverOptions& base, std::vector<Setting>& out) = nullptr;
 };
 
 // the check of a count flag: plain decimal digits (CLI11's integers would also take 0x10, " 3"
@@ -51,6 +63,9 @@ const std::vector<std::string>& solver_names();
 inline constexpr std::string_view kProceduralEngine = "procedural";
 // whether the engine named runs once per procedural rule (its row's has_rules)
 bool has_rules(std::string_view solver);
+// what a verdict searches for one solver besides dt: its row's search from `base`, or `base`
+// alone
+std::vector<Setting> settings_searched(std::string_view solver, const SolverOptions& base);
 // why the engine cannot run the model (empty when it can); an unknown name says so
 std::string engine_model_problem(std::string_view name, const Model& model);
 

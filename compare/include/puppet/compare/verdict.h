@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "puppet/compare/engines.h"
 #include "puppet/compare/output.h"
 #include "puppet/compare/sweep.h"
 
@@ -80,15 +81,6 @@ FrameCost at_frame_rate(double cost_us_per_s, double hz = 60.0);
 
 /// whether a step of dt fits a frame of 1/hz a whole number of times (steps per frame, else 0)
 int steps_per_frame(double dt, double hz);
-
-/// the settings searched for one solver besides dt: the rule's substeps (xpbd, tree) or sweeps
-/// (relaxed), Bullet's sequential-impulse sweeps, MuJoCo's integrator; each with the flags that
-/// set it
-struct Setting {
-  std::string flags;
-  SolverOptions options;
-};
-std::vector<Setting> settings_searched(const SolverConfig& solver);
 
 /// the options of a candidate named as candidates.csv and verdict.csv name it: its solver, rule
 /// and setting; throws ScenarioError when no setting searched for it has those flags

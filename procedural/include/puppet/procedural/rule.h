@@ -7,6 +7,7 @@
 
 #include <array>
 #include <optional>
+#include <span>
 #include <string_view>
 
 namespace puppet::procedural {
@@ -16,6 +17,15 @@ inline constexpr std::array kAllRules = {Rule::kLiteral, Rule::kSmoothed, Rule::
                                          Rule::kSubtree, Rule::kRelaxed,  Rule::kXpbd,
                                          Rule::kTree};
 
+/// what a verdict (`testbed verdict`) searches for a rule besides dt: one of its counts over
+/// `values`, each a noun's worth ("8 substeps"); nothing for a rule that makes one pass
+enum class RuleKnob { kNone, kSubsteps, kIterations };
+struct RuleSearch {
+  RuleKnob knob = RuleKnob::kNone;
+  std::span<const int> values;
+  std::string_view noun;  ///< one of what the values count ("substep", "sweep")
+};
+
 /// what a rule is, as its row in the rule catalogue says (procedural/src/rules/catalogue.cpp)
 struct RuleInfo {
   std::string_view name;  ///< as the command lines and CSVs spell it ("literal", …, "tree")
@@ -23,6 +33,7 @@ struct RuleInfo {
   int substeps = 1;       ///< its substeps per step unless told
   /// what its iterations count ("two-sided sweeps per substep"); empty when it reads none
   std::string_view iterations_are;
+  RuleSearch search;  ///< what a verdict searches for it besides dt
 };
 RuleInfo rule_info(Rule rule);
 

@@ -1,0 +1,60 @@
+"""The report's section `verdict-search`: what the verdict searched for each solver besides dt,
+from the catalogue's rows (testbed list --json), with the dts and count of the committed run."""
+from collections import Counter
+
+from ..catalogue import CONFIGS, RULES_ENGINE, SEARCH
+from ..common import VERDICT, dt_text, label, md_table, or_list
+from ..readers import read_verdict
+
+ID = "verdict-search"
+
+
+def choices(settings):
+    """a configuration's settings in a few words: 1, 2, 4, 8 or 16 substeps (`--substeps`)"""
+    flags = [flag for flag, _ in settings if flag]
+    if not flags:
+        return "nothing: dt is the only choice"
+    words = [text.split(" ", 1) for _, text in settings]
+    if all(len(w) == 2 and w[0].isdigit() for w in words):
+        text = or_list(w[0] for w in words) + " " + words[-1][1]
+    else:
+        text = or_list(text for _, text in settings)
+    names = sorted({flag.split(" ", 1)[0] for flag in flags})
+    return text + " (" + ", ".join(f"`{name}`" for name in names) + ")"
+
+
+def rows():
+    """(solvers, choices) with the configurations that search alike merged, in the tables'
+    order"""
+    out = []
+    for config in CONFIGS:
+        if config not in SEARCH:
+            continue
+        text = choices(SEARCH[config])
+        if out and out[-1][1] == text and (out[-1][0][-1][0] == RULES_ENGINE) == (
+                config[0] == RULES_ENGINE):
+            out[-1][0].append(config)
+        else:
+            out.append(([config], text))
+    return out
+
+
+def solvers_text(configs):
+    if configs[0][0] == RULES_ENGINE and len(configs) > 1:
+        return f"{RULES_ENGINE} " + ", ".join(rule for _, rule in configs)
+    return ", ".join(label(c) for c in configs)
+
+
+def lines(r):
+    v = read_verdict(r.folder)
+    dts = sorted({c["dt"] for c in v.candidates}, reverse=True) if v else []
+    header = "besides dt" + (f" ({', '.join(dt_text(dt) for dt in dts)} s)" if dts else "")
+    out = ["## What the verdict searched", "",
+           md_table(["solver", header], [[solvers_text(c), text] for c, text in rows()]), ""]
+    if v:
+        per_scenario = Counter(c["scenario"] for c in v.candidates)
+        counts = sorted(set(per_scenario.values()))
+        out += [f"That is {or_list(str(n) for n in counts)} candidates per scenario on {v.model} "
+                f"(`{VERDICT}/candidates.csv`). A candidate's `setting` column holds the testbed "
+                "flags that rebuild it.", ""]
+    return out
