@@ -14,8 +14,8 @@ import math
 import os
 import sys
 
-from report.catalogue import M, PAIRWISE_CONFIG, SCENARIOS, TRUTH
-from report.common import fmt
+from report.catalogue import HEADLINE, M, PAIRWISE_CONFIG, PAIRWISE_SOLVER, SCENARIOS, TRUTH
+from report.common import fmt, label
 from report.readers import Summary
 from report.sections.verdict import verdict_headline
 
@@ -30,20 +30,19 @@ def headline(summary_path):
         return math.exp(sum(math.log(t) for t in times) / len(times)) if times else math.nan
 
     base = step_us(PAIRWISE_CONFIG)
-    limit = s.truth_limit("drag")
+    limit = s.truth_limit(HEADLINE)
     lines = [
         f"| solver | µs per step (geometric mean of the {len(scenarios)} scenarios) "
-        f"| × bullet-multibody's speed | scenarios diverged (of {len(scenarios)}) "
-        "| re-seeded pose error in `drag`, m |",
+        f"| × {PAIRWISE_SOLVER}'s speed | scenarios diverged (of {len(scenarios)}) "
+        f"| re-seeded pose error in `{HEADLINE}`, m |",
         "|---|---|---|---|---|",
     ]
     for config in s.configs:
         t = step_us(config)
         diverged = sum(1 for x in scenarios if s.diverged(x, config, dt))
-        err = s.get("drag", config, dt, M.pose_err_m, "reseeded_mean", TRUTH)
+        err = s.get(HEADLINE, config, dt, M.pose_err_m, "reseeded_mean", TRUTH)
         err_text = f"≤ {fmt(limit)}" if err < limit else fmt(err)
-        name = config[0] + (" " + config[1] if config[1] else "")
-        lines.append(f"| {name} | {fmt(t)} | {fmt(base / t)} | {diverged} | {err_text} |")
+        lines.append(f"| {label(config)} | {fmt(t)} | {fmt(base / t)} | {diverged} | {err_text} |")
     return (f"At dt = 1/{round(1 / dt)} s on {s.model}, from `results/main/summary.csv` (commit "
             f"`{s.git_sha}`, {s.machine}), printed by `scripts/readme_headline.py`. The error is "
             f"against the fine-step truth ({s.truth_text()}), the mean over the "

@@ -17,6 +17,8 @@ with open(PATH) as _file:
     _CATALOGUE = json.load(_file)
 
 SCENARIOS = list(_CATALOGUE["scenarios"])
+# the scenario a table quotes when it quotes one: a user dragging the puppet
+HEADLINE = _CATALOGUE["headline_scenario"]
 RULES = [rule["name"] for rule in _CATALOGUE["rules"]]
 # each rule's defaults and what its iterations count ("": it makes one pass)
 RULE_INFO = {rule["name"]: rule for rule in _CATALOGUE["rules"]}

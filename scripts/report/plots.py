@@ -235,15 +235,6 @@ def plot_robustness(rows, out):
     return save(fig, out, "robustness.png", bottom=0.12)
 
 
-def frame_puppets(v, budget, scenario="drag"):
-    out = []
-    for c in v.configs:
-        r = v.row(scenario, c, "frame", budget)
-        if r and r["verdict"] == "met":
-            out.append((c, r["puppets_per_core"]))
-    return out
-
-
 def plot_verdict(v, out):
     """cost against error budget per solver and scenario: the cheapest candidate within each
     error (its scenario run and re-seeded runs finished; random starts not required), and the

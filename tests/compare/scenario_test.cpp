@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "puppet/compare/metrics.h"
 #include "support/source_dir.h"
 
@@ -28,6 +30,13 @@ TEST(Scenario, EveryScenarioBuildsOnEveryKindOfModel) {
       for (double g : pin_gap) EXPECT_LT(g, 1e-12) << name;
     }
   }
+}
+
+// the catalogue names a headline, and it is one of its scenarios
+TEST(Scenario, TheHeadlineIsAScenarioOfTheCatalogue) {
+  const auto& names = scenario_names();
+  EXPECT_NE(std::find(names.begin(), names.end(), headline_scenario()), names.end())
+      << "headline: \"" << headline_scenario() << "\"";
 }
 
 TEST(Scenario, PinocchioChoices) {

@@ -12,10 +12,12 @@ namespace puppet::compare {
 
 // one scenario of the catalogue (catalogue.cpp lists them): its name, as --scenario, the CSVs
 // and the plots spell it, and how to build it; make_scenario sets the name and applies the
-// command line's overrides of the environment afterwards
+// command line's overrides of the environment afterwards. One row is the headline: the
+// scenario a table quotes when it quotes one (headline_scenario()).
 struct ScenarioRow {
   std::string_view name;
   Scenario (*make)(const Model& model, const ScenarioOptions& options) = nullptr;
+  bool headline = false;
 };
 
 // a held hand: the segment named (else the one reaching lowest at rest), its point from --grab

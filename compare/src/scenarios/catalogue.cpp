@@ -37,6 +37,15 @@ const std::vector<std::string>& scenario_names() {
   return names;
 }
 
+const std::string& headline_scenario() {
+  static const std::string name = [] {
+    const auto row =
+        std::find_if(rows().begin(), rows().end(), [](const ScenarioRow& r) { return r.headline; });
+    return row == rows().end() ? std::string() : std::string(row->name);
+  }();
+  return name;
+}
+
 Scenario make_scenario(const std::string& name, const Model& model,
                        const ScenarioOptions& options) {
   const auto row = std::find_if(rows().begin(), rows().end(),

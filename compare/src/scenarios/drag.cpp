@@ -1,15 +1,18 @@
 // drag: the marionette with its right hand's tip led round a 0.3 m circle in the x–z plane at
-// --hz (0.5 Hz), in air drag 0.1/s (the paper's figure 4a).
+// --hz (0.5 Hz), in air drag 0.1/s (the paper's figure 4a). The headline: a user dragging the
+// puppet is what the testbed is for.
 #include "builders.h"
 
 namespace puppet::compare {
 
 ScenarioRow drag_scenario() {
-  return {"drag", [](const Model& model, const ScenarioOptions& options) {
+  return {"drag",
+          [](const Model& model, const ScenarioOptions& options) {
             Scenario s = held_figure(model, options, /*head=*/true, circling_hand(options));
             s.environment.air_drag = 0.1;
             return s;
-          }};
+          },
+          /*headline=*/true};
 }
 
 }  // namespace puppet::compare

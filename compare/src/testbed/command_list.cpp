@@ -35,6 +35,7 @@ int list_text() {
 int list_json() {
   nlohmann::ordered_json out;
   out["scenarios"] = scenario_names();
+  out["headline_scenario"] = headline_scenario();
   auto& engines_out = out["engines"] = nlohmann::ordered_json::array();
   for (const Engine& engine : engines()) {
     engines_out.push_back({{"name", engine.name},

@@ -1,9 +1,8 @@
 """The report's section `verdict`: the verdict: cost at equal accuracy and robustness."""
 
-from ..catalogue import RULES_ENGINE, setting_label
+from ..catalogue import HEADLINE, RULES_ENGINE, setting_label
 from ..common import (HEADLINE_BUDGET, VERDICT, WHY, budget_name, dt_text, fmt, label, md_table,
                       wilson_upper)
-from ..plots import frame_puppets
 from ..readers import Verdict, read_verdict
 
 
@@ -20,6 +19,16 @@ def searched_summary(v):
     dts = [c["dt"] for c in v.candidates]
     return (f"dt from {dt_text(max(dts))} to {dt_text(min(dts))} s, and each solver's own "
             "settings")
+
+
+def frame_puppets(v, budget, scenario=HEADLINE):
+    """(configuration, puppets one core keeps at the frame rate) of those met in the scenario"""
+    out = []
+    for c in v.configs:
+        r = v.row(scenario, c, "frame", budget)
+        if r and r["verdict"] == "met":
+            out.append((c, r["puppets_per_core"]))
+    return out
 
 
 def verdict_cell(v, scenario, config, view, budget, show_setting=False):
@@ -141,7 +150,7 @@ def verdict_section(v):
         out += [f"### Within {budget_name(budget)} at {hz} Hz", "",
                 f"µs per {hz} Hz frame, the frame taken in whole steps (dt = 1/{hz} s or a "
                 f"divisor of it). A core keeps 10⁶/({hz} × µs per frame) puppets at {hz} Hz"
-                + (": in drag " + ", ".join(f"{label(c)} {n:,.0f}" for c, n in puppets)
+                + (f": in {HEADLINE} " + ", ".join(f"{label(c)} {n:,.0f}" for c, n in puppets)
                    if puppets else "") + ".", "", table, "", refused_text(v, refused), ""]
     return out
 

@@ -83,6 +83,9 @@ struct Scenario {
 // the names of the scenarios, in the catalogue's order (compare/src/scenarios/catalogue.cpp: one
 // file per scenario)
 const std::vector<std::string>& scenario_names();
+// the scenario a table quotes when it quotes one (the README's and the verdict's per-frame
+// figures): drag, a user dragging the puppet by its hand
+const std::string& headline_scenario();
 // builds a named scenario for a model, then applies the options' overrides of the environment
 // (gravity, air drag, ground); throws ScenarioError
 Scenario make_scenario(const std::string& name, const Model& model,
