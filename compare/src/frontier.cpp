@@ -3,6 +3,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "puppet/compare/summary_metrics.h"
+
 namespace puppet::compare {
 namespace {
 
@@ -13,12 +15,12 @@ struct Outcome {
   double pin_gap = 0.0;  // m, max
 };
 
-// one run of yank with no air drag at circle frequency hz and step dt
+// one run of the frontier's scenario (yank) with no air drag at circle frequency hz and step dt
 Outcome run_yank(const FrontierSpec& spec, const SolverConfig& config, double hz, double dt) {
   ScenarioOptions options = spec.scenario;
   options.hz = hz;
   options.air_drag = 0.0;
-  const Scenario yank = make_scenario("yank", *spec.model, options);
+  const Scenario yank = make_scenario(kFrontierScenario, *spec.model, options);
   RunOptions run;
   run.dt = dt;
   run.timing = false;
@@ -26,7 +28,7 @@ Outcome run_yank(const FrontierSpec& spec, const SolverConfig& config, double hz
   auto simulator = make_simulator(config.solver, config.options);
   const RunResult result = run_scenario(*simulator, *spec.model, yank, run);
   return {!result.diverged, result.diverged_reason, result.diverged_at,
-          result.value("pin_gap_m", "max")};
+          result.value(std::string(metric::kPinGap.name), "max")};
 }
 
 // bisection in log space for the largest x in [low, high] where ok(x), assuming one boundary

@@ -13,6 +13,7 @@
 #include "puppet/compare/number.h"
 #include "puppet/compare/output.h"
 #include "puppet/compare/run.h"
+#include "puppet/compare/summary_metrics.h"
 #include "puppet/model/text.h"
 
 namespace puppet::compare {
@@ -125,9 +126,9 @@ std::vector<RobustnessRow> run_robustness(const RobustnessSpec& spec) {
         r.diverged = result.diverged;
         r.reason = result.diverged_reason;
         r.diverged_at = result.diverged ? result.diverged_at : std::nan("");
-        r.peak_speed = result.value("peak_speed_mps", "max");
-        r.joint_gap_max = result.value("joint_gap_m", "max");
-        r.pin_gap_max = result.value("pin_gap_m", "max");
+        r.peak_speed = result.value(std::string(metric::kPeakSpeed.name), "max");
+        r.joint_gap_max = result.value(std::string(metric::kJointGap.name), "max");
+        r.pin_gap_max = result.value(std::string(metric::kPinGap.name), "max");
         r.steps = result.steps;
       },
       [&] {

@@ -19,6 +19,8 @@ with open(PATH) as _file:
 SCENARIOS = list(_CATALOGUE["scenarios"])
 # the scenario a table quotes when it quotes one: a user dragging the puppet
 HEADLINE = _CATALOGUE["headline_scenario"]
+# the scenario the stability frontier searches (testbed frontier)
+FRONTIER_SCENARIO = _CATALOGUE["frontier_scenario"]
 RULES = [rule["name"] for rule in _CATALOGUE["rules"]]
 # each rule's defaults and what its iterations count ("": it makes one pass)
 RULE_INFO = {rule["name"]: rule for rule in _CATALOGUE["rules"]}
@@ -36,6 +38,14 @@ STAGES = list(_CATALOGUE["stages"])
 # the accuracy rows' references: the truth, the second truth (compare/sweep.h), the pairwise
 TRUTH, SECOND_TRUTH = (truth["reference"] for truth in _CATALOGUE["truths"])
 TRUTHS = (TRUTH, SECOND_TRUTH)
+# how the report names each truth's engine ("MuJoCo (RK4)"), by its solver
+TRUTH_TEXT = {truth["solver"]: truth["text"] for truth in _CATALOGUE["truths"]}
+# how each truth's constraint model is refined with its dt, by its solver
+TRUTH_REFINED = {truth["solver"]: truth["refined"] for truth in _CATALOGUE["truths"]}
+# how each engine holds joints, limits, pins and contacts, in a sentence
+CONSTRAINTS = {engine["name"]: engine["constraints"] for engine in _CATALOGUE["engines"]}
+# the engines the procedural solver is compared with
+REFERENCE_ENGINES = [engine["name"] for engine in _CATALOGUE["engines"] if not engine["rules"]]
 PAIRWISE = _CATALOGUE["pairwise"]["reference"]
 PAIRWISE_SOLVER = _CATALOGUE["pairwise"]["solver"]
 PAIRWISE_CONFIG = (PAIRWISE_SOLVER, "")

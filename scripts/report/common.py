@@ -51,10 +51,15 @@ BAR_MARGIN = 1.5
 MIN_ORDER = 0.5
 
 
-def or_list(items):
+def or_list(items, word="or"):
     """a, b or c"""
     items = list(items)
-    return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " or " + items[-1]
+    return items[0] if len(items) == 1 else ", ".join(items[:-1]) + f" {word} " + items[-1]
+
+
+def and_list(items):
+    """a, b and c"""
+    return or_list(items, "and")
 
 
 def md_table(header, rows):

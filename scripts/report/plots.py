@@ -5,7 +5,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from .catalogue import CONFIGS, M, RULES_ENGINE, SCENARIOS, STAGES, TRUTH, stage_metric, style
+from .catalogue import CONFIGS, FRONTIER_SCENARIO, M, RULES_ENGINE, SCENARIOS, STAGES, TRUTH, stage_metric, style
 from .common import dt_text, fmt, label, ordered
 from .readers import read_trace
 
@@ -186,10 +186,10 @@ def plot_frontier(rows, out):
         held = float(chosen[0]["held"])
         if quantity == "hz":
             ax.set_xlabel("largest circle frequency that stays ok (Hz)")
-            ax.set_title(f"yank, 0.3 m circle, dt = {dt_text(held)} s")
+            ax.set_title(f"{FRONTIER_SCENARIO}, 0.3 m circle, dt = {dt_text(held)} s")
         else:
             ax.set_xlabel("largest dt that stays ok (s)")
-            ax.set_title(f"yank, 0.3 m circle at {fmt(held, 3)} Hz")
+            ax.set_title(f"{FRONTIER_SCENARIO}, 0.3 m circle at {fmt(held, 3)} Hz")
         ax.grid(True, axis="x", alpha=0.3)
     fig.suptitle("Stability frontier: a free puppet held only by the hand, no air drag "
                  "(bisected to 5 %)")

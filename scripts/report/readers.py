@@ -3,7 +3,7 @@ import math
 import os
 
 from .catalogue import (CONFIGS, M, RULES_ENGINE, SCENARIOS, SECOND_TRUTH, SUMMARY_HEADER, TRUTH,
-                        TRUTHS, trace_stem)
+                        TRUTH_TEXT, TRUTHS, trace_stem)
 from .common import (BAR_MARGIN, MAIN, MIN_ORDER, ROBUSTNESS, ReportError, TABLE_DT, VERDICT,
                      dt_text, ordered)
 
@@ -73,7 +73,7 @@ class Summary:
         if not self.truth_engine(reference):
             return "none"
         solver, h = self.truth_engine(reference)
-        return f"{'MuJoCo (RK4)' if solver == 'mujoco' else solver} at {dt_text(h)} s"
+        return f"{TRUTH_TEXT.get(solver, solver)} at {dt_text(h)} s"
 
     def truth_own(self, scenario, reference=TRUTH, scale=0.5, stat="reseeded_mean",
                   metric=M.pose_err_m):

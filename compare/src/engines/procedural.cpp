@@ -170,6 +170,9 @@ procedural::Settings procedural_settings(const SolverOptions& options, const Sce
 Engine procedural_engine() {
   return {.name = kProceduralEngine,
           .summary = "the seed's update/adjust solver and its rules (--rule)",
+          .constraints =
+              "its rule's adjust pass moves the segments so the joints meet; limits "
+              "are projected hard, contacts pushed out (docs/solver.md)",
           .has_rules = true,
           .model_problem = model_problem,
           .make = make,

@@ -7,6 +7,7 @@
 
 #include "commands.h"
 #include "puppet/compare/engines.h"
+#include "puppet/compare/frontier.h"
 #include "puppet/compare/output.h"
 #include "puppet/compare/scenario.h"
 #include "puppet/compare/summary_metrics.h"
@@ -36,10 +37,12 @@ int list_json() {
   nlohmann::ordered_json out;
   out["scenarios"] = scenario_names();
   out["headline_scenario"] = headline_scenario();
+  out["frontier_scenario"] = kFrontierScenario;
   auto& engines_out = out["engines"] = nlohmann::ordered_json::array();
   for (const Engine& engine : engines()) {
     engines_out.push_back({{"name", engine.name},
                            {"summary", engine.summary},
+                           {"constraints", engine.constraints},
                            {"built", engine.built},
                            {"rules", engine.has_rules}});
   }
@@ -73,11 +76,16 @@ int list_json() {
   out["stages"] = procedural::kStageNames;
   // the references an accuracy row may name: the truths in the order a model gets them when
   // both can run it (sweep.h's truths_for), then the pairwise comparison
-  out["truths"] = {
-      {{"reference", kTruthReference}, {"solver", kMujocoTruthSolver}, {"dt", kMujocoTruthDt}},
-      {{"reference", kSecondTruthReference},
-       {"solver", kBulletTruthSolver},
-       {"dt", kBulletTruthDt}}};
+  out["truths"] = {{{"reference", kTruthReference},
+                    {"solver", kMujocoTruthSolver},
+                    {"text", kMujocoTruthText},
+                    {"refined", kMujocoTruthRefined},
+                    {"dt", kMujocoTruthDt}},
+                   {{"reference", kSecondTruthReference},
+                    {"solver", kBulletTruthSolver},
+                    {"text", kBulletTruthText},
+                    {"refined", kBulletTruthRefined},
+                    {"dt", kBulletTruthDt}}};
   out["pairwise"] = {{"reference", kPairwiseReference}, {"solver", kPairwiseSolver}};
   auto& metrics = out["metrics"] = nlohmann::ordered_json::array();
   for (const MetricInfo& m : summary_metrics()) {

@@ -2,7 +2,7 @@
 and against dt."""
 import math
 
-from ..catalogue import M, PAIRWISE, PAIRWISE_CONFIG, SECOND_TRUTH, TRUTH, TRUTHS
+from ..catalogue import M, PAIRWISE, PAIRWISE_CONFIG, PAIRWISE_SOLVER, SECOND_TRUTH, TRUTH, TRUTHS
 from ..common import dt_text, fmt, geometric_mean, label, md_table
 
 
@@ -50,7 +50,8 @@ def lines(r):
     pair_configs = [c for c in s.configs if c != PAIRWISE_CONFIG]
     if any(not math.isnan(s.get(sc, c, dt, M.pose_err_m, "reseeded_mean", PAIRWISE))
            for sc in s.scenarios for c in pair_configs):
-        out += ["Pairwise: re-seeded pose error against bullet-multibody at the same dt (m):", "",
+        out += [f"Pairwise: re-seeded pose error against {PAIRWISE_SOLVER} at the same dt (m):",
+                "",
                 md_table(["scenario"] + [label(c) for c in pair_configs],
                          [[sc] + [accuracy_cell(sc, c, dt, reference=PAIRWISE)
                                   for c in pair_configs] for sc in s.scenarios]), ""]

@@ -1,7 +1,7 @@
 """The report's section `findings`: what the tables above say, in sentences."""
 import math
 
-from ..catalogue import CONFIGS, M, PAIRWISE_CONFIG, RULES_ENGINE, TRUTH
+from ..catalogue import CONFIGS, FRONTIER_SCENARIO, M, PAIRWISE_CONFIG, RULES_ENGINE, TRUTH
 from ..common import dt_text, fmt, geometric_mean, label, ordered
 from ..readers import read_robustness
 
@@ -23,7 +23,7 @@ def findings(s, frontier, dt, robustness=None):
                 f"error of {fmt(score[best])} m (geometric mean over {', '.join(finished)}) at "
                 f"dt = {dt_text(dt)} s")
         if not math.isnan(ref):
-            text += (f", against {fmt(ref)} m for bullet-multibody at the same dt "
+            text += (f", against {fmt(ref)} m for {label(multibody)} at the same dt "
                      f"({score[best] / ref:.1f}x)")
         found.append(text + ".")
         fine, coarse = s.dts[0], s.dts[-1]
@@ -36,7 +36,7 @@ def findings(s, frontier, dt, robustness=None):
             found.append(
                 f"Across dt the best procedural rule's error hardly moves: {best[1]} has "
                 f"{fmt(mean_at(best, fine))} m at dt = {dt_text(fine)} s and "
-                f"{fmt(mean_at(best, coarse))} m at {dt_text(coarse)} s, while bullet-multibody "
+                f"{fmt(mean_at(best, coarse))} m at {dt_text(coarse)} s, while {label(multibody)} "
                 f"goes from {fmt(mean_at(multibody, fine))} m to {fmt(mean_at(multibody, coarse))} "
                 "m (\"What made the difference\" finds where the floor comes from).")
     limits = {sc: s.truth_limit(sc) for sc in s.scenarios} if s.truths() else {}
@@ -47,32 +47,7 @@ def findings(s, frontier, dt, robustness=None):
             "bar or the truths' disagreement, whichever is larger) is "
             + ", ".join(f"{fmt(limits[sc])} m in {sc}" for sc in loose)
             + " (the `≤` cells).")
-    rigid = ("bullet-rigid", "")
-    if rigid in s.configs:
-        gaps = {sc: s.get(sc, rigid, dt, M.joint_gap_m, "max") for sc in s.scenarios}
-        worst = max(gaps, key=lambda k: -1 if math.isnan(gaps[k]) else gaps[k])
-        coarse_worst = max((s.get(sc, rigid, s.dts[-1], M.joint_gap_m, "max"), sc)
-                           for sc in s.scenarios)
-        found.append(
-            f"The Bullet ragdoll (bullet-rigid) opens its joints: up to {fmt(gaps[worst])} m in "
-            f"{worst} at dt = {dt_text(dt)} s and {fmt(coarse_worst[0])} m in {coarse_worst[1]} at "
-            f"{dt_text(s.dts[-1])} s"
-            f"{' (before it diverged)' if s.diverged(coarse_worst[1], rigid, s.dts[-1]) else ''}.")
-    closed, opened = [], []
-    for c in s.configs:
-        if c == rigid:
-            continue
-        worst = max(((s.get(sc, c, dt, M.joint_gap_m, "max"), sc) for sc in s.scenarios),
-                    key=lambda p: -1 if math.isnan(p[0]) else p[0])
-        (closed if worst[0] < 1e-9 else opened).append((c, worst))
-    if closed:
-        verb = "keeps" if len(closed) == 1 else "keep"
-        text = (f"At dt = {dt_text(dt)} s, {', '.join(label(c) for c, _ in closed)} {verb} every "
-                "joint closed to rounding (< 1e-9 m) in every scenario, up to any divergence")
-        if opened:
-            text += "; " + ", ".join(f"{label(c)} opens {fmt(w[0])} m in {w[1]}"
-                                     for c, w in opened)
-        found.append(text + ".")
+    found += joint_gap_findings(s, dt)
     for c in s.configs:
         failed = sorted({sc for sc in s.scenarios for d in s.dts if s.diverged(sc, c, d)},
                         key=s.scenarios.index)
@@ -87,14 +62,15 @@ def findings(s, frontier, dt, robustness=None):
             continue
         name = label((r["solver"], r["rule"]))
         if not r["largest_ok"]:
-            found.append(f"Held by the hand (yank), {name} diverges even at "
+            found.append(f"Held by the hand ({FRONTIER_SCENARIO}), {name} diverges even at "
                          f"{fmt(float(r['first_diverged']), 3)} Hz ({r['reason']}).")
         elif not r["first_diverged"]:
-            found.append(f"Held by the hand (yank), {name} stays ok up to the top of the range, "
+            found.append(f"Held by the hand ({FRONTIER_SCENARIO}), {name} stays ok up to the top "
+                         "of the range, "
                          f"{fmt(float(r['largest_ok']), 3)} Hz, with the hand pin up to "
                          f"{fmt(float(r['pin_gap_at_largest_ok_m']))} m from its target.")
         else:
-            found.append(f"Held by the hand (yank), {name} stays ok up to "
+            found.append(f"Held by the hand ({FRONTIER_SCENARIO}), {name} stays ok up to "
                          f"{fmt(float(r['largest_ok']), 3)} Hz and diverges at "
                          f"{fmt(float(r['first_diverged']), 3)} Hz ({r['reason']}).")
     speeds = {c: geometric_mean([s.get(sc, c, dt, M.step_us, "median") for sc in s.scenarios])
@@ -102,9 +78,45 @@ def findings(s, frontier, dt, robustness=None):
     if multibody in speeds and not math.isnan(speeds[multibody]):
         parts = [f"{label(c)} {speeds[multibody] / v:.1f}x" for c, v in speeds.items()
                  if c != multibody and not math.isnan(v)]
-        found.append(f"Time per step against bullet-multibody ({fmt(speeds[multibody], 3)} µs, "
+        found.append(f"Time per step against {label(multibody)} ({fmt(speeds[multibody], 3)} µs, "
                      f"geometric mean over scenarios): {', '.join(parts)} faster.")
     found += robustness_findings(robustness)
+    return found
+
+
+def widest_gap(s, config, dt):
+    """(the widest joint gap of any scenario at dt, that scenario); NaN gaps count as none"""
+    return max(((s.get(sc, config, dt, M.joint_gap_m, "max"), sc) for sc in s.scenarios),
+               key=lambda p: -1 if math.isnan(p[0]) else p[0])
+
+
+def joint_gap_findings(s, dt):
+    """who keeps every joint closed at the tables' dt and who opens them, and how wide the
+    joints open at the coarsest dt"""
+    found = []
+    closed, opened = [], []
+    for c in s.configs:
+        worst = widest_gap(s, c, dt)
+        (closed if worst[0] < 1e-9 else opened).append((c, worst))
+    if closed:
+        verb = "keeps" if len(closed) == 1 else "keep"
+        text = (f"At dt = {dt_text(dt)} s, {', '.join(label(c) for c, _ in closed)} {verb} every "
+                "joint closed to rounding (< 1e-9 m) in every scenario, up to any divergence")
+        if opened:
+            text += "; " + ", ".join(f"{label(c)} opens {fmt(w[0])} m in {w[1]}"
+                                     for c, w in opened)
+        found.append(text + ".")
+    coarse = s.dts[-1]
+    if opened and coarse != dt:
+        parts = []
+        for c, _ in opened:
+            gap, sc = widest_gap(s, c, coarse)
+            if not math.isnan(gap):
+                after = " (before it diverged)" if s.diverged(sc, c, coarse) else ""
+                parts.append(f"{label(c)} {fmt(gap)} m in {sc}{after}")
+        if parts:
+            found.append(f"At dt = {dt_text(coarse)} s they open up to: " + ", ".join(parts)
+                         + ".")
     return found
 
 

@@ -1,5 +1,6 @@
-"""The report's section `frontier`: the stability frontier of yank."""
+"""The report's section `frontier`: the stability frontier of its scenario (yank)."""
 
+from ..catalogue import FRONTIER_SCENARIO
 from ..common import dt_text, fmt, label, md_table
 
 
@@ -20,9 +21,11 @@ def lines(r):
             gap = fmt(float(r["pin_gap_at_largest_ok_m"])) if r["pin_gap_at_largest_ok_m"] else "–"
             rows.append([label((r["solver"], r["rule"])), quantity, ok, bad,
                          r["reason"] or "–", gap])
-        out += ["## Stability frontier (yank, no air drag)", "",
-                "The largest circle frequency (0.3 m circle, at dt = 1/240 s) and the largest dt "
-                "(at 0.5 Hz) at which a puppet held only by its hand stays `ok`, bisected to 5 %. "
+        held = {r["quantity"]: float(r["held"]) for r in frontier}
+        out += [f"## Stability frontier ({FRONTIER_SCENARIO}, no air drag)", "",
+                "The largest circle frequency (0.3 m circle, at dt = "
+                f"{dt_text(held.get('hz', 1 / 240))} s) and the largest dt (at "
+                f"{fmt(held.get('dt', 0.5), 3)} Hz) at which a puppet held only by its hand stays `ok`, bisected to 5 %. "
                 "The pin gap says whether the hand was really followed.", "",
                 md_table(["solver", "search", "largest ok", "first diverged", "why",
                           "pin gap at largest ok (m)"], rows), ""]

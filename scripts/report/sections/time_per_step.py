@@ -28,7 +28,7 @@ def lines(r):
         rows.append(row)
     out += ["## Time per step", "",
             f"Median µs per step at dt = {dt_text(dt)} s; in brackets, how many times faster than "
-            "bullet-multibody in the same run. These come from one timing pass on a shared "
+            f"{label(multibody)} in the same run. These come from one timing pass on a shared "
             "machine; the benchmarks measure speed properly.", "",
             md_table(["solver"] + s.scenarios, rows), ""]
     return out

@@ -1,7 +1,7 @@
 """The report's section `truth-floor`: each truth's order of convergence, error bar and floor."""
 import math
 
-from ..catalogue import SECOND_TRUTH, TRUTH
+from ..catalogue import SECOND_TRUTH, TRUTH, TRUTH_REFINED
 from ..common import BAR_MARGIN, MIN_ORDER, fmt, md_table
 
 
@@ -33,8 +33,10 @@ def lines(r):
                 f"The truth is {s.truth_text()}"
                 + (f", the second truth {s.truth_text(SECOND_TRUTH)}" if second else
                    "; the second engine cannot run this model")
-                + ". Each is run at h/2 and at 2h too, its constraint model refined with dt "
-                "(MuJoCo's time constant 2·dt, Bullet's Baumgarte fraction per step), and "
+                + ". Each is run at h/2 and at 2h too, its constraint model refined with dt ("
+                + ", ".join(TRUTH_REFINED.get(s.truth_engine(ref)[0], s.truth_engine(ref)[0])
+                            for ref in truths)
+                + "), and "
                 "compared with itself at h (re-seeded pose error, m). The two differences give "
                 "its order of convergence p = log2(2h difference / h/2 difference) and so a bound "
                 f"on its own error: the error bar {BAR_MARGIN:g} × 2^p/(2^p − 1) × the h/2 "

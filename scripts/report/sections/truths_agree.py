@@ -1,6 +1,6 @@
 """The report's section `truths-agree`: the two truths against each other."""
 
-from ..catalogue import M, SECOND_TRUTH, TRUTHS
+from ..catalogue import CONSTRAINTS, M, SECOND_TRUTH, TRUTHS
 from ..common import fmt, md_table
 from .open_limits import open_limits_agreement
 
@@ -46,13 +46,8 @@ def lines(r):
                 "truth." if pin_rows else "",
                 "Out of limits: the largest violation of the model's limits (as the metrics "
                 "measure them) along each truth.", "",
-                "What differs between the engines (docs/mujoco.md): a box limit is the same "
-                "joint in both (MuJoCo's three hinges, bullet-multibody's rows per angle); a "
-                "swing–twist limit is MuJoCo's cone on the whole rotation angle; both hang "
-                "the tree from a still pin, which then holds exactly; MuJoCo's limits, contacts "
-                "and moving pins are soft (time constant 2·dt, a limit damped at ratio 2 giving "
-                "back about 1% of an impact's speed), Bullet's are speculative or Baumgarte "
-                "impulses iterated ten sweeps (a limit giving back about 2%, a moving pin aimed "
-                "at its target's velocity); a contact's friction cone is elliptic in MuJoCo and "
-                "Bullet's impulses are clamped per direction.", ""]
+                "What differs between the engines (docs/mujoco.md): both hang the tree from a "
+                "still pin, which then holds exactly. "
+                + " ".join(f"In {solver}, {CONSTRAINTS.get(solver, 'not in the catalogue')}."
+                           for solver in (s.truth_engine(ref)[0] for ref in TRUTHS)), ""]
     return out

@@ -33,8 +33,11 @@ struct Setting {
 struct Engine {
   std::string_view name;     // as --solver, the CSVs and the plots spell it
   std::string_view summary;  // one line: what it is (testbed list)
-  bool built = true;         // false: this build lacks the library (MuJoCo without libmujoco-dev)
-  bool has_rules = false;    // true: a sweep runs it once per --rule (procedural)
+  // how it holds joints, limits, pins and contacts, in a sentence the report quotes where two
+  // engines' answers differ
+  std::string_view constraints;
+  bool built = true;       // false: this build lacks the library (MuJoCo without libmujoco-dev)
+  bool has_rules = false;  // true: a sweep runs it once per --rule (procedural)
   // why it cannot run the model (empty when it can), decided before anything runs
   std::string (*model_problem)(const Model& model) = nullptr;
   // a simulator with these options; throws ScenarioError for invalid settings

@@ -13,6 +13,9 @@
 
 namespace puppet::compare {
 
+// the scenario the frontier searches: a free puppet held by one hand whose circle it speeds up
+inline constexpr const char* kFrontierScenario = "yank";
+
 struct FrontierSpec {
   const Model* model = nullptr;
   std::vector<SolverConfig> configs;

@@ -27,8 +27,12 @@ inline constexpr const char* kSecondTruthReference = "second-truth";
 // the truths' engines and their h: MuJoCo with RK4 at 1/7680 s, bullet-multibody at 1/3840 s
 // (it divides every dt of the sweep)
 inline constexpr const char* kMujocoTruthSolver = "mujoco";
+inline constexpr const char* kMujocoTruthText = "MuJoCo (RK4)";  // as the report names it
+inline constexpr const char* kMujocoTruthRefined = "MuJoCo's time constant 2·dt";
 constexpr double kMujocoTruthDt = 1.0 / 7680.0;
 inline constexpr const char* kBulletTruthSolver = "bullet-multibody";
+inline constexpr const char* kBulletTruthText = kBulletTruthSolver;  // its default settings
+inline constexpr const char* kBulletTruthRefined = "Bullet's Baumgarte fraction per step";
 constexpr double kBulletTruthDt = 1.0 / 3840.0;
 // The truths for a model, the judging one first: MuJoCo RK4 where it builds every joint and
 // limit exactly (hinges, box limits, unlimited balls: mjcf_inexact_joint), since it is
