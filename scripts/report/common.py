@@ -17,6 +17,12 @@ ROBUSTNESS = "robustness"  # testbed robustness: robustness_summary.csv, worst.c
 VERDICT = "verdict"  # testbed verdict: verdict.csv, candidates.csv
 
 
+# the ablation (scripts/ablation.sh): configs.csv, a run per configuration, and the frontier of
+# the compliant grab
+ABLATION = "ablation"
+COMPLIANT_FRONTIER = "frontier-compliant"
+
+
 TABLE_DT = 1.0 / 240.0
 
 

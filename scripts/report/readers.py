@@ -4,7 +4,7 @@ import os
 
 from .catalogue import (CONFIGS, M, RULES_ENGINE, SCENARIOS, SECOND_TRUTH, SUMMARY_HEADER, TRUTH,
                         TRUTH_TEXT, TRUTHS, trace_stem)
-from .common import (BAR_MARGIN, MAIN, MIN_ORDER, ROBUSTNESS, ReportError, TABLE_DT, VERDICT,
+from .common import (ABLATION, BAR_MARGIN, MAIN, MIN_ORDER, ROBUSTNESS, ReportError, TABLE_DT, VERDICT,
                      dt_text, ordered)
 
 
@@ -226,11 +226,11 @@ def read_verdict(folder):
 
 def read_ablation(folder):
     """results/ablation: configs.csv and one summary.csv per configuration (scripts/ablation.sh)"""
-    path = os.path.join(folder, "ablation", "configs.csv")
+    path = os.path.join(folder, ABLATION, "configs.csv")
     if not os.path.exists(path):
         return []
     with open(path, newline="") as f:
         configs = list(csv.DictReader(f))
     for c in configs:
-        c["summary"] = Summary(os.path.join(folder, "ablation", c["name"], "summary.csv"))
+        c["summary"] = Summary(os.path.join(folder, ABLATION, c["name"], "summary.csv"))
     return configs
