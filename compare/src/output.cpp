@@ -89,8 +89,7 @@ std::string trace_csv(const RunResult& r, double sample_hz) {
           ? std::max<size_t>(1, static_cast<size_t>(std::lround(1.0 / (sample_hz * r.dt))))
           : 1;
   std::ostringstream out;
-  out << "t,joint_gap_max_m,joint_gap_rms_m,pin_gap_max_m,limit_violation_max_deg,energy_drift,"
-         "momentum_linear_drift,momentum_angular_drift,penetration_m,peak_speed_mps\n";
+  out << kTraceHeader << '\n';
   for (size_t k = 0; k < r.trace.size(); ++k) {
     if (k % stride != 0 && k + 1 != r.trace.size()) continue;
     const StepMetrics& m = r.trace[k];
@@ -105,7 +104,7 @@ std::string trace_csv(const RunResult& r, double sample_hz) {
 
 std::string poses_csv(const Model& model, const RunResult& r) {
   std::ostringstream out;
-  out << "t,segment,x,y,z,qw,qx,qy,qz\n";
+  out << kPosesHeader << '\n';
   for (const PoseSample& p : r.poses) {
     const BodyState& b = p.body;
     out << csv_number(p.t) << ',' << csv_field(model.segments[p.segment].name) << ','

@@ -19,16 +19,6 @@
 namespace puppet::compare {
 namespace {
 
-constexpr const char* kRowsHeader =
-    "job,scenario,solver,rule,dt,seed,start,tilt_deg,hz,phase_deg,grab_segment,grab_x,grab_y,"
-    "grab_z,joint_angle_rms_deg,joint_speed_rms,status,reason,diverged_at_s,peak_speed_mps,"
-    "joint_gap_max_m,pin_gap_max_m,steps";
-constexpr const char* kRatesHeader =
-    "scenario,solver,rule,dt,runs,diverged,rate,ci95_low,ci95_high";
-constexpr const char* kWorstHeader =
-    "scenario,solver,rule,dt,seed,start,status,diverged_at_s,joint_gap_max_m,peak_speed_mps,"
-    "testbed,viewer";
-
 // dt as a command line reads it: 1/N when it is one, else the decimal
 std::string dt_flag(double dt) {
   const double n = std::round(1.0 / dt);
@@ -148,7 +138,7 @@ Interval wilson_interval(int64_t k, int64_t n, double z) {
 
 std::string robustness_csv(const std::vector<RobustnessRow>& rows) {
   std::ostringstream out;
-  out << kRowsHeader << '\n';
+  out << kRobustnessHeader << '\n';
   for (const RobustnessRow& r : rows) {
     out << r.job << ',' << r.scenario << ',' << r.solver << ',' << r.rule << ',' << format_dt(r.dt)
         << ',' << r.seed << ',' << r.start << ',' << csv_number(r.tilt_deg) << ','
@@ -167,7 +157,7 @@ std::vector<RobustnessRow> parse_robustness_csv(const std::string& text,
                                                 const std::string& source) {
   std::istringstream in(text);
   std::string line;
-  if (!std::getline(in, line) || line != kRowsHeader) {
+  if (!std::getline(in, line) || line != kRobustnessHeader) {
     throw std::runtime_error(source + ": not a robustness.csv (unexpected header)");
   }
   std::vector<RobustnessRow> rows;
@@ -243,7 +233,7 @@ std::vector<RobustnessRate> robustness_rates(const std::vector<RobustnessRow>& r
 
 std::string robustness_summary_csv(const std::vector<RobustnessRow>& rows) {
   std::ostringstream out;
-  out << kRatesHeader << '\n';
+  out << kRobustnessSummaryHeader << '\n';
   for (const RobustnessRate& r : robustness_rates(rows)) {
     out << r.scenario << ',' << r.solver << ',' << r.rule << ',' << format_dt(r.dt) << ',' << r.runs
         << ',' << r.diverged << ',' << csv_number(r.rate()) << ',' << csv_number(r.ci95.low) << ','

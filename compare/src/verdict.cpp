@@ -534,8 +534,7 @@ const char* status_of(const Candidate& c) {
 
 std::string verdict_candidates_csv(const VerdictResult& result, const OutputContext& context) {
   std::ostringstream out;
-  out << "scenario,solver,rule,setting,dt,cost_us_per_s,error_m,status,reason,starts,"
-         "diverged_starts,truth_floor_m,truth,model,git_sha,machine\n";
+  out << kCandidatesHeader << '\n';
   for (const Candidate& c : result.candidates) {
     double floor = NAN;
     for (const TruthFloor& f : result.floors) {
@@ -554,9 +553,7 @@ std::string verdict_candidates_csv(const VerdictResult& result, const OutputCont
 std::string verdict_csv(const VerdictResult& result, const VerdictSpec& spec,
                         const OutputContext& context) {
   std::ostringstream out;
-  out << "scenario,solver,rule,view,frame_hz,budget_m,verdict,setting,dt,steps_per_frame,"
-         "cost_us_per_s,us_per_frame,puppets_per_core,error_m,starts,divergence_upper,"
-         "best_error_m,truth_floor_m,why,truth,model,git_sha,machine\n";
+  out << kVerdictHeader << '\n';
   for (const VerdictRow& r : result.rows) {
     const Candidate* c = r.chosen >= 0 ? &result.candidates[r.chosen] : nullptr;
     const bool frame = r.view == "frame";

@@ -51,6 +51,9 @@ PAIRWISE_SOLVER = _CATALOGUE["pairwise"]["solver"]
 PAIRWISE_CONFIG = (PAIRWISE_SOLVER, "")
 METRICS = {metric["name"]: metric for metric in _CATALOGUE["metrics"]}
 SUMMARY_HEADER = _CATALOGUE["summary_header"].split(",")
+# every CSV the testbed writes, by file name ("trace" for traces/<stem>.csv): its columns
+TABLES = {name: header.split(",") for name, header in _CATALOGUE["tables"].items()}
+TABLES["summary.csv"] = SUMMARY_HEADER
 
 # Plot styles by the catalogue's order: the rules from light to dark blue, then green and purple
 # for the two substepped ones; the other engines black, red and brown (orange rings mark diverged
@@ -91,6 +94,28 @@ def setting_label(config, flags):
     """a verdict's setting in a few words ("8 substeps"), as the catalogue labels it; flags the
     catalogue does not search for that configuration are shown as they are"""
     return dict(SEARCH.get(config, [])).get(flags, flags)
+
+
+class Columns:
+    """a CSV's columns as attributes (FRONTIER_CSV.largest_ok), each checked against the header
+    the catalogue gives for its file: a column the testbed no longer writes fails here"""
+
+    def __init__(self, table):
+        self.table, self.header = table, TABLES[table]
+
+    def __getattr__(self, name):
+        if name not in self.header:
+            raise KeyError(f"column {name!r} is not in {self.table} (the testbed's catalogue, "
+                           f"{PATH})")
+        return name
+
+
+SUMMARY_CSV = Columns("summary.csv")
+FRONTIER_CSV = Columns("frontier.csv")
+CANDIDATES_CSV = Columns("candidates.csv")
+VERDICT_CSV = Columns("verdict.csv")
+ROBUSTNESS_CSV = Columns("robustness_summary.csv")
+TRACE_CSV = Columns("trace")
 
 
 def stage_metric(stage):

@@ -5,6 +5,10 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from .catalogue import CANDIDATES_CSV as C
+from .catalogue import FRONTIER_CSV as F
+from .catalogue import ROBUSTNESS_CSV as R
+from .catalogue import VERDICT_CSV as V
 from .catalogue import CONFIGS, FRONTIER_SCENARIO, M, RULES_ENGINE, SCENARIOS, STAGES, TRUTH, stage_metric, style
 from .common import dt_text, fmt, label, ordered
 from .readers import read_trace
@@ -158,7 +162,7 @@ def plot_frontier(rows, out):
         return None
     fig, axes = plt.subplots(1, 2, figsize=(13, 0.5 * len(rows) / 2 + 2.0))
     for ax, quantity in zip(axes, ["hz", "dt"]):
-        chosen = [r for r in rows if r["quantity"] == quantity]
+        chosen = [r for r in rows if r[F.quantity] == quantity]
         if not chosen:
             ax.set_visible(False)
             continue
@@ -167,23 +171,23 @@ def plot_frontier(rows, out):
         show = (lambda v: fmt(v, 3)) if quantity == "hz" else dt_text
         ys = list(range(len(chosen)))[::-1]
         for y, r in zip(ys, chosen):
-            color = style((r["solver"], r["rule"]))[0]
-            if r["largest_ok"]:
-                ok = float(r["largest_ok"])
+            color = style((r[F.solver], r[F.rule]))[0]
+            if r[F.largest_ok]:
+                ok = float(r[F.largest_ok])
                 ax.barh(y, ok - base, left=base, color=color, edgecolor="black", lw=0.5)
-                text = show(ok) if r["first_diverged"] else f"≥ {show(ok)} (top of range)"
-                gap = float(r["pin_gap_at_largest_ok_m"] or 0)
+                text = show(ok) if r[F.first_diverged] else f"≥ {show(ok)} (top of range)"
+                gap = float(r[F.pin_gap_at_largest_ok_m] or 0)
                 if gap > 0.01:
                     text += f", hand pin {fmt(gap)} m off"
                 ax.text(ok, y, " " + text, va="center", fontsize=8)
             else:
-                ax.text(base, y, f"  diverges already at {show(float(r['first_diverged']))} "
-                        f"({r['reason']})", va="center", fontsize=8, color="#d62728")
+                ax.text(base, y, f"  diverges already at {show(float(r[F.first_diverged]))} "
+                        f"({r[F.reason]})", va="center", fontsize=8, color="#d62728")
         ax.set_yticks(ys)
-        ax.set_yticklabels([label((r["solver"], r["rule"])) for r in chosen])
+        ax.set_yticklabels([label((r[F.solver], r[F.rule])) for r in chosen])
         ax.set_xscale("log")
         ax.set_xlim(base, top)
-        held = float(chosen[0]["held"])
+        held = float(chosen[0][F.held])
         if quantity == "hz":
             ax.set_xlabel("largest circle frequency that stays ok (Hz)")
             ax.set_title(f"{FRONTIER_SCENARIO}, 0.3 m circle, dt = {dt_text(held)} s")
@@ -204,10 +208,10 @@ def plot_robustness(rows, out):
     if not rows:
         return None
     # the catalogue's order, and any name it does not know after it: nothing is dropped
-    scenarios = ordered({r["scenario"] for r in rows}, SCENARIOS)
-    configs = ordered({(r["solver"], r["rule"]) for r in rows}, CONFIGS)
-    dts = sorted({r["dt"] for r in rows})
-    by_key = {(r["scenario"], (r["solver"], r["rule"]), r["dt"]): r for r in rows}
+    scenarios = ordered({r[R.scenario] for r in rows}, SCENARIOS)
+    configs = ordered({(r[R.solver], r[R.rule]) for r in rows}, CONFIGS)
+    dts = sorted({r[R.dt] for r in rows})
+    by_key = {(r[R.scenario], (r[R.solver], r[R.rule]), r[R.dt]): r for r in rows}
     fig, axes = plt.subplots(len(dts), 1, figsize=(11, 3.6 * len(dts)), squeeze=False)
     width = 0.8 / max(len(configs), 1)
     for row, d in enumerate(dts):
@@ -220,9 +224,9 @@ def plot_robustness(rows, out):
                 if r is None:
                     continue
                 xs.append(i - 0.4 + (k + 0.5) * width)
-                ys.append(r["rate"])
-                lo.append(max(0.0, r["rate"] - r["ci95_low"]))  # 9 digits: -1e-10 is 0
-                hi.append(max(0.0, r["ci95_high"] - r["rate"]))
+                ys.append(r[R.rate])
+                lo.append(max(0.0, r[R.rate] - r[R.ci95_low]))  # 9 digits: -1e-10 is 0
+                hi.append(max(0.0, r[R.ci95_high] - r[R.rate]))
             ax.errorbar(xs, ys, yerr=[lo, hi], fmt=marker, color=colour, ecolor=colour,
                         markersize=5, capsize=2, linewidth=1, label=label(c))
         ax.set_xticks(range(len(scenarios)))
@@ -245,22 +249,22 @@ def plot_verdict(v, out):
     for ax, scenario in zip(axes, v.scenarios):
         floor = v.floor[scenario]
         for config in v.configs:
-            mine = [c for c in v.candidates if c["scenario"] == scenario and c["config"] == config
-                    and c["status"] == "ok" and not math.isnan(c["error_m"])]
+            mine = [c for c in v.candidates if c[C.scenario] == scenario and c["config"] == config
+                    and c[C.status] == "ok" and not math.isnan(c[C.error_m])]
             if not mine:
                 continue
-            mine.sort(key=lambda c: c["error_m"])
+            mine.sort(key=lambda c: c[C.error_m])
             # the cheapest within each error: a staircase falling as the budget grows
             xs, ys, cheapest = [], [], math.inf
             for c in mine:
-                cheapest = min(cheapest, c["cost_us_per_s"])
-                xs.append(c["error_m"])
+                cheapest = min(cheapest, c[C.cost_us_per_s])
+                xs.append(c[C.error_m])
                 ys.append(cheapest)
             colour, marker = style(config)
             ax.step(xs, ys, where="post", color=colour, lw=1.1)
             chosen = [v.row(scenario, config, "second", b) for b in v.budgets]
-            chosen = [r for r in chosen if r and r["verdict"] == "met"]
-            ax.plot([r["budget_m"] for r in chosen], [r["cost_us_per_s"] for r in chosen],
+            chosen = [r for r in chosen if r and r[V.verdict] == "met"]
+            ax.plot([r[V.budget_m] for r in chosen], [r[V.cost_us_per_s] for r in chosen],
                     ls="none", marker=marker, color=colour, ms=6)
         ax.axvspan(1e-6, floor, color="0.85", zorder=0)
         ax.set_xscale("log")

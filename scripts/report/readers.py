@@ -2,8 +2,13 @@ import csv
 import math
 import os
 
-from .catalogue import (CONFIGS, M, RULES_ENGINE, SCENARIOS, SECOND_TRUTH, SUMMARY_HEADER, TRUTH,
-                        TRUTH_TEXT, TRUTHS, trace_stem)
+from .catalogue import CANDIDATES_CSV as C
+from .catalogue import (CONFIGS, M, RULES_ENGINE, SCENARIOS, SECOND_TRUTH, SUMMARY_HEADER, TABLES,
+                        TRUTH, TRUTH_TEXT, TRUTHS, trace_stem)
+from .catalogue import ROBUSTNESS_CSV as R
+from .catalogue import SUMMARY_CSV as S
+from .catalogue import TRACE_CSV as T
+from .catalogue import VERDICT_CSV as V
 from .common import (ABLATION, BAR_MARGIN, MAIN, MIN_ORDER, ROBUSTNESS, ReportError, TABLE_DT, VERDICT,
                      dt_text, ordered)
 
@@ -27,21 +32,21 @@ class Summary:
                 if len(row) != len(self.HEADER):
                     raise ReportError(f"{path}:{n}: {len(row)} fields, expected {len(self.HEADER)}")
                 r = dict(zip(self.HEADER, row))
-                dt = float(r["dt"])
+                dt = float(r[S.dt])
                 exact = 1 / round(1 / dt)  # every dt is 1/n; the CSV keeps 9 digits
                 if abs(dt - exact) <= 1e-6 * exact:
                     dt = exact
-                config = (r["solver"], r["rule"])
-                value = float(r["value"]) if r["value"] else math.nan
-                self.values[(r["scenario"], config, dt, r["metric"], r["stat"], r["reference"])] = value
-                if r["reference"] == "" and r["metric"] == M.joint_gap_m:
-                    self.status[(r["scenario"], config, dt)] = r["status"]
+                config = (r[S.solver], r[S.rule])
+                value = float(r[S.value]) if r[S.value] else math.nan
+                self.values[(r[S.scenario], config, dt, r[S.metric], r[S.stat], r[S.reference])] = value
+                if r[S.reference] == "" and r[S.metric] == M.joint_gap_m:
+                    self.status[(r[S.scenario], config, dt)] = r[S.status]
                     self.dts.add(dt)
-                    if r["scenario"] not in self.scenarios:
-                        self.scenarios.append(r["scenario"])
+                    if r[S.scenario] not in self.scenarios:
+                        self.scenarios.append(r[S.scenario])
                     if config not in self.configs:
                         self.configs.append(config)
-                self.model, self.git_sha, self.machine = r["model"], r["git_sha"], r["machine"]
+                self.model, self.git_sha, self.machine = r[S.model], r[S.git_sha], r[S.machine]
         if not self.values:
             raise ReportError(f"{path}: no rows")
         self.dts = sorted(self.dts)
@@ -123,11 +128,27 @@ class Summary:
         return self.truth_engine(SECOND_TRUTH) is not None
 
 
+def read_table(path, table):
+    """the rows of a CSV the testbed wrote, as dicts by column; its header must be the one the
+    catalogue gives for its file (TABLES[table]), else the report stops naming both"""
+    with open(path, newline="") as f:
+        reader = csv.reader(f)
+        header = next(reader, None)
+        if header != TABLES[table]:
+            raise ReportError(f"{path}: its columns are not {table}'s in the testbed's catalogue "
+                              f"(expected {','.join(TABLES[table])})")
+        rows = []
+        for n, row in enumerate(reader, start=2):
+            if len(row) != len(header):
+                raise ReportError(f"{path}:{n}: {len(row)} fields, expected {len(header)}")
+            rows.append(dict(zip(header, row)))
+        return rows
+
+
 def read_frontier(path):
     if not os.path.exists(path):
         return []
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
+    return read_table(path, "frontier.csv")
 
 
 def read_trace(folder, model, scenario, config, dt):
@@ -137,10 +158,9 @@ def read_trace(folder, model, scenario, config, dt):
     if not os.path.exists(path):
         return None
     t, gap = [], []
-    with open(path, newline="") as f:
-        for row in csv.DictReader(f):
-            t.append(float(row["t"]))
-            gap.append(float(row["joint_gap_max_m"]))
+    for row in read_table(path, "trace"):
+        t.append(float(row[T.t]))
+        gap.append(float(row[T.joint_gap_max_m]))
     return t, gap
 
 
@@ -149,16 +169,13 @@ def read_robustness(folder):
     path = os.path.join(folder, ROBUSTNESS, "robustness_summary.csv")
     if not os.path.exists(path):
         return None
-    with open(path) as f:
-        rows = list(csv.DictReader(f))
-    expected = ["scenario", "solver", "rule", "dt", "runs", "diverged", "rate", "ci95_low",
-                "ci95_high"]
-    if not rows or list(rows[0].keys()) != expected:
-        raise ReportError(f"{path}: unexpected header (expected {','.join(expected)})")
+    rows = read_table(path, "robustness_summary.csv")
+    if not rows:
+        raise ReportError(f"{path}: no rows")
     for r in rows:
-        for key in ("dt", "rate", "ci95_low", "ci95_high"):
+        for key in (R.dt, R.rate, R.ci95_low, R.ci95_high):
             r[key] = float(r[key])
-        for key in ("runs", "diverged"):
+        for key in (R.runs, R.diverged):
             r[key] = int(r[key])
     return rows
 
@@ -168,33 +185,32 @@ class Verdict:
 
     def __init__(self, folder):
         path = os.path.join(folder, VERDICT, "verdict.csv")
-        with open(path, newline="") as f:
-            self.rows = list(csv.DictReader(f))
-        with open(os.path.join(folder, VERDICT, "candidates.csv"), newline="") as f:
-            self.candidates = list(csv.DictReader(f))
+        self.rows = read_table(path, "verdict.csv")
+        self.candidates = read_table(os.path.join(folder, VERDICT, "candidates.csv"),
+                                     "candidates.csv")
         if not self.rows:
             raise ReportError(f"{path}: no rows")
         for r in self.rows:
-            for key in ("budget_m", "dt", "cost_us_per_s", "us_per_frame", "puppets_per_core",
-                        "error_m", "divergence_upper", "best_error_m", "truth_floor_m",
-                        "frame_hz"):
+            for key in (V.budget_m, V.dt, V.cost_us_per_s, V.us_per_frame, V.puppets_per_core,
+                        V.error_m, V.divergence_upper, V.best_error_m, V.truth_floor_m,
+                        V.frame_hz):
                 r[key] = float(r[key]) if r[key] else math.nan
-            r["config"] = (r["solver"], r["rule"])
+            r["config"] = (r[V.solver], r[V.rule])
         for c in self.candidates:
-            for key in ("dt", "cost_us_per_s", "error_m", "truth_floor_m"):
+            for key in (C.dt, C.cost_us_per_s, C.error_m, C.truth_floor_m):
                 c[key] = float(c[key]) if c[key] else math.nan
-            c["config"] = (c["solver"], c["rule"])
-            c["starts"], c["diverged_starts"] = int(c["starts"]), int(c["diverged_starts"])
+            c["config"] = (c[C.solver], c[C.rule])
+            c[C.starts], c[C.diverged_starts] = int(c[C.starts]), int(c[C.diverged_starts])
         first = self.rows[0]
-        self.model, self.git_sha, self.machine = first["model"], first["git_sha"], first["machine"]
-        self.truth, self.frame_hz = first[TRUTH], first["frame_hz"]
-        self.budgets = sorted({r["budget_m"] for r in self.rows})
-        self.scenarios = ordered({r["scenario"] for r in self.rows}, SCENARIOS)
+        self.model, self.git_sha, self.machine = first[V.model], first[V.git_sha], first[V.machine]
+        self.truth, self.frame_hz = first[V.truth], first[V.frame_hz]
+        self.budgets = sorted({r[V.budget_m] for r in self.rows})
+        self.scenarios = ordered({r[V.scenario] for r in self.rows}, SCENARIOS)
         self.configs = ordered({r["config"] for r in self.rows}, CONFIGS)
-        self.by_key = {(r["scenario"], r["config"], r["view"], r["budget_m"]): r
+        self.by_key = {(r[V.scenario], r["config"], r[V.view], r[V.budget_m]): r
                        for r in self.rows}
-        self.starts = max((int(r["starts"]) for r in self.rows if r["starts"]), default=0)
-        self.floor = {r["scenario"]: r["truth_floor_m"] for r in self.rows}
+        self.starts = max((int(r[V.starts]) for r in self.rows if r[V.starts]), default=0)
+        self.floor = {r[V.scenario]: r[V.truth_floor_m] for r in self.rows}
 
     def row(self, scenario, config, view, budget):
         return self.by_key.get((scenario, config, view, budget))
@@ -208,8 +224,8 @@ class Verdict:
         other solver), or None"""
         met = [self.row(scenario, c, view, budget) for c in self.configs
                if (c[0] == RULES_ENGINE) == procedural]
-        met = [r for r in met if r and r["verdict"] == "met"]
-        return min(met, key=lambda r: r["cost_us_per_s"]) if met else None
+        met = [r for r in met if r and r[V.verdict] == "met"]
+        return min(met, key=lambda r: r[V.cost_us_per_s]) if met else None
 
     def cheapest_reference(self, scenario, view, budget):
         return self.cheapest(scenario, view, budget, procedural=False)

@@ -76,4 +76,17 @@ set -e
 [ "$status" -eq 2 ] || fail "plot.py on a malformed summary: status $status"
 [[ "$message" == *"unexpected header"* ]] || fail "plot.py on a malformed summary said: $message"
 [ ! -e "$empty/REPORT.md" ] || fail "plot.py wrote a report from a malformed summary"
+# a CSV whose columns are not the catalogue's for its file (a column renamed in the testbed
+# without regenerating results/catalogue.json) is refused by name, and no report is written
+renamed="$out/renamed"
+mkdir -p "$renamed"
+cp -r "$out/main" "$out/frontier" "$renamed/"
+sed -i '1s/largest_ok/largest_stable/' "$renamed/frontier/frontier.csv"
+set +e
+message=$($plot "$renamed" 2>&1); status=$?
+set -e
+[ "$status" -eq 2 ] || fail "plot.py on a renamed column: status $status"
+[[ "$message" == *"frontier.csv: its columns are not frontier.csv's"* ]] ||
+  fail "plot.py on a renamed column said: $message"
+[ ! -e "$renamed/REPORT.md" ] || fail "plot.py wrote a report from a renamed column"
 echo "report_test: ok"

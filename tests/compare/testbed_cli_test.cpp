@@ -80,7 +80,7 @@ TEST(TestbedCli, ListJsonHasEveryNameTheResultsUse) {
   ASSERT_EQ(list.status, 0) << list.output;
   const auto json = nlohmann::json::parse(list.output);
   for (const char* key : {"scenarios", "engines", "rules", "stages", "truths", "metrics",
-                          "summary_header", "trace"}) {
+                          "summary_header", "tables", "trace"}) {
     EXPECT_TRUE(json.contains(key)) << key;
   }
   std::map<std::string, std::string> units;
@@ -104,6 +104,21 @@ TEST(TestbedCli, ListJsonHasEveryNameTheResultsUse) {
     EXPECT_EQ(units[metric], fields[8]) << metric;
   }
   EXPECT_GE(seen.size(), 15u);
+  // every other committed CSV has the columns the catalogue gives for its file
+  const std::pair<const char*, const char*> tables[] = {
+      {"frontier/frontier.csv", "frontier.csv"},
+      {"verdict/candidates.csv", "candidates.csv"},
+      {"verdict/verdict.csv", "verdict.csv"},
+      {"robustness/robustness.csv", "robustness.csv"},
+      {"robustness/robustness_summary.csv", "robustness_summary.csv"},
+      {"robustness/worst.csv", "worst.csv"},
+      {"main/traces/pinocchio__drag__bullet-multibody__-__0.00416666667.csv", "trace"}};
+  for (const auto& [path, table] : tables) {
+    std::ifstream file(std::string(PUPPET_SOURCE_DIR) + "/results/" + path);
+    ASSERT_TRUE(std::getline(file, line)) << path;
+    ASSERT_TRUE(json["tables"].contains(table)) << table;
+    EXPECT_EQ(line, json["tables"][table].get<std::string>()) << path;
+  }
   // what the scripts read is this build's catalogue (scripts/main.sh writes it), where the build
   // has every engine (the committed one was written by such a build)
   if (list.output.find("\"built\": false") != std::string::npos) return;

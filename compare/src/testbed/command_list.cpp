@@ -9,9 +9,11 @@
 #include "puppet/compare/engines.h"
 #include "puppet/compare/frontier.h"
 #include "puppet/compare/output.h"
+#include "puppet/compare/robustness.h"
 #include "puppet/compare/scenario.h"
 #include "puppet/compare/summary_metrics.h"
 #include "puppet/compare/sweep.h"
+#include "puppet/compare/verdict.h"
 #include "puppet/procedural/rule.h"
 #include "puppet/procedural/solver.h"
 
@@ -92,6 +94,15 @@ int list_json() {
     metrics.push_back({{"name", m.name}, {"unit", m.unit}, {"meaning", m.meaning}});
   }
   out["summary_header"] = kSummaryHeader;
+  // every other CSV the commands write, by file name: its header
+  out["tables"] = {{"frontier.csv", kFrontierHeader},
+                   {"candidates.csv", kCandidatesHeader},
+                   {"verdict.csv", kVerdictHeader},
+                   {"robustness.csv", kRobustnessHeader},
+                   {"robustness_summary.csv", kRobustnessSummaryHeader},
+                   {"worst.csv", kWorstHeader},
+                   {"trace", kTraceHeader},
+                   {"poses", kPosesHeader}};
   // traces/<stem>.csv and <stem>__poses.csv: each name's characters outside the safe set become
   // the replacement, a run without a rule has the no-rule mark, dt as summary.csv writes it
   out["trace"] = {{"stem", "{model}__{scenario}__{solver}__{rule}__{dt}"},

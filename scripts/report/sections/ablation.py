@@ -2,6 +2,7 @@
 rules."""
 import os
 
+from ..catalogue import FRONTIER_CSV as F
 from ..catalogue import FRONTIER_SCENARIO, M, RULES_ENGINE, SCENARIOS, TRUTH
 from ..common import (ABLATION, COMPLIANT_FRONTIER, FRONTIER, dt_text, fmt, label, md_table,
                       ordered)
@@ -113,17 +114,17 @@ def solvers_table(c, other):
 def frontier_table(frontier, soft_frontier, names):
     def largest(rows, solver, rule, quantity):
         for r in rows:
-            if (r["solver"], r["rule"], r["quantity"]) == (solver, rule, quantity):
-                if not r["largest_ok"]:
+            if (r[F.solver], r[F.rule], r[F.quantity]) == (solver, rule, quantity):
+                if not r[F.largest_ok]:
                     return "none"
-                value = float(r["largest_ok"])
+                value = float(r[F.largest_ok])
                 return fmt(value, 3) if quantity == "hz" else dt_text(value)
         return "–"
     rows = []
     for r in soft_frontier:
-        if r["quantity"] != "hz":
+        if r[F.quantity] != "hz":
             continue
-        key = (r["solver"], r["rule"])
+        key = (r[F.solver], r[F.rule])
         rows.append([label(key)] + [largest(f, *key, q) for q in ("hz", "dt")
                                     for f in (frontier, soft_frontier)])
     hard, soft = names

@@ -1,6 +1,8 @@
 """The report's section `findings`: what the tables above say, in sentences."""
 import math
 
+from ..catalogue import FRONTIER_CSV as F
+from ..catalogue import ROBUSTNESS_CSV as R
 from ..catalogue import CONFIGS, FRONTIER_SCENARIO, M, PAIRWISE_CONFIG, RULES_ENGINE, TRUTH
 from ..common import dt_text, fmt, geometric_mean, label, ordered
 from ..readers import read_robustness
@@ -58,21 +60,21 @@ def findings(s, frontier, dt, robustness=None):
         elif any((sc, c, d) in s.status for sc in s.scenarios for d in s.dts):
             found.append(f"{label(c)} stays bounded in every scenario at every dt.")
     for r in frontier:
-        if r["quantity"] != "hz":
+        if r[F.quantity] != "hz":
             continue
-        name = label((r["solver"], r["rule"]))
-        if not r["largest_ok"]:
+        name = label((r[F.solver], r[F.rule]))
+        if not r[F.largest_ok]:
             found.append(f"Held by the hand ({FRONTIER_SCENARIO}), {name} diverges even at "
-                         f"{fmt(float(r['first_diverged']), 3)} Hz ({r['reason']}).")
-        elif not r["first_diverged"]:
+                         f"{fmt(float(r[F.first_diverged]), 3)} Hz ({r[F.reason]}).")
+        elif not r[F.first_diverged]:
             found.append(f"Held by the hand ({FRONTIER_SCENARIO}), {name} stays ok up to the top "
                          "of the range, "
-                         f"{fmt(float(r['largest_ok']), 3)} Hz, with the hand pin up to "
-                         f"{fmt(float(r['pin_gap_at_largest_ok_m']))} m from its target.")
+                         f"{fmt(float(r[F.largest_ok]), 3)} Hz, with the hand pin up to "
+                         f"{fmt(float(r[F.pin_gap_at_largest_ok_m]))} m from its target.")
         else:
             found.append(f"Held by the hand ({FRONTIER_SCENARIO}), {name} stays ok up to "
-                         f"{fmt(float(r['largest_ok']), 3)} Hz and diverges at "
-                         f"{fmt(float(r['first_diverged']), 3)} Hz ({r['reason']}).")
+                         f"{fmt(float(r[F.largest_ok]), 3)} Hz and diverges at "
+                         f"{fmt(float(r[F.first_diverged]), 3)} Hz ({r[F.reason]}).")
     speeds = {c: geometric_mean([s.get(sc, c, dt, M.step_us, "median") for sc in s.scenarios])
               for c in s.configs}
     if multibody in speeds and not math.isnan(speeds[multibody]):
@@ -125,18 +127,18 @@ def robustness_findings(rows):
     if not rows:
         return []
     found = []
-    for d in sorted({r["dt"] for r in rows}, reverse=True):
-        at = [r for r in rows if r["dt"] == d]
-        configs = ordered({(r["solver"], r["rule"]) for r in at}, CONFIGS)
+    for d in sorted({r[R.dt] for r in rows}, reverse=True):
+        at = [r for r in rows if r[R.dt] == d]
+        configs = ordered({(r[R.solver], r[R.rule]) for r in at}, CONFIGS)
         never = [label(c) for c in configs
-                 if all(r["diverged"] == 0 for r in at if (r["solver"], r["rule"]) == c)]
+                 if all(r[R.diverged] == 0 for r in at if (r[R.solver], r[R.rule]) == c)]
         worst = []
         for c in configs:
-            mine = [r for r in at if (r["solver"], r["rule"]) == c and r["diverged"] > 0]
+            mine = [r for r in at if (r[R.solver], r[R.rule]) == c and r[R.diverged] > 0]
             if mine:
-                r = max(mine, key=lambda r: r["rate"])
-                worst.append(f"{label(c)} {r['diverged']}/{r['runs']} in {r['scenario']}")
-        runs = sorted({r["runs"] for r in at})
+                r = max(mine, key=lambda r: r[R.rate])
+                worst.append(f"{label(c)} {r[R.diverged]}/{r[R.runs]} in {r[R.scenario]}")
+        runs = sorted({r[R.runs] for r in at})
         found.append(f"From {' or '.join(str(n) for n in runs)} random starts per scenario at "
                      f"dt = {dt_text(d)} s: "
                      + (f"{', '.join(never)} never diverged, and the others' worst scenario "

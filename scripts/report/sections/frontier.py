@@ -1,5 +1,6 @@
 """The report's section `frontier`: the stability frontier of its scenario (yank)."""
 
+from ..catalogue import FRONTIER_CSV as F
 from ..catalogue import FRONTIER_SCENARIO
 from ..common import dt_text, fmt, label, md_table
 
@@ -13,15 +14,15 @@ def lines(r):
     if frontier:
         rows = []
         for r in frontier:
-            quantity = r["quantity"]
+            quantity = r[F.quantity]
             show = (lambda v: fmt(float(v), 3)) if quantity == "hz" else (
                 lambda v: dt_text(float(v)))
-            ok = show(r["largest_ok"]) if r["largest_ok"] else "none"
-            bad = show(r["first_diverged"]) if r["first_diverged"] else "none in range"
-            gap = fmt(float(r["pin_gap_at_largest_ok_m"])) if r["pin_gap_at_largest_ok_m"] else "–"
-            rows.append([label((r["solver"], r["rule"])), quantity, ok, bad,
-                         r["reason"] or "–", gap])
-        held = {r["quantity"]: float(r["held"]) for r in frontier}
+            ok = show(r[F.largest_ok]) if r[F.largest_ok] else "none"
+            bad = show(r[F.first_diverged]) if r[F.first_diverged] else "none in range"
+            gap = fmt(float(r[F.pin_gap_at_largest_ok_m])) if r[F.pin_gap_at_largest_ok_m] else "–"
+            rows.append([label((r[F.solver], r[F.rule])), quantity, ok, bad,
+                         r[F.reason] or "–", gap])
+        held = {r[F.quantity]: float(r[F.held]) for r in frontier}
         out += [f"## Stability frontier ({FRONTIER_SCENARIO}, no air drag)", "",
                 "The largest circle frequency (0.3 m circle, at dt = "
                 f"{dt_text(held.get('hz', 1 / 240))} s) and the largest dt (at "

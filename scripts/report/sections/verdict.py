@@ -1,5 +1,7 @@
 """The report's section `verdict`: the verdict: cost at equal accuracy and robustness."""
 
+from ..catalogue import CANDIDATES_CSV as C
+from ..catalogue import VERDICT_CSV as V
 from ..catalogue import HEADLINE, RULES_ENGINE, setting_label
 from ..common import (HEADLINE_BUDGET, VERDICT, WHY, budget_name, dt_text, fmt, label, md_table,
                       wilson_upper)
@@ -8,15 +10,15 @@ from ..readers import Verdict, read_verdict
 
 def setting_text(row):
     """a chosen configuration in a few words: 1/120 s, 8 substeps"""
-    text = dt_text(row["dt"]) + " s"
-    setting = setting_label(row["config"], row["setting"])
+    text = dt_text(row[V.dt]) + " s"
+    setting = setting_label(row["config"], row[V.setting])
     return f"{text}, {setting}" if setting else text
 
 
 def searched_summary(v):
     """what the verdict searched, in a phrase: dt from 1/30 to 1/960 s and each solver's own
     settings"""
-    dts = [c["dt"] for c in v.candidates]
+    dts = [c[C.dt] for c in v.candidates]
     return (f"dt from {dt_text(max(dts))} to {dt_text(min(dts))} s, and each solver's own "
             "settings")
 
@@ -26,8 +28,8 @@ def frame_puppets(v, budget, scenario=HEADLINE):
     out = []
     for c in v.configs:
         r = v.row(scenario, c, "frame", budget)
-        if r and r["verdict"] == "met":
-            out.append((c, r["puppets_per_core"]))
+        if r and r[V.verdict] == "met":
+            out.append((c, r[V.puppets_per_core]))
     return out
 
 
@@ -35,16 +37,16 @@ def verdict_cell(v, scenario, config, view, budget, show_setting=False):
     r = v.row(scenario, config, view, budget)
     if r is None:
         return "–"
-    if r["verdict"] != "met":
-        text = WHY.get(r["verdict"], r["verdict"])
-        if r["verdict"] == "error-floor":
-            text += f" ({fmt(r['best_error_m'])} m)"
+    if r[V.verdict] != "met":
+        text = WHY.get(r[V.verdict], r[V.verdict])
+        if r[V.verdict] == "error-floor":
+            text += f" ({fmt(r[V.best_error_m])} m)"
         return text
-    cost = r["us_per_frame"] if view == "frame" else r["cost_us_per_s"]
+    cost = r[V.us_per_frame] if view == "frame" else r[V.cost_us_per_s]
     text = f"{cost:,.0f}" if cost >= 100 else fmt(cost, 2)
     reference = v.cheapest_reference(scenario, view, budget)
     if reference and config[0] == RULES_ENGINE:
-        ratio = reference["cost_us_per_s"] / r["cost_us_per_s"]
+        ratio = reference[V.cost_us_per_s] / r[V.cost_us_per_s]
         text += f" ({ratio:.1f}×)" if ratio < 9.5 else f" ({ratio:.0f}×)"
     elif reference and r is reference:
         text += " (ref)"
@@ -91,11 +93,11 @@ def family_findings(v, view="second", budgets=None):
             p = v.cheapest_procedural(sc, view, budget)
             r = v.cheapest_reference(sc, view, budget)
             if p and r:
-                ratio = r["cost_us_per_s"] / p["cost_us_per_s"]
+                ratio = r[V.cost_us_per_s] / p[V.cost_us_per_s]
                 (wins if ratio >= 1 else losses).append(
-                    f"{sc} ({p['rule']}, {ratio:.2g}× as fast as {label(r['config'])})")
+                    f"{sc} ({p[V.rule]}, {ratio:.2g}× as fast as {label(r['config'])})")
             elif p:
-                wins.append(f"{sc} ({p['rule']}; no reference meets it)")
+                wins.append(f"{sc} ({p[V.rule]}; no reference meets it)")
             elif r:
                 losses.append(f"{sc} (no procedural rule meets it; {label(r['config'])} does)")
             else:

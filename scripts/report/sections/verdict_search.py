@@ -2,6 +2,7 @@
 from the catalogue's rows (testbed list --json), with the dts and count of the committed run."""
 from collections import Counter
 
+from ..catalogue import CANDIDATES_CSV as C
 from ..catalogue import CONFIGS, RULES_ENGINE, SEARCH
 from ..common import VERDICT, dt_text, label, md_table, or_list
 from ..readers import read_verdict
@@ -47,12 +48,12 @@ def solvers_text(configs):
 
 def lines(r):
     v = read_verdict(r.folder)
-    dts = sorted({c["dt"] for c in v.candidates}, reverse=True) if v else []
+    dts = sorted({c[C.dt] for c in v.candidates}, reverse=True) if v else []
     header = "besides dt" + (f" ({', '.join(dt_text(dt) for dt in dts)} s)" if dts else "")
     out = ["## What the verdict searched", "",
            md_table(["solver", header], [[solvers_text(c), text] for c, text in rows()]), ""]
     if v:
-        per_scenario = Counter(c["scenario"] for c in v.candidates)
+        per_scenario = Counter(c[C.scenario] for c in v.candidates)
         counts = sorted(set(per_scenario.values()))
         out += [f"That is {or_list(str(n) for n in counts)} candidates per scenario on {v.model} "
                 f"(`{VERDICT}/candidates.csv`). A candidate's `setting` column holds the testbed "

@@ -34,6 +34,11 @@ std::string format_dt(double dt);
 std::string trace_stem(const std::string& model, const RunResult& result);
 
 std::string summary_csv(const std::vector<RunResult>& results, const OutputContext& context);
+// a trace's columns (traces/<stem>.csv) and its poses' (traces/<stem>__poses.csv)
+inline constexpr const char* kTraceHeader =
+    "t,joint_gap_max_m,joint_gap_rms_m,pin_gap_max_m,limit_violation_max_deg,energy_drift,"
+    "momentum_linear_drift,momentum_angular_drift,penetration_m,peak_speed_mps";
+inline constexpr const char* kPosesHeader = "t,segment,x,y,z,qw,qx,qy,qz";
 // the metrics of every step; with sample_hz > 0 thinned to that many rows per simulated second
 // (the last row always kept)
 std::string trace_csv(const RunResult& result, double sample_hz = 0.0);

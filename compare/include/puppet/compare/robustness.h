@@ -87,6 +87,15 @@ std::vector<RobustnessRate> robustness_rates(const std::vector<RobustnessRow>& r
 // configuration the rate and its interval; worst.csv, per configuration up to `worst` starts
 // (diverged first, earliest first; then the largest joint gap) with the command lines that
 // replay them
+inline constexpr const char* kRobustnessHeader =
+    "job,scenario,solver,rule,dt,seed,start,tilt_deg,hz,phase_deg,grab_segment,grab_x,grab_y,"
+    "grab_z,joint_angle_rms_deg,joint_speed_rms,status,reason,diverged_at_s,peak_speed_mps,"
+    "joint_gap_max_m,pin_gap_max_m,steps";
+inline constexpr const char* kRobustnessSummaryHeader =
+    "scenario,solver,rule,dt,runs,diverged,rate,ci95_low,ci95_high";
+inline constexpr const char* kWorstHeader =
+    "scenario,solver,rule,dt,seed,start,status,diverged_at_s,joint_gap_max_m,peak_speed_mps,"
+    "testbed,viewer";
 std::string robustness_csv(const std::vector<RobustnessRow>& rows);
 std::string robustness_summary_csv(const std::vector<RobustnessRow>& rows);
 std::string worst_csv(const std::vector<RobustnessRow>& rows, const RobustnessSpec& spec,

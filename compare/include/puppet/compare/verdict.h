@@ -147,6 +147,13 @@ std::vector<TruthFloor> floors_from_summary(const std::string& text, const std::
                                             const std::vector<std::string>& scenarios,
                                             const std::string& git_sha);
 
+inline constexpr const char* kCandidatesHeader =
+    "scenario,solver,rule,setting,dt,cost_us_per_s,error_m,status,reason,starts,"
+    "diverged_starts,truth_floor_m,truth,model,git_sha,machine";
+inline constexpr const char* kVerdictHeader =
+    "scenario,solver,rule,view,frame_hz,budget_m,verdict,setting,dt,steps_per_frame,"
+    "cost_us_per_s,us_per_frame,puppets_per_core,error_m,starts,divergence_upper,"
+    "best_error_m,truth_floor_m,why,truth,model,git_sha,machine";
 std::string verdict_candidates_csv(const VerdictResult& result, const OutputContext& context);
 std::string verdict_csv(const VerdictResult& result, const VerdictSpec& spec,
                         const OutputContext& context);
