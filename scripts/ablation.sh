@@ -10,6 +10,7 @@
 #   scripts/ablation.sh FOLDER [TESTBED RUN FLAGS...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/results_layout.sh
 folder=${1:?usage: scripts/ablation.sh FOLDER [TESTBED RUN FLAGS...]}
 shift
 testbed=./build/release/testbed
@@ -46,10 +47,10 @@ for config in "${configs[@]}"; do
   manifest+=$'\n'"\"$name\",\"$label\",\"$against\",\"$flags\""
   echo "ablation: $name"
 done
-# the yank frontier with the compliant grab, beside the hard one in results/frontier/frontier.csv
+# the yank frontier with the compliant grab, beside the hard one in results/$FRONTIER/frontier.csv
 "$testbed" frontier --model pinocchio --solver procedural,bullet-multibody,bullet-rigid \
-  --rule relaxed,xpbd,tree --grab-compliance 1e-4 --out "$folder/frontier-compliant" >/dev/null
-echo "ablation: frontier-compliant"
+  --rule relaxed,xpbd,tree --grab-compliance 1e-4 --out "$folder/$COMPLIANT_FRONTIER" >/dev/null
+echo "ablation: $COMPLIANT_FRONTIER"
 tmp=$(mktemp "$folder/configs.csv.XXXXXX")
 printf '%s\n' "$manifest" >"$tmp"
 mv "$tmp" "$folder/configs.csv"

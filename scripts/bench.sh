@@ -26,14 +26,17 @@ if [ "$mode" = quick ]; then
   out=build/release/bench
   mkdir -p "$out"
   quick=(--benchmark_min_time=0.05)
+  # what results/gate.json reads, and nothing else (scripts/gate_filters.py; an assignment, so
+  # that a failure stops here instead of timing everything)
+  step=$(/usr/bin/python3 scripts/gate_filters.py results/gate.json step)
+  stages=$(/usr/bin/python3 scripts/gate_filters.py results/gate.json stages)
+  scaling=$(/usr/bin/python3 scripts/gate_filters.py results/gate.json scaling)
   "$bin/bench_step" "${common[@]}" "${quick[@]}" --benchmark_out="$out/bench_step.json" \
-    --benchmark_filter='^step/(hang|drag|drop)/(literal|smoothed|weighted|subtree|relaxed|xpbd|tree|bullet-multibody|mujoco)/'
+    --benchmark_filter="$step"
   "$bin/bench_stages" "${common[@]}" "${quick[@]}" --benchmark_out="$out/bench_stages.json" \
-    --benchmark_filter='^floor/hang/'
-  # chain:4 as well: Google Benchmark's complexity fit crashes on a family with no run left, and
-  # the smoothed and weighted chains diverge from N = 16 on (skipped, known failures)
+    --benchmark_filter="$stages"
   "$bin/bench_scaling" "${common[@]}" "${quick[@]}" --benchmark_out="$out/bench_scaling.json" \
-    --benchmark_filter='^(scaling/(literal|smoothed|weighted|subtree|relaxed)/(4|16|1024)/|crowd/xpbd/puppets:1000/threads:2/lanes:(1|4)/)'
+    --benchmark_filter="$scaling"
   # the verdict's choices (results/verdict/verdict.csv): the cheapest procedural rule against
   # the cheapest reference per scenario and budget
   "$bin/bench_verdict" "${common[@]}" "${quick[@]}" --benchmark_out="$out/bench_verdict.json"

@@ -9,6 +9,7 @@
 # Extra arguments go to testbed run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/results_layout.sh
 scripts/setup.sh
 cmake --preset release >/dev/null
 cmake --build --preset release
@@ -17,20 +18,20 @@ cmake --build --preset release
 # open-limits run's), and removed at the end
 truths=$(mktemp -d)
 trap 'rm -rf "$truths"' EXIT
-./build/release/testbed run --model pinocchio --truth-cache "$truths" --out results/main "$@"
+./build/release/testbed run --model pinocchio --truth-cache "$truths" --out "results/$MAIN" "$@"
 # the verdict reads the truths' floors from the run above (the same code): it measures them again
 # otherwise
-./build/release/testbed verdict --model pinocchio --floors-from results/main/summary.csv \
-  --out results/verdict
-./build/release/testbed frontier --model pinocchio --out results/frontier
+./build/release/testbed verdict --model pinocchio --floors-from "results/$MAIN/summary.csv" \
+  --out "results/$VERDICT"
+./build/release/testbed frontier --model pinocchio --out "results/$FRONTIER"
 ./build/release/testbed run --model models/pinocchio-open-limits.json --dt 1/240 --no-timing \
-  --sample-hz 1 --truth-cache "$truths" --out results/truths-open-limits
+  --sample-hz 1 --truth-cache "$truths" --out "results/$OPEN_LIMITS"
 # the humanoid against its first truth alone (no error bars, no second truth): it shows the
 # scenarios on a second model; the judging is Pinocchio's, and both truths at three dts would
 # take six of the main job's minutes more
 ./build/release/testbed run --model models/humanoid.xml --dt 1/240 --no-timing --sample-hz 1 \
-  --first-truth-only --out results/humanoid
-scripts/ablation.sh results/ablation --truth-cache "$truths"
+  --first-truth-only --out "results/$HUMANOID"
+scripts/ablation.sh "results/$ABLATION" --truth-cache "$truths"
 # the catalogues the scripts read instead of keeping copies of names (testbed list --json)
 ./build/release/testbed list --json >results/catalogue.json.tmp
 mv results/catalogue.json.tmp results/catalogue.json

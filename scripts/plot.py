@@ -15,7 +15,7 @@ python3-matplotlib (hence /usr/bin/python3, not whatever python3 comes first on 
 import os
 import sys
 
-from report.common import FRONTIER, MAIN, ReportError
+from report.common import FRONTIER, MAIN, PLOTS, ReportError
 from report.contents import report, section
 from report.plots import (plot_error_vs_dt, plot_frontier, plot_joint_gap, plot_robustness,
                           plot_speed_accuracy, plot_stage_time, plot_verdict)
@@ -50,7 +50,7 @@ def main(argv):
             print(f"plot.py: {error}", file=sys.stderr)
             return 2
         return 0
-    out = os.path.join(folder, "plots")
+    out = os.path.join(folder, PLOTS)
     os.makedirs(out, exist_ok=True)
     plots = [
         ("Joint gap over time", plot_joint_gap(s, folder, out)),

@@ -15,7 +15,7 @@ import os
 import sys
 
 from report.catalogue import HEADLINE, M, PAIRWISE_CONFIG, PAIRWISE_SOLVER, SCENARIOS, TRUTH
-from report.common import fmt, label
+from report.common import MAIN, VERDICT, fmt, label
 from report.readers import Summary
 from report.sections.verdict import verdict_headline
 
@@ -43,7 +43,7 @@ def headline(summary_path):
         err = s.get(HEADLINE, config, dt, M.pose_err_m, "reseeded_mean", TRUTH)
         err_text = f"≤ {fmt(limit)}" if err < limit else fmt(err)
         lines.append(f"| {label(config)} | {fmt(t)} | {fmt(base / t)} | {diverged} | {err_text} |")
-    return (f"At dt = 1/{round(1 / dt)} s on {s.model}, from `results/main/summary.csv` (commit "
+    return (f"At dt = 1/{round(1 / dt)} s on {s.model}, from `results/{MAIN}/summary.csv` (commit "
             f"`{s.git_sha}`, {s.machine}), printed by `scripts/readme_headline.py`. The error is "
             f"against the fine-step truth ({s.truth_text()}), the mean over the "
             "re-seeded half-second runs; errors within the truth's floor (its error bar, or "
@@ -55,7 +55,7 @@ def headline(summary_path):
 def main(argv):
     root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
     if argv and argv[0] == "--per-step" and len(argv) <= 2:
-        summary = argv[1] if len(argv) == 2 else os.path.join(root, "results", "main",
+        summary = argv[1] if len(argv) == 2 else os.path.join(root, "results", MAIN,
                                                               "summary.csv")
         sys.stdout.write(headline(summary))
         return 0
@@ -63,7 +63,7 @@ def main(argv):
         print(__doc__.strip(), file=sys.stderr)
         return 2
     folder = argv[0] if argv else os.path.join(root, "results")
-    path = os.path.join(folder, "verdict", "verdict.csv")
+    path = os.path.join(folder, VERDICT, "verdict.csv")
     if not os.path.isfile(path):
         print(f"readme_headline.py: {path}: not found (testbed verdict writes it)", file=sys.stderr)
         return 2

@@ -6,12 +6,13 @@
 #   STARTS=100 scripts/robustness.sh     the committed sweep (16,000 runs, 6 minutes on 2 cores)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/results_layout.sh
 scripts/setup.sh
 cmake --preset release >/dev/null
 cmake --build --preset release
 solvers=procedural,bullet-multibody,bullet-rigid
 if ./build/release/testbed list | grep -qw mujoco; then solvers+=,mujoco; fi
 ./build/release/testbed robustness --solver "$solvers" --rule all --dt 1/60,1/240 --starts "${STARTS:-500}" \
-  --out results/robustness "$@"
+  --out "results/$ROBUSTNESS" "$@"
 /usr/bin/python3 scripts/plot.py results
 /usr/bin/python3 scripts/docs_tables.py

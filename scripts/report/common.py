@@ -1,26 +1,26 @@
 import math
 import os
+import re
 import tempfile
 
 
-# the testbed's folders under RESULTS (each command replaces its own folder whole)
-MAIN = "main"  # testbed run: summary.csv and traces/
+def _layout():
+    """the folders under RESULTS, as scripts/results_layout.sh names them for the shell scripts"""
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "results_layout.sh")
+    out = {}
+    with open(path) as f:
+        for line in f:
+            match = re.match(r"([A-Z_]+)=(\S+)", line)
+            if match:
+                out[match.group(1)] = match.group(2)
+    return out
 
 
-FRONTIER = "frontier"  # testbed frontier: frontier.csv
-
-
-ROBUSTNESS = "robustness"  # testbed robustness: robustness_summary.csv, worst.csv
-
-
-# the verdict (testbed verdict): per solver, scenario and budget, the cheapest configuration
-VERDICT = "verdict"  # testbed verdict: verdict.csv, candidates.csv
-
-
-# the ablation (scripts/ablation.sh): configs.csv, a run per configuration, and the frontier of
-# the compliant grab
-ABLATION = "ablation"
-COMPLIANT_FRONTIER = "frontier-compliant"
+_LAYOUT = _layout()
+MAIN, VERDICT, FRONTIER = _LAYOUT["MAIN"], _LAYOUT["VERDICT"], _LAYOUT["FRONTIER"]
+OPEN_LIMITS, HUMANOID = _LAYOUT["OPEN_LIMITS"], _LAYOUT["HUMANOID"]
+ROBUSTNESS, PLOTS = _LAYOUT["ROBUSTNESS"], _LAYOUT["PLOTS"]
+ABLATION, COMPLIANT_FRONTIER = _LAYOUT["ABLATION"], _LAYOUT["COMPLIANT_FRONTIER"]
 
 
 TABLE_DT = 1.0 / 240.0

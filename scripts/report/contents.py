@@ -11,8 +11,8 @@ from .sections import (ablation, accuracy, findings, frontier, humanoid, joint_g
                        plot_list, robustness, time_per_step, title, truth_floor, truths_agree,
                        verdict, verdict_search, what_was_run)
 
-SECTIONS = [title, what_was_run, verdict, verdict_search, truth_floor, truths_agree, accuracy, open_limits,
-            joint_gaps, time_per_step, frontier, humanoid, robustness, ablation, findings,
+SECTIONS = [title, what_was_run, verdict, verdict_search, truth_floor, truths_agree, accuracy,
+            open_limits, joint_gaps, time_per_step, frontier, humanoid, robustness, ablation, findings,
             plot_list]
 
 

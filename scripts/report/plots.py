@@ -9,7 +9,8 @@ from .catalogue import CANDIDATES_CSV as C
 from .catalogue import FRONTIER_CSV as F
 from .catalogue import ROBUSTNESS_CSV as R
 from .catalogue import VERDICT_CSV as V
-from .catalogue import CONFIGS, FRONTIER_SCENARIO, M, RULES_ENGINE, SCENARIOS, STAGES, TRUTH, stage_metric, style
+from .catalogue import (CONFIGS, FRONTIER_SCENARIO, M, RULES_ENGINE, SCENARIOS, STAGES, TRUTH,
+                        stage_metric, style)
 from .common import dt_text, fmt, label, ordered
 from .readers import read_trace
 

@@ -9,8 +9,8 @@ from .catalogue import ROBUSTNESS_CSV as R
 from .catalogue import SUMMARY_CSV as S
 from .catalogue import TRACE_CSV as T
 from .catalogue import VERDICT_CSV as V
-from .common import (ABLATION, BAR_MARGIN, MAIN, MIN_ORDER, ROBUSTNESS, ReportError, TABLE_DT, VERDICT,
-                     dt_text, ordered)
+from .common import (ABLATION, BAR_MARGIN, MAIN, MIN_ORDER, ROBUSTNESS, ReportError, TABLE_DT,
+                     VERDICT, dt_text, ordered)
 
 
 class Summary:
@@ -38,7 +38,8 @@ class Summary:
                     dt = exact
                 config = (r[S.solver], r[S.rule])
                 value = float(r[S.value]) if r[S.value] else math.nan
-                self.values[(r[S.scenario], config, dt, r[S.metric], r[S.stat], r[S.reference])] = value
+                key = (r[S.scenario], config, dt, r[S.metric], r[S.stat], r[S.reference])
+                self.values[key] = value
                 if r[S.reference] == "" and r[S.metric] == M.joint_gap_m:
                     self.status[(r[S.scenario], config, dt)] = r[S.status]
                     self.dts.add(dt)

@@ -103,7 +103,8 @@ def solvers_table(c, other):
                 pin = s.get(sc, config, s.table_dt(), M.pin_gap_m, "rms")
                 row.append(f"{cell}, pin {fmt(pin)}")
         rows.append(row)
-    return [f"`{c['name']}`, the {c['label']}, against `{other['name']}`, the {other['label']}; the "
+    return [f"`{c['name']}`, the {c['label']}, against `{other['name']}`, the "
+            f"{other['label']}; the "
             f"truth is {a.truth_text() if a.truths() else 'none'} with the same setting (the "
             "references hold a compliant grab as a spring force). Each cell adds the grab's RMS "
             "distance to its target (m).", "",

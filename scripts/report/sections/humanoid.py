@@ -3,13 +3,13 @@ import math
 import os
 
 from ..catalogue import M, SECOND_TRUTH, TRUTH
-from ..common import dt_text, fmt, label, md_table
+from ..common import HUMANOID, dt_text, fmt, label, md_table
 from ..readers import Summary
 
 
 def humanoid_section(folder):
     """the main scenarios on models/humanoid.xml in every solver (main.sh)"""
-    path = os.path.join(folder, "humanoid", "summary.csv")
+    path = os.path.join(folder, HUMANOID, "summary.csv")
     if not os.path.exists(path):
         return []
     h = Summary(path)
@@ -27,7 +27,7 @@ def humanoid_section(folder):
         return " / ".join(parts) + f", gap {fmt(h.get(sc, c, dt, M.joint_gap_m, 'max'))}"
 
     out = ["## The humanoid (`models/humanoid.xml`)", "",
-           f"`humanoid/`: the scenarios on `{h.model}` (MJCF after MuJoCo's classic humanoid, "
+           f"`{HUMANOID}/`: the scenarios on `{h.model}` (MJCF after MuJoCo's classic humanoid, "
            "docs/mjcf.md), every solver, dt = " + dt_text(dt) + " s. Each cell: re-seeded pose "
            "error against the truth" + (" / against the second truth" if second else "") +
            " (m), and the largest joint gap (m); `div@t`: the run diverged at t.", "",

@@ -3,13 +3,13 @@ import math
 import os
 
 from ..catalogue import M, SECOND_TRUTH, TRUTH, TRUTHS
-from ..common import dt_text, fmt, label, md_table
+from ..common import OPEN_LIMITS, dt_text, fmt, label, md_table
 from ..readers import Summary
 
 
 def open_limits_agreement(folder, scenario):
     """the truths' re-seeded agreement for Pinocchio with its limits opened (main.sh)"""
-    path = os.path.join(folder, "truths-open-limits", "summary.csv")
+    path = os.path.join(folder, OPEN_LIMITS, "summary.csv")
     if not os.path.exists(path):
         return "–"
     return fmt(Summary(path).truths_agreement(scenario, "reseeded_mean"))
@@ -17,7 +17,7 @@ def open_limits_agreement(folder, scenario):
 
 def open_limits_section(folder):
     """every solver against both truths for Pinocchio with its limits opened (main.sh)"""
-    path = os.path.join(folder, "truths-open-limits", "summary.csv")
+    path = os.path.join(folder, OPEN_LIMITS, "summary.csv")
     if not os.path.exists(path):
         return []
     o = Summary(path)
@@ -39,7 +39,7 @@ def open_limits_section(folder):
               for against in (SECOND_TRUTH, TRUTH) for stat in ("max", "rms")]
              if pins else []) for sc in o.scenarios]
     return ["## Both truths, limits opened", "",
-            f"`truths-open-limits/`: `{o.model}` (every joint free), where the two engines "
+            f"`{OPEN_LIMITS}/`: `{o.model}` (every joint free), where the two engines "
             "model the same bodies and joints and differ only in their pins, contacts and "
             "solvers: the truth is "
             f"{o.truth_text()}, the second truth {o.truth_text(SECOND_TRUTH)}. Each truth's error "

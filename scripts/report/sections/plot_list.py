@@ -1,6 +1,8 @@
 """The report's section `plots`: the plots."""
 import os
 
+from ..common import PLOTS
+
 ID = "plots"
 
 
@@ -10,5 +12,5 @@ def lines(r):
     out += ["## Plots", ""]
     for title, path in plots:
         if path:
-            out += [f"### {title}", "", f"![{title}](plots/{os.path.basename(path)})", ""]
+            out += [f"### {title}", "", f"![{title}]({PLOTS}/{os.path.basename(path)})", ""]
     return out

@@ -1,7 +1,7 @@
 """The report's section `truths-agree`: the two truths against each other."""
 
 from ..catalogue import CONSTRAINTS, M, SECOND_TRUTH, TRUTHS
-from ..common import fmt, md_table
+from ..common import OPEN_LIMITS, fmt, md_table
 from .open_limits import open_limits_agreement
 
 
@@ -35,7 +35,7 @@ def lines(r):
                 f"({s.truth_text()}), pose error (m): along the whole run, and re-seeded both "
                 "ways (the second from the truth's states against it, the truth from the "
                 "second's against it). The last column is the same re-seeded figure for "
-                "Pinocchio with every joint free (`truths-open-limits/`), where the engines "
+                f"Pinocchio with every joint free (`{OPEN_LIMITS}/`), where the engines "
                 "differ only in their pins, contacts and solvers.", "",
                 md_table(["scenario", "at 0.267 s", "at 1 s", "mean 1 s", "re-seeded",
                           "re-seeded (other way)", "re-seeded angle deg",

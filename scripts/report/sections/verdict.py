@@ -75,8 +75,9 @@ def verdict_headline(folder, budget=HEADLINE_BUDGET):
     table, refused = verdict_table(v, "second", budget)
     return (f"CPU µs per simulated second to keep Pinocchio within {budget_name(budget)} of "
             f"the truth ({v.truth}) and never diverge in {v.starts} random starts, with the "
-            f"cheapest configuration each solver has ({searched_summary(v)}); in brackets, how many times cheaper than the cheapest reference engine "
-            "(`(ref)`: that engine). From `results/verdict/verdict.csv` (commit "
+            f"cheapest configuration each solver has ({searched_summary(v)}); in brackets, how "
+            "many times cheaper than the cheapest reference engine "
+            f"(`(ref)`: that engine). From `results/{VERDICT}/verdict.csv` (commit "
             f"`{v.git_sha}`, {v.machine}), printed by `scripts/readme_headline.py`. "
             + refused_text(v, refused) + "\n\n" + table + "\n\n"
             + "\n".join(f"- {line}" for line in family_findings(v, budgets=[budget])) + "\n")

@@ -1,0 +1,13 @@
+# shellcheck shell=bash disable=SC2034 # sourced: the names are read by the scripts that source it
+# The folders under results/, each written whole by one command: the shell scripts read this
+# file (`source scripts/results_layout.sh`) and the report parses it (scripts/report/common.py),
+# so that a folder is named once. NAME=folder lines only.
+MAIN=main                            # testbed run: summary.csv and traces/
+VERDICT=verdict                      # testbed verdict: verdict.csv, candidates.csv
+FRONTIER=frontier                    # testbed frontier: frontier.csv
+OPEN_LIMITS=truths-open-limits       # testbed run, Pinocchio with every joint free
+HUMANOID=humanoid                    # testbed run on models/humanoid.xml
+ABLATION=ablation                    # scripts/ablation.sh: configs.csv, a run per configuration
+COMPLIANT_FRONTIER=frontier-compliant  # under ABLATION: the frontier with the compliant grab
+ROBUSTNESS=robustness                # scripts/robustness.sh: testbed robustness
+PLOTS=plots                          # scripts/plot.py: the plots REPORT.md shows
