@@ -115,12 +115,12 @@ int main(int argc, char** argv) {
     // the substepped rules cost 10–100x a one-pass step (a 20,000-puppet tree crowd is 41 s per
     // step on one thread): their crowds stop at 1,000 puppets, where the one-pass rules' puppets
     // per second already equal their 20,000's (measured: relaxed 83 k/s and 82 k/s)
-    const bool substepped = rule == procedural::Rule::kXpbd || rule == procedural::Rule::kTree;
+    const procedural::RuleInfo info = procedural::rule_info(rule);
+    const bool substepped = info.substeps > 1;
     const std::vector<int64_t> puppets =
         substepped ? std::vector<int64_t>{1000} : std::vector<int64_t>{1000, 20000};
-    const std::vector<int64_t> lanes = rule == procedural::Rule::kXpbd
-                                           ? std::vector<int64_t>{1, 2, 4, 8}
-                                           : std::vector<int64_t>{1};
+    const std::vector<int64_t> lanes =
+        info.lanes ? std::vector<int64_t>{1, 2, 4, 8} : std::vector<int64_t>{1};
     benchmark::RegisterBenchmark(("crowd/" + name).c_str(),
                                  [rule](benchmark::State& state) { crowd_benchmark(state, rule); })
         ->ArgNames({"puppets", "threads", "lanes"})

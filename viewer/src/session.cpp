@@ -239,7 +239,7 @@ void Session::judge(Run& run, double t) {
 
 bool Session::grab_anchors() const {
   return config_.anchor == "grab" ||
-         (config_.anchor == "auto" && config_.options.rule == procedural::Rule::kLiteral);
+         (config_.anchor == "auto" && procedural::rule_info(config_.options.rule).grab_anchors);
 }
 
 int Session::grab_index() const {

@@ -54,7 +54,8 @@ int list_json() {
     rules.push_back({{"name", info.name},
                      {"iterations", info.iterations},
                      {"substeps", info.substeps},
-                     {"iterations_are", info.iterations_are}});
+                     {"iterations_are", info.iterations_are},
+                     {"lanes", info.lanes}});
   }
   out["default_rule"] = procedural::rule_name(SolverOptions{}.rule);
   // what a verdict searches for each configuration besides dt: the flags candidates.csv names a

@@ -62,7 +62,7 @@ std::unique_ptr<LaneStepper> LaneStepper::make(const Solver& puppet, CrowdLanes 
   if (lanes == CrowdLanes::kNone) return nullptr;
   const Settings& settings = puppet.settings();
   const Environment& environment = puppet.environment();
-  if (settings.rule != Rule::kXpbd || settings.tremble || settings.time_stages ||
+  if (!rule_info(settings.rule).lanes || settings.tremble || settings.time_stages ||
       environment.water || environment.ground || puppet.tables_->orders.empty()) {
     return nullptr;
   }

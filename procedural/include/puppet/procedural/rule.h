@@ -33,7 +33,11 @@ struct RuleInfo {
   int substeps = 1;       ///< its substeps per step unless told
   /// what its iterations count ("two-sided sweeps per substep"); empty when it reads none
   std::string_view iterations_are;
-  RuleSearch search;  ///< what a verdict searches for it besides dt
+  RuleSearch search;   ///< what a verdict searches for it besides dt
+  bool lanes = false;  ///< a Crowd steps it in SIMD lanes (CrowdLanes); else one by one
+  /// a user's grab anchors its pass (the viewer's `auto` anchor): the seed's way, which only a
+  /// rule that closes a joint by translating alone survives (docs/viewer.md)
+  bool grab_anchors = false;
 };
 RuleInfo rule_info(Rule rule);
 
