@@ -28,7 +28,7 @@ import os
 import re
 import sys
 
-from report.catalogue import PAIRWISE_SOLVER, RULE_INFO, RULES, SCENARIOS
+from report.catalogue import PAIRWISE_SOLVER, REFERENCE_ENGINES, RULE_INFO, RULES, SCENARIOS
 
 MARGIN = 0.40
 # the rule families, from the rule catalogue: one pass (their iterations are not read), sweeps
@@ -43,7 +43,11 @@ ONE_PASS_FLOORS = {"hang": 10, "drag": 10, "drop": 30}
 SWEEPS_FLOORS = {"hang": 4, "drag": 4, "drop": 12}
 SUBSTEPPED = {"xpbd": {"hang": 4.2, "drag": 3.8, "drop": 3.8},
               "tree": {"hang": 1.5, "drag": 1.5, "drop": 1.5}}
+# the peer engine (its semi-implicit Euler step): no slower than the pairwise one, and the rules
+# that correct every constraint together at least as fast as it
+PEER = "mujoco"
 if (set(SUBSTEPPED) != {r for r in RULES if RULE_INFO[r]["substeps"] > 1}
+        or PEER not in REFERENCE_ENGINES
         or not all(set(f) <= set(SCENARIOS) for f in [ONE_PASS_FLOORS, SWEEPS_FLOORS,
                                                        *SUBSTEPPED.values()])):
     sys.exit("gate_thresholds.py: its floors name rules or scenarios the testbed's catalogue "
@@ -130,18 +134,17 @@ def main():
             gates.append(gate(times, f"{scenario}: {rule} speedup over {base}",
                               f"step/{scenario}/{base}", f"step/{scenario}/{rule}",
                               floor, "min"))
-    # MuJoCo, the peer (its semi-implicit Euler step): the wrapper must not make it slower than
-    # bullet-multibody, and every rule that corrects all constraints together must be at least as
-    # fast as it
+    # the peer: the wrapper must not make it slower than the pairwise engine, and every rule
+    # that corrects all constraints together must be at least as fast as it
     for scenario in STEP_SCENARIOS:
-        if not any(f"step/{scenario}/mujoco" in t for t, _ in times.values()):
+        if not any(f"step/{scenario}/{PEER}" in t for t, _ in times.values()):
             continue
-        gates.append(gate(times, f"{scenario}: mujoco speedup over {base}",
-                          f"step/{scenario}/{base}", f"step/{scenario}/mujoco", 1,
+        gates.append(gate(times, f"{scenario}: {PEER} speedup over {base}",
+                          f"step/{scenario}/{base}", f"step/{scenario}/{PEER}", 1,
                           "min"))
         for rule in SWEEPS + list(SUBSTEPPED):
-            gates.append(gate(times, f"{scenario}: {rule} speedup over mujoco",
-                              f"step/{scenario}/mujoco", f"step/{scenario}/{rule}", 1, "min"))
+            gates.append(gate(times, f"{scenario}: {rule} speedup over {PEER}",
+                              f"step/{scenario}/{PEER}", f"step/{scenario}/{rule}", 1, "min"))
     # the verdict (bench_verdict, from results/verdict/verdict.csv): per scenario and budget, the
     # cheapest reference engine's cost per simulated second over the cheapest procedural rule's,
     # each in the configuration the verdict chose. The floor is the family's claim, at least as
