@@ -14,7 +14,7 @@ import math
 import os
 import sys
 
-from report.catalogue import HEADLINE, M, PAIRWISE_CONFIG, PAIRWISE_SOLVER, SCENARIOS, TRUTH
+from report.catalogue import HEADLINE, M, PAIRWISE_CONFIG, PAIRWISE_SOLVER, SCENARIOS, ST, TRUTH
 from report.common import MAIN, VERDICT, fmt, label
 from report.readers import Summary
 from report.sections.verdict import verdict_headline
@@ -25,7 +25,7 @@ def headline(summary_path):
     scenarios = [x for x in SCENARIOS if x in s.scenarios]
 
     def step_us(config):
-        times = [s.get(x, config, dt, M.step_us, "median") for x in scenarios]
+        times = [s.get(x, config, dt, M.step_us, ST.median) for x in scenarios]
         times = [t for t in times if not math.isnan(t) and t > 0]
         return math.exp(sum(math.log(t) for t in times) / len(times)) if times else math.nan
 
@@ -40,7 +40,7 @@ def headline(summary_path):
     for config in s.configs:
         t = step_us(config)
         diverged = sum(1 for x in scenarios if s.diverged(x, config, dt))
-        err = s.get(HEADLINE, config, dt, M.pose_err_m, "reseeded_mean", TRUTH)
+        err = s.get(HEADLINE, config, dt, M.pose_err_m, ST.reseeded_mean, TRUTH)
         err_text = f"≤ {fmt(limit)}" if err < limit else fmt(err)
         lines.append(f"| {label(config)} | {fmt(t)} | {fmt(base / t)} | {diverged} | {err_text} |")
     return (f"At dt = 1/{round(1 / dt)} s on {s.model}, from `results/{MAIN}/summary.csv` (commit "

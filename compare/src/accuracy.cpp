@@ -152,7 +152,7 @@ std::vector<SummaryRow> accuracy_rows(Simulator& simulator, const Model& model,
                                       const Scenario& scenario, double dt, const Trajectory& run,
                                       const Trajectory& reference, const std::string& label) {
   std::vector<SummaryRow> rows;
-  auto add = [&](const char* stat, double pose_m, double angle_deg) {
+  auto add = [&](const StatInfo& stat, double pose_m, double angle_deg) {
     if (!std::isfinite(pose_m) || !std::isfinite(angle_deg)) return;
     rows.push_back(summary_row(metric::kPoseError, stat, pose_m, label));
     rows.push_back(summary_row(metric::kJointAngleError, stat, angle_deg, label));
@@ -160,9 +160,9 @@ std::vector<SummaryRow> accuracy_rows(Simulator& simulator, const Model& model,
   const ErrorSeries errors = trajectory_errors(model, run, reference);
   const int samples = static_cast<int>(errors.pose_m.size());
   constexpr struct {
-    const char* stat;
+    const StatInfo& stat;
     int sample;
-  } kAt[] = {{"at_0.267s", 8}, {"at_0.5s", 15}, {"at_1s", 30}};
+  } kAt[] = {{stat::kAt267ms, 8}, {stat::kAt500ms, 15}, {stat::kAt1s, 30}};
   for (const auto& at : kAt) {
     if (at.sample < samples)
       add(at.stat, errors.pose_m[at.sample], errors.joint_angle_deg[at.sample]);
@@ -174,12 +174,12 @@ std::vector<SummaryRow> accuracy_rows(Simulator& simulator, const Model& model,
       pose += errors.pose_m[k];
       angle += errors.joint_angle_deg[k];
     }
-    add("mean_1s", pose / kFirstSecond, angle / kFirstSecond);
+    add(stat::kMean1s, pose / kFirstSecond, angle / kFirstSecond);
   }
 
   const ReseededError reseeded = reseeded_error(simulator, model, scenario, reference, dt);
   if (reseeded.seed_times.empty()) return rows;
-  add("reseeded_mean", reseeded.mean_pose_m, reseeded.mean_joint_angle_deg);
+  add(stat::kReseededMean, reseeded.mean_pose_m, reseeded.mean_joint_angle_deg);
   double worst_pose = -1.0, worst_angle = -1.0;
   int diverged = 0;
   for (size_t i = 0; i < reseeded.pose_m.size(); ++i) {
@@ -190,9 +190,9 @@ std::vector<SummaryRow> accuracy_rows(Simulator& simulator, const Model& model,
     worst_pose = std::max(worst_pose, reseeded.pose_m[i]);
     worst_angle = std::max(worst_angle, reseeded.joint_angle_deg[i]);
   }
-  if (worst_pose >= 0.0) add("reseeded_max", worst_pose, worst_angle);
+  if (worst_pose >= 0.0) add(stat::kReseededMax, worst_pose, worst_angle);
   rows.push_back(
-      summary_row(metric::kReseededDiverged, "count", static_cast<double>(diverged), label));
+      summary_row(metric::kReseededDiverged, stat::kCount, static_cast<double>(diverged), label));
   return rows;
 }
 

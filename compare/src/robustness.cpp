@@ -116,9 +116,12 @@ std::vector<RobustnessRow> run_robustness(const RobustnessSpec& spec) {
         r.diverged = result.diverged;
         r.reason = result.diverged_reason;
         r.diverged_at = result.diverged ? result.diverged_at : std::nan("");
-        r.peak_speed = result.value(std::string(metric::kPeakSpeed.name), "max");
-        r.joint_gap_max = result.value(std::string(metric::kJointGap.name), "max");
-        r.pin_gap_max = result.value(std::string(metric::kPinGap.name), "max");
+        r.peak_speed =
+            result.value(std::string(metric::kPeakSpeed.name), std::string(stat::kMax.name));
+        r.joint_gap_max =
+            result.value(std::string(metric::kJointGap.name), std::string(stat::kMax.name));
+        r.pin_gap_max =
+            result.value(std::string(metric::kPinGap.name), std::string(stat::kMax.name));
         r.steps = result.steps;
       },
       [&] {

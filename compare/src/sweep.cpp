@@ -196,7 +196,8 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
           r.solver = truth_list[0].solver;
           r.dt = truth_list[0].dt;
           r.diverged = truth[i][0][0].diverged;
-          r.summary.push_back(summary_row(metric::kTruthDt, "h", r.dt, truth_list[0].reference));
+          r.summary.push_back(
+              summary_row(metric::kTruthDt, stat::kTruthStep, r.dt, truth_list[0].reference));
           return;
         }
         if (i < check_jobs) {
@@ -219,13 +220,14 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
                                     truth[s][against][0], label.c_str());
           if (level == 2) return;
           // how far the truth itself leaves the model's limits and holds its pins
-          r.summary.push_back(summary_row(metric::kLimitViolation, "max",
+          r.summary.push_back(summary_row(metric::kLimitViolation, stat::kMax,
                                           max_limit_violation_deg(model, truth[s][t][level]),
                                           label));
           const PinGaps pin = trajectory_pin_gaps(spec.scenarios[s], truth[s][t][level]);
-          r.summary.push_back(summary_row(metric::kPinGap, "max", pin.max, label));
-          r.summary.push_back(summary_row(metric::kPinGap, "rms", pin.rms, label));
-          if (own) r.summary.push_back(summary_row(metric::kTruthDt, "h", run.dt, label));
+          r.summary.push_back(summary_row(metric::kPinGap, stat::kMax, pin.max, label));
+          r.summary.push_back(summary_row(metric::kPinGap, stat::kRms, pin.rms, label));
+          if (own)
+            r.summary.push_back(summary_row(metric::kTruthDt, stat::kTruthStep, run.dt, label));
           return;
         }
         const size_t k = pairwise_runs[i - check_jobs];

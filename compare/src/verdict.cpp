@@ -17,6 +17,7 @@
 #include "puppet/compare/robustness.h"
 #include "puppet/compare/run.h"
 #include "puppet/compare/start.h"
+#include "puppet/compare/summary_metrics.h"
 
 namespace puppet::compare {
 
@@ -485,13 +486,14 @@ std::vector<TruthFloor> floors_from_summary(const std::string& text, const std::
       throw std::runtime_error(source + ":" + std::to_string(row) + ": a run of model " + f[9] +
                                ", not " + model.name);
     }
-    if (f[5] == "truth_dt" && f[10] == kTruthReference) {
+    if (f[5] == metric::kTruthDt.name && f[10] == kTruthReference) {
       if (f[1] != truths[0].solver) {
         throw std::runtime_error(source + ": judged by " + f[1] + ", not " + truths[0].solver);
       }
       truth_dt = f[7];
     }
-    if (f[5] == "pose_err_m" && f[6] == "reseeded_mean" && f[10] == kTruthReference) {
+    if (f[5] == metric::kPoseError.name && f[6] == stat::kReseededMean.name &&
+        f[10] == kTruthReference) {
       double value = NAN;
       if (!parse_finite(f[7], &value)) value = NAN;
       errors[{f[0], f[1], f[3], f[10]}] = value;

@@ -118,6 +118,28 @@ ROBUSTNESS_CSV = Columns("robustness_summary.csv")
 TRACE_CSV = Columns("trace")
 
 
+STATS = {stat["name"]: stat for stat in _CATALOGUE["stats"]}
+
+
+def stat(name):
+    """a stat's name, checked against the catalogue (for those that are not identifiers:
+    stat("at_1s") as ST.at_1s)"""
+    if name not in STATS:
+        raise KeyError(f"stat {name!r} is not in the testbed's catalogue ({PATH})")
+    return name
+
+
+class _Stats:
+    """the summary's stat names as attributes (ST.reseeded_mean), each checked against the
+    catalogue when read"""
+
+    def __getattr__(self, name):
+        return stat(name)
+
+
+ST = _Stats()
+
+
 def stage_metric(stage):
     """the summary's metric of a stage's time"""
     return metric("{stage}_us").replace("{stage}", stage)

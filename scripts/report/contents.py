@@ -12,8 +12,8 @@ from .sections import (ablation, accuracy, findings, frontier, humanoid, joint_g
                        verdict, verdict_search, what_was_run)
 
 SECTIONS = [title, what_was_run, verdict, verdict_search, truth_floor, truths_agree, accuracy,
-            open_limits, joint_gaps, time_per_step, frontier, humanoid, robustness, ablation, findings,
-            plot_list]
+            open_limits, joint_gaps, time_per_step, frontier, humanoid, robustness, ablation,
+            findings, plot_list]
 
 
 @dataclass

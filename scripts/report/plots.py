@@ -9,7 +9,7 @@ from .catalogue import CANDIDATES_CSV as C
 from .catalogue import FRONTIER_CSV as F
 from .catalogue import ROBUSTNESS_CSV as R
 from .catalogue import VERDICT_CSV as V
-from .catalogue import (CONFIGS, FRONTIER_SCENARIO, M, RULES_ENGINE, SCENARIOS, STAGES, TRUTH,
+from .catalogue import (CONFIGS, FRONTIER_SCENARIO, M, RULES_ENGINE, SCENARIOS, ST, STAGES, TRUTH,
                         stage_metric, style)
 from .common import dt_text, fmt, label, ordered
 from .readers import read_trace
@@ -70,15 +70,15 @@ def plot_error_vs_dt(s, out, metric, unit, name):
         shown = []
         for config in s.configs:
             xs = [dt for dt in s.dts if not math.isnan(s.get(scenario, config, dt, metric,
-                                                            "reseeded_mean", TRUTH))]
-            ys = [s.get(scenario, config, dt, metric, "reseeded_mean", TRUTH) for dt in xs]
+                                                            ST.reseeded_mean, TRUTH))]
+            ys = [s.get(scenario, config, dt, metric, ST.reseeded_mean, TRUTH) for dt in xs]
             if not xs:
                 continue
             shown += ys
             color, marker = style(config)
             ax.loglog(xs, ys, color=color, marker=marker, ms=4, lw=1.1)
             partial = [(x, y) for x, y in zip(xs, ys)
-                       if s.get(scenario, config, x, M.reseeded_diverged, "count", TRUTH) > 0]
+                       if s.get(scenario, config, x, M.reseeded_diverged, ST.count, TRUTH) > 0]
             if partial:
                 ax.plot(*zip(*partial), "o", mfc="none", mec="#ff7f0e", ms=10, mew=1.5)
         limit = s.truth_limit(scenario, metric=metric)
@@ -107,8 +107,8 @@ def plot_speed_accuracy(s, out):
         for config in s.configs:
             points = []
             for dt in s.dts:
-                x = s.get(scenario, config, dt, M.realtime_factor, "value")
-                y = s.get(scenario, config, dt, M.pose_err_m, "reseeded_mean", TRUTH)
+                x = s.get(scenario, config, dt, M.realtime_factor, ST.value)
+                y = s.get(scenario, config, dt, M.pose_err_m, ST.reseeded_mean, TRUTH)
                 if not math.isnan(x) and not math.isnan(y):
                     points.append((x, y, dt))
             if not points:
@@ -142,7 +142,7 @@ def plot_stage_time(s, out):
     for ax, config in zip(axes, rules):
         bottom = [0.0] * len(s.scenarios)
         for stage, color in zip(STAGES, colors):
-            heights = [s.get(sc, config, dt, stage_metric(stage), "median") for sc in s.scenarios]
+            heights = [s.get(sc, config, dt, stage_metric(stage), ST.median) for sc in s.scenarios]
             heights = [0.0 if math.isnan(h) else h for h in heights]
             ax.bar(s.scenarios, heights, bottom=bottom, color=color, label=stage)
             bottom = [b + h for b, h in zip(bottom, heights)]

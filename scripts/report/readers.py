@@ -3,8 +3,8 @@ import math
 import os
 
 from .catalogue import CANDIDATES_CSV as C
-from .catalogue import (CONFIGS, M, RULES_ENGINE, SCENARIOS, SECOND_TRUTH, SUMMARY_HEADER, TABLES,
-                        TRUTH, TRUTH_TEXT, TRUTHS, trace_stem)
+from .catalogue import (CONFIGS, M, RULES_ENGINE, SCENARIOS, SECOND_TRUTH, ST, SUMMARY_HEADER,
+                        TABLES, TRUTH, TRUTHS, TRUTH_TEXT, trace_stem)
 from .catalogue import ROBUSTNESS_CSV as R
 from .catalogue import SUMMARY_CSV as S
 from .catalogue import TRACE_CSV as T
@@ -81,7 +81,7 @@ class Summary:
         solver, h = self.truth_engine(reference)
         return f"{TRUTH_TEXT.get(solver, solver)} at {dt_text(h)} s"
 
-    def truth_own(self, scenario, reference=TRUTH, scale=0.5, stat="reseeded_mean",
+    def truth_own(self, scenario, reference=TRUTH, scale=0.5, stat=ST.reseeded_mean,
                   metric=M.pose_err_m):
         """a truth's run at scale·h against its run at h"""
         engine = self.truth_engine(reference)
@@ -90,11 +90,11 @@ class Summary:
         solver, h = engine
         return self.get(scenario, (solver, ""), 1 / round(1 / (scale * h)), metric, stat, reference)
 
-    def truth_check(self, scenario, reference=TRUTH, stat="reseeded_mean", metric=M.pose_err_m):
+    def truth_check(self, scenario, reference=TRUTH, stat=ST.reseeded_mean, metric=M.pose_err_m):
         """a truth's own difference: its run at h/2 against it"""
         return self.truth_own(scenario, reference, 0.5, stat, metric)
 
-    def truth_order(self, scenario, reference=TRUTH, stat="reseeded_mean", metric=M.pose_err_m):
+    def truth_order(self, scenario, reference=TRUTH, stat=ST.reseeded_mean, metric=M.pose_err_m):
         """the order p of convergence: log2 of the 2h difference over the h/2 difference"""
         fine = self.truth_check(scenario, reference, stat, metric)
         coarse = self.truth_own(scenario, reference, 2.0, stat, metric)
@@ -102,7 +102,7 @@ class Summary:
             return math.nan
         return math.log2(coarse / fine)
 
-    def truth_bar(self, scenario, reference=TRUTH, stat="reseeded_mean", metric=M.pose_err_m):
+    def truth_bar(self, scenario, reference=TRUTH, stat=ST.reseeded_mean, metric=M.pose_err_m):
         """a bound on a truth's own error: BAR_MARGIN × 2^p/(2^p − 1) × its h/2 difference"""
         fine = self.truth_check(scenario, reference, stat, metric)
         p = self.truth_order(scenario, reference, stat, metric)
@@ -118,7 +118,7 @@ class Summary:
         solver, h = engine
         return self.get(scenario, (solver, ""), h, metric, stat, against)
 
-    def truth_limit(self, scenario, reference=TRUTH, stat="reseeded_mean", metric=M.pose_err_m):
+    def truth_limit(self, scenario, reference=TRUTH, stat=ST.reseeded_mean, metric=M.pose_err_m):
         """the smallest error a truth can judge (its floor): its error bar, and never below the
         other truth's error against it, judged as every solver is (re-seeded from its states)"""
         agreement = self.truths_agreement(scenario, stat, reference, metric)

@@ -79,7 +79,7 @@ TEST(TestbedCli, ListJsonHasEveryNameTheResultsUse) {
   const Outcome list = testbed("list --json");
   ASSERT_EQ(list.status, 0) << list.output;
   const auto json = nlohmann::json::parse(list.output);
-  for (const char* key : {"scenarios", "engines", "rules", "stages", "truths", "metrics",
+  for (const char* key : {"scenarios", "engines", "rules", "stages", "truths", "metrics", "stats",
                           "summary_header", "tables", "trace"}) {
     EXPECT_TRUE(json.contains(key)) << key;
   }
@@ -89,12 +89,13 @@ TEST(TestbedCli, ListJsonHasEveryNameTheResultsUse) {
   std::string line;
   ASSERT_TRUE(std::getline(summary, line));
   EXPECT_EQ(line, json["summary_header"].get<std::string>());
-  std::set<std::string> seen;
+  std::set<std::string> seen, stats_seen;
   while (std::getline(summary, line)) {
     std::vector<std::string> fields;
     std::stringstream in(line);
     for (std::string field; std::getline(in, field, ',');) fields.push_back(field);
     ASSERT_GE(fields.size(), 9u) << line;
+    stats_seen.insert(fields[6]);
     std::string metric = fields[5];
     for (const auto& stage : json["stages"]) {
       if (metric == stage.get<std::string>() + "_us") metric = "{stage}_us";
@@ -104,6 +105,10 @@ TEST(TestbedCli, ListJsonHasEveryNameTheResultsUse) {
     EXPECT_EQ(units[metric], fields[8]) << metric;
   }
   EXPECT_GE(seen.size(), 15u);
+  // the stats: the committed run wrote each of the catalogue's, and no other
+  std::set<std::string> stats;
+  for (const auto& st : json["stats"]) stats.insert(st["name"].get<std::string>());
+  EXPECT_EQ(stats_seen, stats);
   // every other committed CSV has the columns the catalogue gives for its file
   const std::pair<const char*, const char*> tables[] = {
       {"frontier/frontier.csv", "frontier.csv"},

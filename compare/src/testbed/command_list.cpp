@@ -94,6 +94,10 @@ int list_json() {
   for (const MetricInfo& m : summary_metrics()) {
     metrics.push_back({{"name", m.name}, {"unit", m.unit}, {"meaning", m.meaning}});
   }
+  auto& stats = out["stats"] = nlohmann::ordered_json::array();
+  for (const StatInfo& s : summary_stats()) {
+    stats.push_back({{"name", s.name}, {"meaning", s.meaning}});
+  }
   out["summary_header"] = kSummaryHeader;
   // every other CSV the commands write, by file name: its header
   out["tables"] = {{"frontier.csv", kFrontierHeader},

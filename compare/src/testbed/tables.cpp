@@ -5,8 +5,11 @@
 #include <cstdio>
 #include <limits>
 #include <string>
+#include <string_view>
 
 #include "puppet/compare/output.h"
+#include "puppet/compare/summary_metrics.h"
+#include "puppet/compare/sweep.h"
 
 namespace puppet::testbed {
 
@@ -25,11 +28,13 @@ void print_run_table(const std::vector<RunResult>& results, double dt) {
               "reseeded m");
   for (const RunResult& r : results) {
     if (r.dt != dt) continue;
-    auto show = [&](const char* metric, const char* stat, const char* format,
-                    const char* reference = "") {
+    auto show = [&](const MetricInfo& metric, const StatInfo& stat, const char* format,
+                    std::string_view reference = "") {
       double v = std::numeric_limits<double>::quiet_NaN();
       for (const SummaryRow& row : r.summary) {
-        if (row.metric == metric && row.stat == stat && row.reference == reference) v = row.value;
+        if (row.metric == metric.name && row.stat == stat.name && row.reference == reference) {
+          v = row.value;
+        }
       }
       if (std::isnan(v)) return std::string("-");
       char cell[32];
@@ -37,15 +42,15 @@ void print_run_table(const std::vector<RunResult>& results, double dt) {
       return std::string(cell);
     };
     const std::string status =
-        r.diverged ? "div@" + show("diverged_at_s", "value", "%.2f") : std::string("ok");
+        r.diverged ? "div@" + show(metric::kDivergedAt, stat::kValue, "%.2f") : std::string("ok");
     std::printf("%-8s %-16s %-9s %-8s %11s %11s %11s %9s %9s %11s\n", r.scenario.c_str(),
                 r.solver.c_str(), r.rule.empty() ? "-" : r.rule.c_str(), status.c_str(),
-                show("joint_gap_m", "max", "%.2e").c_str(),
-                show("pin_gap_m", "max", "%.2e").c_str(),
-                show("energy_drift", "final", "%+.2e").c_str(),
-                show("limit_violation_deg", "max", "%.1e").c_str(),
-                show("step_us", "median", "%.1f").c_str(),
-                show("pose_err_m", "reseeded_mean", "%.2e", "truth").c_str());
+                show(metric::kJointGap, stat::kMax, "%.2e").c_str(),
+                show(metric::kPinGap, stat::kMax, "%.2e").c_str(),
+                show(metric::kEnergyDrift, stat::kFinal, "%+.2e").c_str(),
+                show(metric::kLimitViolation, stat::kMax, "%.1e").c_str(),
+                show(metric::kStepTime, stat::kMedian, "%.1f").c_str(),
+                show(metric::kPoseError, stat::kReseededMean, "%.2e", kTruthReference).c_str());
   }
 }
 

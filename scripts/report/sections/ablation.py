@@ -3,7 +3,7 @@ rules."""
 import os
 
 from ..catalogue import FRONTIER_CSV as F
-from ..catalogue import FRONTIER_SCENARIO, M, RULES_ENGINE, SCENARIOS, TRUTH
+from ..catalogue import FRONTIER_SCENARIO, M, RULES_ENGINE, SCENARIOS, ST, TRUTH
 from ..common import (ABLATION, COMPLIANT_FRONTIER, FRONTIER, dt_text, fmt, label, md_table,
                       ordered)
 from ..readers import read_ablation, read_frontier
@@ -14,11 +14,11 @@ def ablation_cell(s, scenario, config):
     dt = s.table_dt()
     if (scenario, config, dt) not in s.status:
         return "–"
-    error = s.get(scenario, config, dt, M.pose_err_m, "reseeded_mean", TRUTH)
-    gap = s.get(scenario, config, dt, M.joint_gap_m, "max")
+    error = s.get(scenario, config, dt, M.pose_err_m, ST.reseeded_mean, TRUTH)
+    gap = s.get(scenario, config, dt, M.joint_gap_m, ST.max)
     cell = f"{fmt(error)} / {fmt(gap)}"
     if s.diverged(scenario, config, dt):
-        cell += f" (div@{fmt(s.get(scenario, config, dt, M.diverged_at_s, 'value'))}s)"
+        cell += f" (div@{fmt(s.get(scenario, config, dt, M.diverged_at_s, ST.value))}s)"
     return cell
 
 
@@ -41,10 +41,10 @@ def comparison(c, other, scenarios):
     ca, cb = rule_config(a), rule_config(b)
 
     def error(s, config, sc):
-        return s.get(sc, config, s.table_dt(), M.pose_err_m, "reseeded_mean", TRUTH)
+        return s.get(sc, config, s.table_dt(), M.pose_err_m, ST.reseeded_mean, TRUTH)
 
     def gap(s, config, sc):
-        return s.get(sc, config, s.table_dt(), M.joint_gap_m, "max")
+        return s.get(sc, config, s.table_dt(), M.joint_gap_m, ST.max)
 
     def diverged(s, config, sc):
         return " (diverged)" if s.diverged(sc, config, s.table_dt()) else ""
@@ -63,8 +63,8 @@ def series_finding(c):
     for config in [k for k in s.configs if k[0] == RULES_ENGINE]:
         ratios = []
         for sc in s.scenarios:
-            a = s.get(sc, config, coarse, M.pose_err_m, "reseeded_mean", TRUTH)
-            b = s.get(sc, config, fine, M.pose_err_m, "reseeded_mean", TRUTH)
+            a = s.get(sc, config, coarse, M.pose_err_m, ST.reseeded_mean, TRUTH)
+            b = s.get(sc, config, fine, M.pose_err_m, ST.reseeded_mean, TRUTH)
             diverged = any(s.diverged(sc, config, d) for d in s.dts)
             ratios.append(f"{a / b:.1f}x in {sc}" + (" (diverged)" if diverged else ""))
         parts.append(f"{config[1]}'s by {', '.join(ratios)}")
@@ -77,7 +77,7 @@ def series_table(c):
     rows = []
     for config in [k for k in s.configs if k[0] == RULES_ENGINE]:
         for sc in s.scenarios:
-            errors = [s.get(sc, config, dt, M.pose_err_m, "reseeded_mean", TRUTH)
+            errors = [s.get(sc, config, dt, M.pose_err_m, ST.reseeded_mean, TRUTH)
                       for dt in reversed(s.dts)]
             cells = [fmt(e) + (" †" if s.diverged(sc, config, dt) else "")
                      for e, dt in zip(errors, reversed(s.dts))]
@@ -100,7 +100,7 @@ def solvers_table(c, other):
         for sc in scenarios:
             for s in (a, b):
                 cell = ablation_cell(s, sc, config)
-                pin = s.get(sc, config, s.table_dt(), M.pin_gap_m, "rms")
+                pin = s.get(sc, config, s.table_dt(), M.pin_gap_m, ST.rms)
                 row.append(f"{cell}, pin {fmt(pin)}")
         rows.append(row)
     return [f"`{c['name']}`, the {c['label']}, against `{other['name']}`, the "

@@ -2,7 +2,8 @@
 and against dt."""
 import math
 
-from ..catalogue import M, PAIRWISE, PAIRWISE_CONFIG, PAIRWISE_SOLVER, SECOND_TRUTH, TRUTH, TRUTHS
+from ..catalogue import (M, PAIRWISE, PAIRWISE_CONFIG, PAIRWISE_SOLVER, SECOND_TRUTH, ST, TRUTH,
+                         TRUTHS)
 from ..common import dt_text, fmt, geometric_mean, label, md_table
 
 
@@ -16,7 +17,7 @@ def lines(r):
     out = []
 
     def accuracy_cell(sc, config, d, metric=M.pose_err_m, reference=TRUTH):
-        v = s.get(sc, config, d, metric, "reseeded_mean", reference)
+        v = s.get(sc, config, d, metric, ST.reseeded_mean, reference)
         if math.isnan(v):
             return "div" if s.diverged(sc, config, d) else "–"
         cell = fmt(v)
@@ -24,7 +25,7 @@ def lines(r):
             limit = s.truth_limit(sc, reference)
             if v < limit:
                 cell = f"≤ {fmt(limit)}"
-        seeds = s.get(sc, config, d, M.reseeded_diverged, "count", reference)
+        seeds = s.get(sc, config, d, M.reseeded_diverged, ST.count, reference)
         if seeds > 0:
             cell += f" ({int(seeds)}/8 div)"
         if s.diverged(sc, config, d):
@@ -48,7 +49,7 @@ def lines(r):
                          [[sc] + [accuracy_cell(sc, c, dt, reference=SECOND_TRUTH)
                                   for c in s.configs] for sc in s.scenarios]), ""]
     pair_configs = [c for c in s.configs if c != PAIRWISE_CONFIG]
-    if any(not math.isnan(s.get(sc, c, dt, M.pose_err_m, "reseeded_mean", PAIRWISE))
+    if any(not math.isnan(s.get(sc, c, dt, M.pose_err_m, ST.reseeded_mean, PAIRWISE))
            for sc in s.scenarios for c in pair_configs):
         out += [f"Pairwise: re-seeded pose error against {PAIRWISE_SOLVER} at the same dt (m):",
                 "",
@@ -61,7 +62,7 @@ def lines(r):
     for c in s.configs:
         row = [label(c)]
         for d in s.dts:
-            row.append(fmt(geometric_mean([s.get(sc, c, d, M.pose_err_m, "reseeded_mean",
+            row.append(fmt(geometric_mean([s.get(sc, c, d, M.pose_err_m, ST.reseeded_mean,
                                                  TRUTH) for sc in s.scenarios])))
         rows.append(row)
     out += [md_table(["solver"] + [dt_text(d) for d in s.dts], rows), ""]

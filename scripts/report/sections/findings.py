@@ -3,7 +3,7 @@ import math
 
 from ..catalogue import FRONTIER_CSV as F
 from ..catalogue import ROBUSTNESS_CSV as R
-from ..catalogue import CONFIGS, FRONTIER_SCENARIO, M, PAIRWISE_CONFIG, RULES_ENGINE, TRUTH
+from ..catalogue import CONFIGS, FRONTIER_SCENARIO, M, PAIRWISE_CONFIG, RULES_ENGINE, ST, TRUTH
 from ..common import dt_text, fmt, geometric_mean, label, ordered
 from ..readers import read_robustness
 
@@ -13,13 +13,13 @@ def findings(s, frontier, dt, robustness=None):
     multibody = PAIRWISE_CONFIG
     rules = [c for c in s.configs if c[0] == RULES_ENGINE]
     finished = [sc for sc in s.scenarios
-                if all(not math.isnan(s.get(sc, c, dt, M.pose_err_m, "reseeded_mean", TRUTH))
+                if all(not math.isnan(s.get(sc, c, dt, M.pose_err_m, ST.reseeded_mean, TRUTH))
                        for c in rules + [multibody] if c in s.configs)]
     if rules and finished:
-        score = {c: geometric_mean([s.get(sc, c, dt, M.pose_err_m, "reseeded_mean", TRUTH)
+        score = {c: geometric_mean([s.get(sc, c, dt, M.pose_err_m, ST.reseeded_mean, TRUTH)
                                     for sc in finished]) for c in rules}
         best = min(score, key=score.get)
-        ref = geometric_mean([s.get(sc, multibody, dt, M.pose_err_m, "reseeded_mean", TRUTH)
+        ref = geometric_mean([s.get(sc, multibody, dt, M.pose_err_m, ST.reseeded_mean, TRUTH)
                               for sc in finished])
         text = (f"Of the procedural rules, **{best[1]}** tracks the truth best: a re-seeded pose "
                 f"error of {fmt(score[best])} m (geometric mean over {', '.join(finished)}) at "
@@ -31,7 +31,7 @@ def findings(s, frontier, dt, robustness=None):
         fine, coarse = s.dts[0], s.dts[-1]
 
         def mean_at(config, d):
-            return geometric_mean([s.get(sc, config, d, M.pose_err_m, "reseeded_mean", TRUTH)
+            return geometric_mean([s.get(sc, config, d, M.pose_err_m, ST.reseeded_mean, TRUTH)
                                    for sc in finished])
 
         if len(s.dts) > 1 and multibody in s.configs:
@@ -75,7 +75,7 @@ def findings(s, frontier, dt, robustness=None):
             found.append(f"Held by the hand ({FRONTIER_SCENARIO}), {name} stays ok up to "
                          f"{fmt(float(r[F.largest_ok]), 3)} Hz and diverges at "
                          f"{fmt(float(r[F.first_diverged]), 3)} Hz ({r[F.reason]}).")
-    speeds = {c: geometric_mean([s.get(sc, c, dt, M.step_us, "median") for sc in s.scenarios])
+    speeds = {c: geometric_mean([s.get(sc, c, dt, M.step_us, ST.median) for sc in s.scenarios])
               for c in s.configs}
     if multibody in speeds and not math.isnan(speeds[multibody]):
         parts = [f"{label(c)} {speeds[multibody] / v:.1f}x" for c, v in speeds.items()
@@ -88,7 +88,7 @@ def findings(s, frontier, dt, robustness=None):
 
 def widest_gap(s, config, dt):
     """(the widest joint gap of any scenario at dt, that scenario); NaN gaps count as none"""
-    return max(((s.get(sc, config, dt, M.joint_gap_m, "max"), sc) for sc in s.scenarios),
+    return max(((s.get(sc, config, dt, M.joint_gap_m, ST.max), sc) for sc in s.scenarios),
                key=lambda p: -1 if math.isnan(p[0]) else p[0])
 
 

@@ -2,7 +2,7 @@
 import math
 import os
 
-from ..catalogue import M, SECOND_TRUTH, TRUTH
+from ..catalogue import M, SECOND_TRUTH, ST, TRUTH
 from ..common import HUMANOID, dt_text, fmt, label, md_table
 from ..readers import Summary
 
@@ -20,11 +20,11 @@ def humanoid_section(folder):
         if (sc, c, dt) not in h.status:
             return "–"
         if h.diverged(sc, c, dt):
-            return f"div@{fmt(h.get(sc, c, dt, M.diverged_at_s, 'value'))}s"
-        parts = [fmt(h.get(sc, c, dt, M.pose_err_m, "reseeded_mean", TRUTH))]
+            return f"div@{fmt(h.get(sc, c, dt, M.diverged_at_s, ST.value))}s"
+        parts = [fmt(h.get(sc, c, dt, M.pose_err_m, ST.reseeded_mean, TRUTH))]
         if second:
-            parts.append(fmt(h.get(sc, c, dt, M.pose_err_m, "reseeded_mean", SECOND_TRUTH)))
-        return " / ".join(parts) + f", gap {fmt(h.get(sc, c, dt, M.joint_gap_m, 'max'))}"
+            parts.append(fmt(h.get(sc, c, dt, M.pose_err_m, ST.reseeded_mean, SECOND_TRUTH)))
+        return " / ".join(parts) + f", gap {fmt(h.get(sc, c, dt, M.joint_gap_m, ST.max))}"
 
     out = ["## The humanoid (`models/humanoid.xml`)", "",
            f"`{HUMANOID}/`: the scenarios on `{h.model}` (MJCF after MuJoCo's classic humanoid, "
@@ -39,7 +39,7 @@ def humanoid_section(folder):
                       "It shows the scenarios on a second model; the judging with error bars is "
                       "Pinocchio's.", ""]
     rows = [[sc, fmt(h.truth_bar(sc))] +
-            ([fmt(h.truth_bar(sc, SECOND_TRUTH)), fmt(h.truths_agreement(sc, "reseeded_mean"))]
+            ([fmt(h.truth_bar(sc, SECOND_TRUTH)), fmt(h.truths_agreement(sc, ST.reseeded_mean))]
              if second else []) for sc in h.scenarios]
     out += [f"The truths on the humanoid ({h.truth_text()}"
             + (f"; second {h.truth_text(SECOND_TRUTH)}" if second else "") + "): each one's "

@@ -1,6 +1,6 @@
 """The report's section `joint-gaps`: the largest joint gaps, and every diverged run."""
 
-from ..catalogue import M
+from ..catalogue import M, ST
 from ..common import dt_text, fmt, label, md_table
 
 
@@ -13,7 +13,7 @@ def lines(r):
     out = []
     # constraints and divergence
     def gap_cell(sc, c, d):
-        v = s.get(sc, c, d, M.joint_gap_m, "max")
+        v = s.get(sc, c, d, M.joint_gap_m, ST.max)
         return fmt(v) + (" †" if s.diverged(sc, c, d) else "")
 
     out += ["## Joint gaps and divergence", "",
@@ -26,7 +26,7 @@ def lines(r):
         for sc in s.scenarios:
             failed = [d for d in s.dts if s.diverged(sc, c, d)]
             if failed:
-                times = ", ".join(f"{dt_text(d)}@{fmt(s.get(sc, c, d, M.diverged_at_s, 'value'))}s"
+                times = ", ".join(f"{dt_text(d)}@{fmt(s.get(sc, c, d, M.diverged_at_s, ST.value))}s"
                                   for d in failed)
                 cells.append(f"{sc}: {times}")
         rows.append([label(c), "; ".join(cells) if cells else "none"])

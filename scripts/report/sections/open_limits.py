@@ -2,7 +2,7 @@
 import math
 import os
 
-from ..catalogue import M, SECOND_TRUTH, TRUTH, TRUTHS
+from ..catalogue import M, SECOND_TRUTH, ST, TRUTH, TRUTHS
 from ..common import OPEN_LIMITS, dt_text, fmt, label, md_table
 from ..readers import Summary
 
@@ -12,7 +12,7 @@ def open_limits_agreement(folder, scenario):
     path = os.path.join(folder, OPEN_LIMITS, "summary.csv")
     if not os.path.exists(path):
         return "–"
-    return fmt(Summary(path).truths_agreement(scenario, "reseeded_mean"))
+    return fmt(Summary(path).truths_agreement(scenario, ST.reseeded_mean))
 
 
 def open_limits_section(folder):
@@ -26,17 +26,17 @@ def open_limits_section(folder):
     dt = o.table_dt()
 
     def cell(sc, c):
-        a = o.get(sc, c, dt, M.pose_err_m, "reseeded_mean", TRUTH)
-        b = o.get(sc, c, dt, M.pose_err_m, "reseeded_mean", SECOND_TRUTH)
+        a = o.get(sc, c, dt, M.pose_err_m, ST.reseeded_mean, TRUTH)
+        b = o.get(sc, c, dt, M.pose_err_m, ST.reseeded_mean, SECOND_TRUTH)
         if math.isnan(a) and math.isnan(b):
             return "div" if o.diverged(sc, c, dt) else "–"
         return f"{fmt(a)} / {fmt(b)}" + (" †" if o.diverged(sc, c, dt) else "")
 
     pins = any(k[3] == M.pin_gap_m and k[5] in TRUTHS for k in o.values)
     rows = [[sc] + [fmt(o.truth_bar(sc)), fmt(o.truth_bar(sc, SECOND_TRUTH)),
-                    fmt(o.truths_agreement(sc, "reseeded_mean"))] +
+                    fmt(o.truths_agreement(sc, ST.reseeded_mean))] +
             ([fmt(o.truths_agreement(sc, stat, against, M.pin_gap_m))
-              for against in (SECOND_TRUTH, TRUTH) for stat in ("max", "rms")]
+              for against in (SECOND_TRUTH, TRUTH) for stat in (ST.max, ST.rms)]
              if pins else []) for sc in o.scenarios]
     return ["## Both truths, limits opened", "",
             f"`{OPEN_LIMITS}/`: `{o.model}` (every joint free), where the two engines "

@@ -1,6 +1,6 @@
 """The report's section `time-per-step`: µs per step, and the speed over the pairwise solver."""
 
-from ..catalogue import M, PAIRWISE_CONFIG
+from ..catalogue import M, PAIRWISE_CONFIG, ST
 from ..common import dt_text, fmt, label, md_table
 
 
@@ -17,8 +17,8 @@ def lines(r):
     for c in s.configs:
         row = [label(c)]
         for sc in s.scenarios:
-            us = s.get(sc, c, dt, M.step_us, "median")
-            ref = s.get(sc, multibody, dt, M.step_us, "median")
+            us = s.get(sc, c, dt, M.step_us, ST.median)
+            ref = s.get(sc, multibody, dt, M.step_us, ST.median)
             ratio = ""
             if c != multibody and us > 0 and ref > 0:
                 # whole times from 10x, one decimal below (a solver slower than the reference

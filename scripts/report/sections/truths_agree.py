@@ -1,6 +1,6 @@
 """The report's section `truths-agree`: the two truths against each other."""
 
-from ..catalogue import CONSTRAINTS, M, SECOND_TRUTH, TRUTHS
+from ..catalogue import CONSTRAINTS, M, SECOND_TRUTH, ST, TRUTHS, stat
 from ..common import OPEN_LIMITS, fmt, md_table
 from .open_limits import open_limits_agreement
 
@@ -19,15 +19,16 @@ def lines(r):
         rows = []
         for sc in s.scenarios:
             rows.append([sc] + [fmt(s.truths_agreement(sc, stat)) for stat in
-                                ("at_0.267s", "at_1s", "mean_1s", "reseeded_mean")] +
-                        [fmt(s.truths_agreement(sc, "reseeded_mean", SECOND_TRUTH)),
-                         fmt(s.truths_agreement(sc, "reseeded_mean",
+                                (stat("at_0.267s"), stat("at_1s"), stat("mean_1s"),
+                                 ST.reseeded_mean)] +
+                        [fmt(s.truths_agreement(sc, ST.reseeded_mean, SECOND_TRUTH)),
+                         fmt(s.truths_agreement(sc, ST.reseeded_mean,
                                                 metric=M.joint_angle_err_deg)),
-                         fmt(s.truths_agreement(sc, "max", SECOND_TRUTH,
+                         fmt(s.truths_agreement(sc, ST.max, SECOND_TRUTH,
                                                 M.limit_violation_deg), 2),
-                         fmt(s.truths_agreement(sc, "max", metric=M.limit_violation_deg), 2)] +
-                        ([fmt(s.truths_agreement(sc, "max", SECOND_TRUTH, M.pin_gap_m)),
-                          fmt(s.truths_agreement(sc, "max", metric=M.pin_gap_m))]
+                         fmt(s.truths_agreement(sc, ST.max, metric=M.limit_violation_deg), 2)] +
+                        ([fmt(s.truths_agreement(sc, ST.max, SECOND_TRUTH, M.pin_gap_m)),
+                          fmt(s.truths_agreement(sc, ST.max, metric=M.pin_gap_m))]
                          if pin_rows else []) +
                         [open_limits_agreement(folder, sc)])
         out += ["## Where the truths agree", "",

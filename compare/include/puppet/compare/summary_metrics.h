@@ -43,12 +43,42 @@ inline constexpr MetricInfo kReseededDiverged{"reseeded_diverged", "1",
 inline constexpr MetricInfo kTruthDt{"truth_dt", "s", "the step of a truth's run"};
 }  // namespace metric
 
+// the stat column: which figure of a metric a row holds
+struct StatInfo {
+  std::string_view name;  // summary.csv's stat column
+  std::string_view meaning;
+};
+
+namespace stat {
+inline constexpr StatInfo kMax{"max", "the largest over the run"};
+inline constexpr StatInfo kRms{"rms", "the root mean square over the run"};
+inline constexpr StatInfo kFinal{"final", "at the run's last step"};
+inline constexpr StatInfo kMaxAbs{"max_abs", "the largest magnitude over the run"};
+inline constexpr StatInfo kLinearMax{"linear_max", "the linear part's largest over the run"};
+inline constexpr StatInfo kAngularMax{"angular_max", "the angular part's largest over the run"};
+inline constexpr StatInfo kValue{"value", "the one value of the run"};
+inline constexpr StatInfo kMedian{"median", "the median over the timed steps"};
+inline constexpr StatInfo kP95{"p95", "the 95th percentile over the timed steps"};
+inline constexpr StatInfo kCount{"count", "how many"};
+inline constexpr StatInfo kTruthStep{"h", "the truth's step h, for a row of its own runs"};
+inline constexpr StatInfo kAt267ms{"at_0.267s", "along the run, at 0.267 s"};
+inline constexpr StatInfo kAt500ms{"at_0.5s", "along the run, at 0.5 s"};
+inline constexpr StatInfo kAt1s{"at_1s", "along the run, at 1 s"};
+inline constexpr StatInfo kMean1s{"mean_1s", "along the run, the mean over its first second"};
+inline constexpr StatInfo kReseededMean{
+    "reseeded_mean", "the mean of the half-second runs re-seeded from the reference's states"};
+inline constexpr StatInfo kReseededMax{"reseeded_max",
+                                       "the largest of the re-seeded half-second runs"};
+}  // namespace stat
+
 // every metric, in the order the docs list them
 std::span<const MetricInfo> summary_metrics();
+// every stat
+std::span<const StatInfo> summary_stats();
 // a stage's time metric's name ("adjust_us")
 std::string stage_metric(std::string_view stage);
 // a summary row of the metric, in its unit
-SummaryRow summary_row(const MetricInfo& metric, std::string_view stat, double value,
+SummaryRow summary_row(const MetricInfo& metric, const StatInfo& stat, double value,
                        std::string_view reference = {});
 
 }  // namespace puppet::compare
