@@ -519,6 +519,9 @@ TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
   expect_bad("robustness --starts 1000000 --solver all --rule all" + o, "use more shards");
   expect_bad("robustness --seed -1" + o, "--seed");
   expect_bad("robustness --seed 0x10" + o, "--seed");
+  // a run's steps: the same check and words as run's
+  expect_bad("robustness --starts 1 --duration 3600 --dt 1e-5" + o, "--duration: 3600 s at dt");
+  expect_bad("robustness --starts 1 --duration 0.001 --dt 1/30" + o, "takes no step");
   expect_bad("robustness --scenario swim" + o, "--scenario");
   expect_bad("robustness --shard 0/2 --model \"$(printf '/tmp/caf\\303\\251.json')\"" + o,
              "printable ASCII");

@@ -18,6 +18,23 @@ namespace puppet::testbed {
 using compare::format_dt;
 using compare::parse_finite;
 
+void check_steps_per_run(double longest, const std::vector<double>& dts, bool duration_given) {
+  const double smallest_dt = *std::min_element(dts.begin(), dts.end());
+  const double largest_dt = *std::max_element(dts.begin(), dts.end());
+  const std::string flag = duration_given ? "--duration" : "--dt";
+  if (std::llround(longest / largest_dt) < 1) {
+    throw UsageError(flag + ": a run of " + format_dt(longest) + " s at dt " +
+                     format_dt(largest_dt) + " s takes no step");
+  }
+  const double steps = longest / smallest_dt;
+  if (steps > kMaxSteps) {
+    std::ostringstream message;
+    message << flag << ": " << format_dt(longest) << " s at dt " << format_dt(smallest_dt)
+            << " s is " << steps << " steps per run (at most " << kMaxSteps << ")";
+    throw UsageError(message.str());
+  }
+}
+
 void print_error(const char* prefix, const std::string& what) {
   std::cerr << one_line(prefix + what, kMessageLength) << '\n';
 }

@@ -30,6 +30,10 @@ void print_error(const char* prefix, const std::string& what);
 inline constexpr double kMinDt = 1e-5, kMaxDt = 0.1;
 // at most this many steps per run (the truths' too, at their finest dt)
 inline constexpr double kMaxSteps = 1e7;
+// that a run of `longest` seconds takes at least one step at the largest of `dts` and at most
+// kMaxSteps at the smallest; else a UsageError naming --duration when it was given
+// (`duration_given`), else --dt
+void check_steps_per_run(double longest, const std::vector<double>& dts, bool duration_given);
 
 // a number within [lo, hi] (the flag's stated range, docs in --help and docs/testbed.md)
 double parse_in(const std::string& flag, const std::string& text, double lo, double hi,

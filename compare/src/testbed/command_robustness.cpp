@@ -71,14 +71,7 @@ int robustness(const Flags& f) {
     const Scenario scenario = make_scenario(name, model, options);
     longest = std::max(longest, spec.duration >= 0.0 ? spec.duration : scenario.duration);
   }
-  const double smallest_dt = *std::min_element(spec.dts.begin(), spec.dts.end());
-  if (longest / smallest_dt > kMaxSteps) {
-    throw UsageError("--dt: " + format_dt(longest) + " s at dt " + format_dt(smallest_dt) +
-                     " s is more than 1e7 steps per run");
-  }
-  if (std::llround(longest / *std::max_element(spec.dts.begin(), spec.dts.end())) < 1) {
-    throw UsageError("--duration: a run takes no step");
-  }
+  check_steps_per_run(longest, spec.dts, spec.duration >= 0.0);
   spec.replay_flags = replay_flags(f);
   spec.code = current_git_sha();
   OutputFolder folder("--out", f.out,

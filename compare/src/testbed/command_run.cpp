@@ -34,20 +34,8 @@ void check_run_size(const SweepSpec& spec, const Model& model) {
   for (const Scenario& scenario : spec.scenarios) {
     longest = std::max(longest, spec.run.duration >= 0.0 ? spec.run.duration : scenario.duration);
   }
-  const double smallest_dt = *std::min_element(spec.dts.begin(), spec.dts.end());
-  const double largest_dt = *std::max_element(spec.dts.begin(), spec.dts.end());
-  const std::string flag = spec.run.duration >= 0.0 ? "--duration" : "--dt";
-  if (std::llround(longest / largest_dt) < 1) {
-    throw UsageError(flag + ": a run of " + format_dt(longest) + " s at dt " +
-                     format_dt(largest_dt) + " s takes no step");
-  }
-  const double steps = longest / smallest_dt;
-  if (steps > kMaxSteps) {
-    std::ostringstream message;
-    message << flag << ": " << format_dt(longest) << " s at dt " << format_dt(smallest_dt)
-            << " s is " << steps << " steps per run (at most " << kMaxSteps << ")";
-    throw UsageError(message.str());
-  }
+  check_steps_per_run(longest, spec.dts, spec.run.duration >= 0.0);
+  const double steps = longest / *std::min_element(spec.dts.begin(), spec.dts.end());
   const double truth_steps = longest * 15360.0;
   if (spec.accuracy && truth_steps > kMaxSteps) {
     std::ostringstream message;
