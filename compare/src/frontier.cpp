@@ -85,11 +85,11 @@ std::vector<FrontierRow> find_frontier(const FrontierSpec& spec) {
         const SolverConfig& config = spec.configs[i / 2];
         FrontierRow row;
         if (i % 2 == 0) {
-          row = bisect("hz", "Hz", spec.hz_low, spec.hz_high, spec.resolution,
+          row = bisect(kQuantityHz, "Hz", spec.hz_low, spec.hz_high, spec.resolution,
                        [&](double hz) { return run_yank(spec, config, hz, spec.hz_dt); });
           row.held = spec.hz_dt;
         } else {
-          row = bisect("dt", "s", spec.dt_low, spec.dt_high, spec.resolution,
+          row = bisect(kQuantityDt, "s", spec.dt_low, spec.dt_high, spec.resolution,
                        [&](double dt) { return run_yank(spec, config, spec.scenario.hz, dt); });
           row.held = spec.scenario.hz;
         }

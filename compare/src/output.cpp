@@ -71,7 +71,7 @@ std::string summary_csv(const std::vector<RunResult>& results, const OutputConte
   std::ostringstream out;
   out << kSummaryHeader << '\n';
   for (const RunResult& r : results) {
-    const char* status = r.diverged ? "diverged" : "ok";
+    const char* status = r.diverged ? kStatusDiverged : kStatusOk;
     for (const SummaryRow& row : r.summary) {
       out << csv_field(r.scenario) << ',' << csv_field(r.solver) << ',' << csv_field(r.rule) << ','
           << format_dt(r.dt) << ',' << r.substeps << ',' << csv_field(row.metric) << ','

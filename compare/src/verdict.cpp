@@ -367,8 +367,8 @@ VerdictResult run_verdict(const VerdictSpec& spec) {
           for (size_t j = 0; j < jobs.size(); ++j) {
             if (jobs[j].scenario == s && jobs[j].solver == k) mine.push_back(j);
           }
-          for (const char* view : {"second", "frame"}) {
-            const bool frame = view[0] == 'f';
+          for (const char* view : {kViewSecond, kViewFrame}) {
+            const bool frame = std::string_view(view) == kViewFrame;
             std::vector<size_t> in_view;
             for (size_t j : mine) {
               if (!frame || steps_per_frame(jobs[j].dt, spec.frame_hz) > 0) in_view.push_back(j);
@@ -383,7 +383,7 @@ VerdictResult run_verdict(const VerdictSpec& spec) {
               row.truth_floor_m = out.floors[s].floor;
               const std::string problem = budget_problem(budget, row.truth_floor_m);
               if (!problem.empty()) {
-                row.verdict = "refused";
+                row.verdict = kRefused;
                 row.why = problem;
                 rows[p].push_back(row);
                 continue;
@@ -527,9 +527,9 @@ std::vector<TruthFloor> floors_from_summary(const std::string& text, const std::
 namespace {
 
 const char* status_of(const Candidate& c) {
-  if (c.diverged) return "diverged";
-  if (std::isnan(c.cost_us_per_s)) return "not-timed";
-  return "ok";
+  if (c.diverged) return kCandidateDiverged;
+  if (std::isnan(c.cost_us_per_s)) return kCandidateNotTimed;
+  return kCandidateOk;
 }
 
 }  // namespace
@@ -558,7 +558,7 @@ std::string verdict_csv(const VerdictResult& result, const VerdictSpec& spec,
   out << kVerdictHeader << '\n';
   for (const VerdictRow& r : result.rows) {
     const Candidate* c = r.chosen >= 0 ? &result.candidates[r.chosen] : nullptr;
-    const bool frame = r.view == "frame";
+    const bool frame = r.view == kViewFrame;
     FrameCost cost;
     if (c) cost = at_frame_rate(c->cost_us_per_s, spec.frame_hz);
     out << csv_field(r.scenario) << ',' << csv_field(r.solver) << ',' << csv_field(r.rule) << ','

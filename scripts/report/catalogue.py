@@ -110,6 +110,27 @@ class Columns:
         return name
 
 
+# the values a column may hold, by file and column (VALUES["verdict.csv"]["view"])
+VALUES = _CATALOGUE["values"]
+
+
+def value(table, column, name):
+    """a column's value, checked against the catalogue's vocabulary for it"""
+    if name not in VALUES.get(table, {}).get(column, []):
+        raise KeyError(f"{name!r} is not a value of {table}'s {column} in the testbed's "
+                       f"catalogue ({PATH})")
+    return name
+
+
+DIVERGED = value("summary.csv", "status", "diverged")
+CANDIDATE_OK = value("candidates.csv", "status", "ok")
+MET = value("verdict.csv", "verdict", "met")
+ERROR_FLOOR = value("verdict.csv", "verdict", "error-floor")
+PER_SECOND = value("verdict.csv", "view", "second")
+PER_FRAME = value("verdict.csv", "view", "frame")
+HZ = value("frontier.csv", "quantity", "hz")
+DT = value("frontier.csv", "quantity", "dt")
+
 SUMMARY_CSV = Columns("summary.csv")
 FRONTIER_CSV = Columns("frontier.csv")
 CANDIDATES_CSV = Columns("candidates.csv")

@@ -88,8 +88,6 @@ def ordered(names, known):
     return [n for n in known if n in names] + sorted(n for n in names if n not in known)
 
 
-WHY = {"diverges": "diverges", "error-floor": "error floor", "not-robust": "not robust",
-       "not-measured": "not measured", "refused": "refused"}
 
 
 def budget_name(budget):

@@ -9,8 +9,8 @@ from .catalogue import CANDIDATES_CSV as C
 from .catalogue import FRONTIER_CSV as F
 from .catalogue import ROBUSTNESS_CSV as R
 from .catalogue import VERDICT_CSV as V
-from .catalogue import (CONFIGS, FRONTIER_SCENARIO, M, RULES_ENGINE, SCENARIOS, ST, STAGES, TRUTH,
-                        stage_metric, style)
+from .catalogue import (CANDIDATE_OK, CONFIGS, DT, FRONTIER_SCENARIO, HZ, MET, PER_SECOND, M,
+                        RULES_ENGINE, SCENARIOS, ST, STAGES, TRUTH, stage_metric, style)
 from .common import dt_text, fmt, label, ordered
 from .readers import read_trace
 
@@ -162,14 +162,14 @@ def plot_frontier(rows, out):
     if not rows:
         return None
     fig, axes = plt.subplots(1, 2, figsize=(13, 0.5 * len(rows) / 2 + 2.0))
-    for ax, quantity in zip(axes, ["hz", "dt"]):
+    for ax, quantity in zip(axes, [HZ, DT]):
         chosen = [r for r in rows if r[F.quantity] == quantity]
         if not chosen:
             ax.set_visible(False)
             continue
         values = [float(r[k]) for r in chosen for k in ("largest_ok", "first_diverged") if r[k]]
         base, top = min(values) / 2, max(values) * 12
-        show = (lambda v: fmt(v, 3)) if quantity == "hz" else dt_text
+        show = (lambda v: fmt(v, 3)) if quantity == HZ else dt_text
         ys = list(range(len(chosen)))[::-1]
         for y, r in zip(ys, chosen):
             color = style((r[F.solver], r[F.rule]))[0]
@@ -189,7 +189,7 @@ def plot_frontier(rows, out):
         ax.set_xscale("log")
         ax.set_xlim(base, top)
         held = float(chosen[0][F.held])
-        if quantity == "hz":
+        if quantity == HZ:
             ax.set_xlabel("largest circle frequency that stays ok (Hz)")
             ax.set_title(f"{FRONTIER_SCENARIO}, 0.3 m circle, dt = {dt_text(held)} s")
         else:
@@ -251,7 +251,7 @@ def plot_verdict(v, out):
         floor = v.floor[scenario]
         for config in v.configs:
             mine = [c for c in v.candidates if c[C.scenario] == scenario and c["config"] == config
-                    and c[C.status] == "ok" and not math.isnan(c[C.error_m])]
+                    and c[C.status] == CANDIDATE_OK and not math.isnan(c[C.error_m])]
             if not mine:
                 continue
             mine.sort(key=lambda c: c[C.error_m])
@@ -263,8 +263,8 @@ def plot_verdict(v, out):
                 ys.append(cheapest)
             colour, marker = style(config)
             ax.step(xs, ys, where="post", color=colour, lw=1.1)
-            chosen = [v.row(scenario, config, "second", b) for b in v.budgets]
-            chosen = [r for r in chosen if r and r[V.verdict] == "met"]
+            chosen = [v.row(scenario, config, PER_SECOND, b) for b in v.budgets]
+            chosen = [r for r in chosen if r and r[V.verdict] == MET]
             ax.plot([r[V.budget_m] for r in chosen], [r[V.cost_us_per_s] for r in chosen],
                     ls="none", marker=marker, color=colour, ms=6)
         ax.axvspan(1e-6, floor, color="0.85", zorder=0)

@@ -3,8 +3,8 @@ import math
 import os
 
 from .catalogue import CANDIDATES_CSV as C
-from .catalogue import (CONFIGS, M, RULES_ENGINE, SCENARIOS, SECOND_TRUTH, ST, SUMMARY_HEADER,
-                        TABLES, TRUTH, TRUTHS, TRUTH_TEXT, trace_stem)
+from .catalogue import (CONFIGS, DIVERGED, M, MET, RULES_ENGINE, SCENARIOS, SECOND_TRUTH, ST,
+                        SUMMARY_HEADER, TABLES, TRUTH, TRUTHS, TRUTH_TEXT, VALUES, trace_stem)
 from .catalogue import ROBUSTNESS_CSV as R
 from .catalogue import SUMMARY_CSV as S
 from .catalogue import TRACE_CSV as T
@@ -41,6 +41,9 @@ class Summary:
                 key = (r[S.scenario], config, dt, r[S.metric], r[S.stat], r[S.reference])
                 self.values[key] = value
                 if r[S.reference] == "" and r[S.metric] == M.joint_gap_m:
+                    if r[S.status] not in VALUES["summary.csv"]["status"]:
+                        raise ReportError(f"{path}:{n}: status {r[S.status]!r} is not one of the "
+                                          "testbed's catalogue")
                     self.status[(r[S.scenario], config, dt)] = r[S.status]
                     self.dts.add(dt)
                     if r[S.scenario] not in self.scenarios:
@@ -58,7 +61,7 @@ class Summary:
         return self.values.get((scenario, config, dt, metric, stat, reference), math.nan)
 
     def diverged(self, scenario, config, dt):
-        return self.status.get((scenario, config, dt)) == "diverged"
+        return self.status.get((scenario, config, dt)) == DIVERGED
 
     def table_dt(self):
         return min(self.dts, key=lambda dt: abs(math.log(dt / TABLE_DT)))
@@ -139,10 +142,16 @@ def read_table(path, table):
             raise ReportError(f"{path}: its columns are not {table}'s in the testbed's catalogue "
                               f"(expected {','.join(TABLES[table])})")
         rows = []
+        allowed = VALUES.get(table, {})
         for n, row in enumerate(reader, start=2):
             if len(row) != len(header):
                 raise ReportError(f"{path}:{n}: {len(row)} fields, expected {len(header)}")
-            rows.append(dict(zip(header, row)))
+            r = dict(zip(header, row))
+            for column, names in allowed.items():
+                if r[column] not in names:
+                    raise ReportError(f"{path}:{n}: {column} {r[column]!r} is not one of the "
+                                      f"testbed's catalogue ({', '.join(names)})")
+            rows.append(r)
         return rows
 
 
@@ -225,7 +234,7 @@ class Verdict:
         other solver), or None"""
         met = [self.row(scenario, c, view, budget) for c in self.configs
                if (c[0] == RULES_ENGINE) == procedural]
-        met = [r for r in met if r and r[V.verdict] == "met"]
+        met = [r for r in met if r and r[V.verdict] == MET]
         return min(met, key=lambda r: r[V.cost_us_per_s]) if met else None
 
     def cheapest_reference(self, scenario, view, budget):

@@ -89,4 +89,16 @@ set -e
 [[ "$message" == *"frontier.csv: its columns are not frontier.csv's"* ]] ||
   fail "plot.py on a renamed column said: $message"
 [ ! -e "$renamed/REPORT.md" ] || fail "plot.py wrote a report from a renamed column"
+# a value the catalogue does not list for its column (a verdict renamed in the testbed) is
+# refused by name too
+revalued="$out/revalued"
+mkdir -p "$revalued"
+cp -r "$out/main" "$out/verdict" "$revalued/"
+sed -i '2,$s/,met,/,chosen,/' "$revalued/verdict/verdict.csv"
+set +e
+message=$($plot "$revalued" 2>&1); status=$?
+set -e
+[ "$status" -eq 2 ] || fail "plot.py on a verdict outside the catalogue: status $status"
+[[ "$message" == *"verdict.csv:"*"verdict 'chosen' is not one of"* ]] ||
+  fail "plot.py on a verdict outside the catalogue said: $message"
 echo "report_test: ok"

@@ -100,6 +100,17 @@ int list_json() {
   }
   out["summary_header"] = kSummaryHeader;
   // every other CSV the commands write, by file name: its header
+  // the values a column may hold, by file and column
+  std::vector<std::string> verdicts;
+  for (const Verdict v : kAllVerdicts) {
+    verdicts.emplace_back(verdict_name(v));
+  }
+  verdicts.emplace_back(kRefused);
+  out["values"] = {
+      {"summary.csv", {{"status", {kStatusOk, kStatusDiverged}}}},
+      {"candidates.csv", {{"status", {kCandidateOk, kCandidateDiverged, kCandidateNotTimed}}}},
+      {"verdict.csv", {{"verdict", verdicts}, {"view", {kViewSecond, kViewFrame}}}},
+      {"frontier.csv", {{"quantity", {kQuantityHz, kQuantityDt}}}}};
   out["tables"] = {{"frontier.csv", kFrontierHeader},
                    {"candidates.csv", kCandidatesHeader},
                    {"verdict.csv", kVerdictHeader},

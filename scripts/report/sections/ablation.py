@@ -3,7 +3,7 @@ rules."""
 import os
 
 from ..catalogue import FRONTIER_CSV as F
-from ..catalogue import FRONTIER_SCENARIO, M, RULES_ENGINE, SCENARIOS, ST, TRUTH
+from ..catalogue import DT, FRONTIER_SCENARIO, HZ, M, RULES_ENGINE, SCENARIOS, ST, TRUTH
 from ..common import (ABLATION, COMPLIANT_FRONTIER, FRONTIER, dt_text, fmt, label, md_table,
                       ordered)
 from ..readers import read_ablation, read_frontier
@@ -119,14 +119,14 @@ def frontier_table(frontier, soft_frontier, names):
                 if not r[F.largest_ok]:
                     return "none"
                 value = float(r[F.largest_ok])
-                return fmt(value, 3) if quantity == "hz" else dt_text(value)
+                return fmt(value, 3) if quantity == HZ else dt_text(value)
         return "–"
     rows = []
     for r in soft_frontier:
-        if r[F.quantity] != "hz":
+        if r[F.quantity] != HZ:
             continue
         key = (r[F.solver], r[F.rule])
-        rows.append([label(key)] + [largest(f, *key, q) for q in ("hz", "dt")
+        rows.append([label(key)] + [largest(f, *key, q) for q in (HZ, DT)
                                     for f in (frontier, soft_frontier)])
     hard, soft = names
     return [f"The {FRONTIER_SCENARIO} frontier with the {hard} grab (`{FRONTIER}/frontier.csv`) "

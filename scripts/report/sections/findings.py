@@ -3,7 +3,8 @@ import math
 
 from ..catalogue import FRONTIER_CSV as F
 from ..catalogue import ROBUSTNESS_CSV as R
-from ..catalogue import CONFIGS, FRONTIER_SCENARIO, M, PAIRWISE_CONFIG, RULES_ENGINE, ST, TRUTH
+from ..catalogue import (CONFIGS, FRONTIER_SCENARIO, HZ, M, PAIRWISE_CONFIG, RULES_ENGINE, ST,
+                        TRUTH)
 from ..common import dt_text, fmt, geometric_mean, label, ordered
 from ..readers import read_robustness
 
@@ -60,7 +61,7 @@ def findings(s, frontier, dt, robustness=None):
         elif any((sc, c, d) in s.status for sc in s.scenarios for d in s.dts):
             found.append(f"{label(c)} stays bounded in every scenario at every dt.")
     for r in frontier:
-        if r[F.quantity] != "hz":
+        if r[F.quantity] != HZ:
             continue
         name = label((r[F.solver], r[F.rule]))
         if not r[F.largest_ok]:

@@ -1,7 +1,7 @@
 """The report's section `frontier`: the stability frontier of its scenario (yank)."""
 
 from ..catalogue import FRONTIER_CSV as F
-from ..catalogue import FRONTIER_SCENARIO
+from ..catalogue import DT, FRONTIER_SCENARIO, HZ
 from ..common import dt_text, fmt, label, md_table
 
 
@@ -15,7 +15,7 @@ def lines(r):
         rows = []
         for r in frontier:
             quantity = r[F.quantity]
-            show = (lambda v: fmt(float(v), 3)) if quantity == "hz" else (
+            show = (lambda v: fmt(float(v), 3)) if quantity == HZ else (
                 lambda v: dt_text(float(v)))
             ok = show(r[F.largest_ok]) if r[F.largest_ok] else "none"
             bad = show(r[F.first_diverged]) if r[F.first_diverged] else "none in range"
@@ -26,8 +26,8 @@ def lines(r):
         held = {r[F.quantity]: float(r[F.held]) for r in frontier}
         out += [f"## Stability frontier ({FRONTIER_SCENARIO}, no air drag)", "",
                 "The largest circle frequency (0.3 m circle, at dt = "
-                f"{dt_text(held.get('hz', 1 / 240))} s) and the largest dt (at "
-                f"{fmt(held.get('dt', 0.5), 3)} Hz) at which a puppet held only by its hand stays "
+                f"{dt_text(held.get(HZ, 1 / 240))} s) and the largest dt (at "
+                f"{fmt(held.get(DT, 0.5), 3)} Hz) at which a puppet held only by its hand stays "
                 "`ok`, bisected to 5 %. The pin gap says whether the hand was really followed.",
                 "",
                 md_table(["solver", "search", "largest ok", "first diverged", "why",

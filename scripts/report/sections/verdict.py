@@ -2,8 +2,9 @@
 
 from ..catalogue import CANDIDATES_CSV as C
 from ..catalogue import VERDICT_CSV as V
-from ..catalogue import HEADLINE, RULES_ENGINE, setting_label
-from ..common import (HEADLINE_BUDGET, VERDICT, WHY, budget_name, dt_text, fmt, label, md_table,
+from ..catalogue import (ERROR_FLOOR, HEADLINE, MET, PER_FRAME, PER_SECOND, RULES_ENGINE,
+                        setting_label)
+from ..common import (HEADLINE_BUDGET, VERDICT, budget_name, dt_text, fmt, label, md_table,
                       wilson_upper)
 from ..readers import Verdict, read_verdict
 
@@ -27,8 +28,8 @@ def frame_puppets(v, budget, scenario=HEADLINE):
     """(configuration, puppets one core keeps at the frame rate) of those met in the scenario"""
     out = []
     for c in v.configs:
-        r = v.row(scenario, c, "frame", budget)
-        if r and r[V.verdict] == "met":
+        r = v.row(scenario, c, PER_FRAME, budget)
+        if r and r[V.verdict] == MET:
             out.append((c, r[V.puppets_per_core]))
     return out
 
@@ -37,12 +38,12 @@ def verdict_cell(v, scenario, config, view, budget, show_setting=False):
     r = v.row(scenario, config, view, budget)
     if r is None:
         return "–"
-    if r[V.verdict] != "met":
-        text = WHY.get(r[V.verdict], r[V.verdict])
-        if r[V.verdict] == "error-floor":
+    if r[V.verdict] != MET:
+        text = r[V.verdict].replace("-", " ")  # error-floor: error floor
+        if r[V.verdict] == ERROR_FLOOR:
             text += f" ({fmt(r[V.best_error_m])} m)"
         return text
-    cost = r[V.us_per_frame] if view == "frame" else r[V.cost_us_per_s]
+    cost = r[V.us_per_frame] if view == PER_FRAME else r[V.cost_us_per_s]
     text = f"{cost:,.0f}" if cost >= 100 else fmt(cost, 2)
     reference = v.cheapest_reference(scenario, view, budget)
     if reference and config[0] == RULES_ENGINE:
@@ -72,7 +73,7 @@ def refused_text(v, refused):
 def verdict_headline(folder, budget=HEADLINE_BUDGET):
     """the README's headline: µs per simulated second at one budget, per solver and scenario"""
     v = Verdict(folder)
-    table, refused = verdict_table(v, "second", budget)
+    table, refused = verdict_table(v, PER_SECOND, budget)
     return (f"CPU µs per simulated second to keep Pinocchio within {budget_name(budget)} of "
             f"the truth ({v.truth}) and never diverge in {v.starts} random starts, with the "
             f"cheapest configuration each solver has ({searched_summary(v)}); in brackets, how "
@@ -83,7 +84,7 @@ def verdict_headline(folder, budget=HEADLINE_BUDGET):
             + "\n".join(f"- {line}" for line in family_findings(v, budgets=[budget])) + "\n")
 
 
-def family_findings(v, view="second", budgets=None):
+def family_findings(v, view=PER_SECOND, budgets=None):
     """where the procedural family wins and loses, per budget"""
     out = []
     for budget in budgets or v.budgets:
@@ -143,11 +144,11 @@ def verdict_section(v):
             "cheapest reference, per simulated second):", ""]
     out += [f"- {line}" for line in family_findings(v)] + [""]
     for budget in v.budgets:
-        table, refused = verdict_table(v, "second", budget, show_setting=True)
+        table, refused = verdict_table(v, PER_SECOND, budget, show_setting=True)
         out += [f"### Within {budget_name(budget)}, any dt", "", table, "",
                 refused_text(v, refused), ""]
     for budget in v.budgets:
-        table, refused = verdict_table(v, "frame", budget, show_setting=True)
+        table, refused = verdict_table(v, PER_FRAME, budget, show_setting=True)
         hz = f"{v.frame_hz:g}"
         puppets = frame_puppets(v, budget)
         out += [f"### Within {budget_name(budget)} at {hz} Hz", "",

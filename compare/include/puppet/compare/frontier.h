@@ -15,6 +15,9 @@ namespace puppet::compare {
 
 // the scenario the frontier searches: a free puppet held by one hand whose circle it speeds up
 inline constexpr const char* kFrontierScenario = "yank";
+// frontier.csv's quantities: the circle frequency searched, or the step
+inline constexpr const char* kQuantityHz = "hz";
+inline constexpr const char* kQuantityDt = "dt";
 
 struct FrontierSpec {
   const Model* model = nullptr;

@@ -16,6 +16,9 @@ struct OutputContext {
   std::string machine;
 };
 
+// summary.csv's status of a run: finished, or diverged (docs/design.md, "status")
+inline constexpr const char* kStatusOk = "ok";
+inline constexpr const char* kStatusDiverged = "diverged";
 inline constexpr const char* kSummaryHeader =
     "scenario,solver,rule,dt,substeps,metric,stat,value,unit,model,reference,status,git_sha,"
     "machine";

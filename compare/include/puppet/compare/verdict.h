@@ -3,6 +3,7 @@
 // starts, its cost per simulated second, and why none does when none does (docs/verdict.md).
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -37,7 +38,18 @@ enum class Verdict {
   kNotRobust,    ///< some come within the budget, none with the robustness bar
   kNotMeasured,  ///< no configuration was both timed and judged
 };
+inline constexpr std::array kAllVerdicts = {Verdict::kMet, Verdict::kDiverges, Verdict::kErrorFloor,
+                                            Verdict::kNotRobust, Verdict::kNotMeasured};
 const char* verdict_name(Verdict verdict);
+/// verdict.csv's verdict of a row not judged: its budget is finer than the truth's floor
+inline constexpr const char* kRefused = "refused";
+/// verdict.csv's views: cost per simulated second at any dt, or per frame in whole steps
+inline constexpr const char* kViewSecond = "second";
+inline constexpr const char* kViewFrame = "frame";
+/// candidates.csv's status: ran and was timed, diverged, or ran but was not timed
+inline constexpr const char* kCandidateOk = "ok";
+inline constexpr const char* kCandidateDiverged = "diverged";
+inline constexpr const char* kCandidateNotTimed = "not-timed";
 
 struct Choice {
   Verdict verdict = Verdict::kNotMeasured;
@@ -115,7 +127,7 @@ struct VerdictSpec {
 /// one row of the verdict: a solver in a scenario at a budget, in one view
 struct VerdictRow {
   std::string scenario, solver, rule;
-  std::string view;  ///< "second" (any dt) or "frame" (a whole number of steps per frame)
+  std::string view;  ///< kViewSecond (any dt) or kViewFrame (a whole number of steps per frame)
   double budget_m = 0.0;
   std::string verdict;  ///< met, refused, diverges, error-floor, not-robust, not-measured
   std::string why;      ///< one line, empty when met
