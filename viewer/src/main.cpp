@@ -287,8 +287,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--dt", dt_text, "time step (s); fractions such as 1/240 are accepted")
       ->capture_default_str();
-  app.add_option("--substeps", config.options.substeps,
-                 "procedural substeps (default: the rule's, 8 for xpbd and tree, else 1)");
+  app.add_option("--substeps", config.options.substeps, compare::procedural_substeps_help());
   app.add_option("--start", config.start,
                  "SEED:INDEX: a random start of testbed robustness (its worst.csv lists them)");
   app.add_option("--grab-compliance", config.grab_compliance,

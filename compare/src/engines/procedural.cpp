@@ -113,21 +113,11 @@ std::string iterations_help() {
   return meanings + "; the others make one pass (default: the rule's: " + defaults + ")";
 }
 
-std::string substeps_help() {
-  std::string defaults;
-  for (const procedural::Rule rule : procedural::kAllRules) {
-    const procedural::RuleInfo info = procedural::rule_info(rule);
-    if (info.substeps == 1) continue;
-    defaults += std::string(info.name) + " " + std::to_string(info.substeps) + ", ";
-  }
-  return "procedural substeps per step (default: the rule's: " + defaults + "the others 1)";
-}
-
 void add_flags(CLI::App& command, SolverOptions& options) {
   command.add_option("--iterations", options.iterations, iterations_help())
       ->check(whole_number_check())
       ->check(CLI::Range(0, procedural::kMaxIterations));
-  command.add_option("--substeps", options.substeps, substeps_help())
+  command.add_option("--substeps", options.substeps, procedural_substeps_help())
       ->check(whole_number_check())
       ->check(CLI::Range(1, procedural::kMaxSubsteps));
   command.add_flag_callback(
@@ -160,6 +150,16 @@ void search(const SolverOptions& base, std::vector<Setting>& out) {
 }
 
 }  // namespace
+
+std::string procedural_substeps_help() {
+  std::string defaults;
+  for (const procedural::Rule rule : procedural::kAllRules) {
+    const procedural::RuleInfo info = procedural::rule_info(rule);
+    if (info.substeps == 1) continue;
+    defaults += std::string(info.name) + " " + std::to_string(info.substeps) + ", ";
+  }
+  return "procedural substeps per step (default: the rule's: " + defaults + "the others 1)";
+}
 
 procedural::Settings procedural_settings(const SolverOptions& options, const Scenario& scenario) {
   procedural::Settings settings = settings_without_scenario(options);

@@ -62,6 +62,9 @@ std::span<const Engine> engines();
 const Engine* find_engine(std::string_view name);
 // the names of the engines this build has
 const std::vector<std::string>& solver_names();
+// --substeps' help, from the rule catalogue: "procedural substeps per step (default: the rule's:
+// xpbd 8, tree 8, the others 1)" (the testbed's flag and the viewer's)
+std::string procedural_substeps_help();
 // the engine whose row runs the procedural rules, one configuration per rule
 inline constexpr std::string_view kProceduralEngine = "procedural";
 // whether the engine named runs once per procedural rule (its row's has_rules)
