@@ -68,8 +68,8 @@ def series_finding(c):
             diverged = any(s.diverged(sc, config, d) for d in s.dts)
             ratios.append(f"{a / b:.1f}x in {sc}" + (" (diverged)" if diverged else ""))
         parts.append(f"{config[1]}'s by {', '.join(ratios)}")
-    return (f"`{c['name']}`, {c['label']}: from dt = {dt_text(coarse)} to {dt_text(fine)} s the "
-            f"error shrinks {'; '.join(parts)} (first order would be {coarse / fine:.0f}x).")
+    return (f"`{c['name']}` (the table below): from dt = {dt_text(coarse)} to {dt_text(fine)} s "
+            f"the error shrinks {'; '.join(parts)} (first order would be {coarse / fine:.0f}x).")
 
 
 def series_table(c):
