@@ -162,7 +162,7 @@ std::vector<SummaryRow> accuracy_rows(Simulator& simulator, const Model& model,
   constexpr struct {
     const StatInfo& stat;
     int sample;
-  } kAt[] = {{stat::kAt267ms, 8}, {stat::kAt500ms, 15}, {stat::kAt1s, 30}};
+  } kAt[] = {{stats::kAt267ms, 8}, {stats::kAt500ms, 15}, {stats::kAt1s, 30}};
   for (const auto& at : kAt) {
     if (at.sample < samples)
       add(at.stat, errors.pose_m[at.sample], errors.joint_angle_deg[at.sample]);
@@ -174,12 +174,12 @@ std::vector<SummaryRow> accuracy_rows(Simulator& simulator, const Model& model,
       pose += errors.pose_m[k];
       angle += errors.joint_angle_deg[k];
     }
-    add(stat::kMean1s, pose / kFirstSecond, angle / kFirstSecond);
+    add(stats::kMean1s, pose / kFirstSecond, angle / kFirstSecond);
   }
 
   const ReseededError reseeded = reseeded_error(simulator, model, scenario, reference, dt);
   if (reseeded.seed_times.empty()) return rows;
-  add(stat::kReseededMean, reseeded.mean_pose_m, reseeded.mean_joint_angle_deg);
+  add(stats::kReseededMean, reseeded.mean_pose_m, reseeded.mean_joint_angle_deg);
   double worst_pose = -1.0, worst_angle = -1.0;
   int diverged = 0;
   for (size_t i = 0; i < reseeded.pose_m.size(); ++i) {
@@ -190,9 +190,9 @@ std::vector<SummaryRow> accuracy_rows(Simulator& simulator, const Model& model,
     worst_pose = std::max(worst_pose, reseeded.pose_m[i]);
     worst_angle = std::max(worst_angle, reseeded.joint_angle_deg[i]);
   }
-  if (worst_pose >= 0.0) add(stat::kReseededMax, worst_pose, worst_angle);
+  if (worst_pose >= 0.0) add(stats::kReseededMax, worst_pose, worst_angle);
   rows.push_back(
-      summary_row(metric::kReseededDiverged, stat::kCount, static_cast<double>(diverged), label));
+      summary_row(metric::kReseededDiverged, stats::kCount, static_cast<double>(diverged), label));
   return rows;
 }
 

@@ -28,7 +28,7 @@ Outcome run_yank(const FrontierSpec& spec, const SolverConfig& config, double hz
   auto simulator = make_simulator(config.solver, config.options);
   const RunResult result = run_scenario(*simulator, *spec.model, yank, run);
   return {!result.diverged, result.diverged_reason, result.diverged_at,
-          result.value(std::string(metric::kPinGap.name), std::string(stat::kMax.name))};
+          result.value(metric::kPinGap, stats::kMax)};
 }
 
 // bisection in log space for the largest x in [low, high] where ok(x), assuming one boundary

@@ -116,12 +116,9 @@ std::vector<RobustnessRow> run_robustness(const RobustnessSpec& spec) {
         r.diverged = result.diverged;
         r.reason = result.diverged_reason;
         r.diverged_at = result.diverged ? result.diverged_at : std::nan("");
-        r.peak_speed =
-            result.value(std::string(metric::kPeakSpeed.name), std::string(stat::kMax.name));
-        r.joint_gap_max =
-            result.value(std::string(metric::kJointGap.name), std::string(stat::kMax.name));
-        r.pin_gap_max =
-            result.value(std::string(metric::kPinGap.name), std::string(stat::kMax.name));
+        r.peak_speed = result.value(metric::kPeakSpeed, stats::kMax);
+        r.joint_gap_max = result.value(metric::kJointGap, stats::kMax);
+        r.pin_gap_max = result.value(metric::kPinGap, stats::kMax);
         r.steps = result.steps;
       },
       [&] {

@@ -44,23 +44,23 @@ void summarise(const Scenario& scenario, RunResult& result) {
   auto add = [&](const MetricInfo& metric, const StatInfo& stat, double value) {
     result.summary.push_back(summary_row(metric, stat, value));
   };
-  add(metric::kJointGap, stat::kMax, gap_max);
-  add(metric::kJointGap, stat::kRms, std::sqrt(gap_sum2 / n));
-  add(metric::kJointGap, stat::kFinal, trace.empty() ? 0.0 : trace.back().joint_gap_max);
+  add(metric::kJointGap, stats::kMax, gap_max);
+  add(metric::kJointGap, stats::kRms, std::sqrt(gap_sum2 / n));
+  add(metric::kJointGap, stats::kFinal, trace.empty() ? 0.0 : trace.back().joint_gap_max);
   if (!scenario.pins.empty()) {
-    add(metric::kPinGap, stat::kMax, pin_max);
-    add(metric::kPinGap, stat::kRms, std::sqrt(pin_sum2 / n));
+    add(metric::kPinGap, stats::kMax, pin_max);
+    add(metric::kPinGap, stats::kRms, std::sqrt(pin_sum2 / n));
   }
-  add(metric::kLimitViolation, stat::kMax, limit_max);
-  add(metric::kEnergyDrift, stat::kFinal, trace.empty() ? 0.0 : trace.back().energy_drift);
-  add(metric::kEnergyDrift, stat::kMaxAbs, energy_abs);
+  add(metric::kLimitViolation, stats::kMax, limit_max);
+  add(metric::kEnergyDrift, stats::kFinal, trace.empty() ? 0.0 : trace.back().energy_drift);
+  add(metric::kEnergyDrift, stats::kMaxAbs, energy_abs);
   if (scenario.conserves_momentum()) {
-    add(metric::kMomentumDrift, stat::kLinearMax, lin_max);
-    add(metric::kMomentumDrift, stat::kAngularMax, ang_max);
+    add(metric::kMomentumDrift, stats::kLinearMax, lin_max);
+    add(metric::kMomentumDrift, stats::kAngularMax, ang_max);
   }
-  if (scenario.environment.ground) add(metric::kPenetration, stat::kMax, pen_max);
-  add(metric::kPeakSpeed, stat::kMax, speed_max);
-  if (result.diverged) add(metric::kDivergedAt, stat::kValue, result.diverged_at);
+  if (scenario.environment.ground) add(metric::kPenetration, stats::kMax, pen_max);
+  add(metric::kPeakSpeed, stats::kMax, speed_max);
+  if (result.diverged) add(metric::kDivergedAt, stats::kValue, result.diverged_at);
 }
 
 }  // namespace
@@ -153,11 +153,11 @@ void time_scenario(Simulator& simulator, const Model& model, const Scenario& sce
   double total = 0.0;
   for (double s : step_seconds) total += s;
   result.summary.push_back(
-      summary_row(metric::kStepTime, stat::kMedian, 1e6 * percentile(step_seconds, 0.5)));
+      summary_row(metric::kStepTime, stats::kMedian, 1e6 * percentile(step_seconds, 0.5)));
   result.summary.push_back(
-      summary_row(metric::kStepTime, stat::kP95, 1e6 * percentile(step_seconds, 0.95)));
-  result.summary.push_back(
-      summary_row(metric::kRealtimeFactor, stat::kValue, step_seconds.size() * options.dt / total));
+      summary_row(metric::kStepTime, stats::kP95, 1e6 * percentile(step_seconds, 0.95)));
+  result.summary.push_back(summary_row(metric::kRealtimeFactor, stats::kValue,
+                                       step_seconds.size() * options.dt / total));
 
   // per stage, from its own pass (the stage clocks cost time of their own)
   const auto names = simulator.stage_names();
@@ -178,9 +178,9 @@ void time_scenario(Simulator& simulator, const Model& model, const Scenario& sce
     const std::string metric = stage_metric(names[s]);
     const std::string unit(metric::kStageTime.unit);
     result.summary.push_back(
-        {metric, std::string(stat::kMedian.name), 1e6 * percentile(stages[s], 0.5), unit, ""});
+        {metric, std::string(stats::kMedian.name), 1e6 * percentile(stages[s], 0.5), unit, ""});
     result.summary.push_back(
-        {metric, std::string(stat::kP95.name), 1e6 * percentile(stages[s], 0.95), unit, ""});
+        {metric, std::string(stats::kP95.name), 1e6 * percentile(stages[s], 0.95), unit, ""});
   }
 }
 

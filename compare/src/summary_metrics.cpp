@@ -16,10 +16,10 @@ std::span<const MetricInfo> summary_metrics() {
 
 std::span<const StatInfo> summary_stats() {
   static constexpr std::array kAll = {
-      stat::kMax,          stat::kRms,        stat::kFinal,   stat::kMaxAbs, stat::kLinearMax,
-      stat::kAngularMax,   stat::kValue,      stat::kMedian,  stat::kP95,    stat::kCount,
-      stat::kTruthStep,    stat::kAt267ms,    stat::kAt500ms, stat::kAt1s,   stat::kMean1s,
-      stat::kReseededMean, stat::kReseededMax};
+      stats::kMax,          stats::kRms,        stats::kFinal,   stats::kMaxAbs, stats::kLinearMax,
+      stats::kAngularMax,   stats::kValue,      stats::kMedian,  stats::kP95,    stats::kCount,
+      stats::kTruthStep,    stats::kAt267ms,    stats::kAt500ms, stats::kAt1s,   stats::kMean1s,
+      stats::kReseededMean, stats::kReseededMax};
   return kAll;
 }
 

@@ -56,6 +56,23 @@ std::string rule_of(const SolverConfig& config) {
                                   : std::string();
 }
 
+std::vector<SolverConfig> solver_configs(const std::vector<std::string>& solvers,
+                                         std::span<const procedural::Rule> rules,
+                                         const SolverOptions& options) {
+  std::vector<SolverConfig> out;
+  for (const std::string& solver : solvers) {
+    if (!has_rules(solver)) {
+      out.push_back({solver, options});
+      continue;
+    }
+    for (const procedural::Rule rule : rules) {
+      out.push_back({solver, options});
+      out.back().options.rule = rule;
+    }
+  }
+  return out;
+}
+
 const std::vector<double>& sweep_dts() {
   static const std::vector<double> dts{1.0 / 30, 1.0 / 60, 1.0 / 120, 1.0 / 240, 1.0 / 480};
   return dts;
@@ -197,7 +214,7 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
           r.dt = truth_list[0].dt;
           r.diverged = truth[i][0][0].diverged;
           r.summary.push_back(
-              summary_row(metric::kTruthDt, stat::kTruthStep, r.dt, truth_list[0].reference));
+              summary_row(metric::kTruthDt, stats::kTruthStep, r.dt, truth_list[0].reference));
           return;
         }
         if (i < check_jobs) {
@@ -220,14 +237,14 @@ std::vector<RunResult> run_sweep(const SweepSpec& spec) {
                                     truth[s][against][0], label.c_str());
           if (level == 2) return;
           // how far the truth itself leaves the model's limits and holds its pins
-          r.summary.push_back(summary_row(metric::kLimitViolation, stat::kMax,
+          r.summary.push_back(summary_row(metric::kLimitViolation, stats::kMax,
                                           max_limit_violation_deg(model, truth[s][t][level]),
                                           label));
           const PinGaps pin = trajectory_pin_gaps(spec.scenarios[s], truth[s][t][level]);
-          r.summary.push_back(summary_row(metric::kPinGap, stat::kMax, pin.max, label));
-          r.summary.push_back(summary_row(metric::kPinGap, stat::kRms, pin.rms, label));
+          r.summary.push_back(summary_row(metric::kPinGap, stats::kMax, pin.max, label));
+          r.summary.push_back(summary_row(metric::kPinGap, stats::kRms, pin.rms, label));
           if (own)
-            r.summary.push_back(summary_row(metric::kTruthDt, stat::kTruthStep, run.dt, label));
+            r.summary.push_back(summary_row(metric::kTruthDt, stats::kTruthStep, run.dt, label));
           return;
         }
         const size_t k = pairwise_runs[i - check_jobs];

@@ -492,7 +492,7 @@ std::vector<TruthFloor> floors_from_summary(const std::string& text, const std::
       }
       truth_dt = f[7];
     }
-    if (f[5] == metric::kPoseError.name && f[6] == stat::kReseededMean.name &&
+    if (f[5] == metric::kPoseError.name && f[6] == stats::kReseededMean.name &&
         f[10] == kTruthReference) {
       double value = NAN;
       if (!parse_finite(f[7], &value)) value = NAN;

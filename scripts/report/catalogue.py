@@ -71,43 +71,34 @@ def style(config):
     return STYLE.get(config, DEFAULT_STYLE)
 
 
-def metric(name):
-    """a metric's name, checked against the catalogue: a misspelt name fails here, not as a
-    silently empty table"""
-    if name not in METRICS:
-        raise KeyError(f"metric {name!r} is not in the testbed's catalogue ({PATH})")
-    return name
+class Names:
+    """names the catalogue lists, as attributes (M.pose_err_m) or called with one that is not an
+    identifier (ST("at_1s")), each checked when read: a misspelt or retired name fails here, not
+    as a silently empty table"""
 
-
-class _Metrics:
-    """the summary's metric names as attributes (M.pose_err_m), each checked against the
-    catalogue when read"""
+    def __init__(self, what, known):
+        self._what, self._known = what, known
 
     def __getattr__(self, name):
-        return metric(name)
+        if name.startswith("_"):  # not a name of the catalogue's (copy, pickle)
+            raise AttributeError(name)
+        return self(name)
+
+    def __call__(self, name):
+        if name not in self._known:
+            raise KeyError(f"{name!r} is not one of {self._what} in the testbed's catalogue "
+                           f"({PATH})")
+        return name
 
 
-M = _Metrics()
+M = Names("the summary's metrics", METRICS)  # the summary's metrics: M.pose_err_m
+ST = Names("the summary's stats", {s["name"] for s in _CATALOGUE["stats"]})  # ST.reseeded_mean
 
 
 def setting_label(config, flags):
     """a verdict's setting in a few words ("8 substeps"), as the catalogue labels it; flags the
     catalogue does not search for that configuration are shown as they are"""
     return dict(SEARCH.get(config, [])).get(flags, flags)
-
-
-class Columns:
-    """a CSV's columns as attributes (FRONTIER_CSV.largest_ok), each checked against the header
-    the catalogue gives for its file: a column the testbed no longer writes fails here"""
-
-    def __init__(self, table):
-        self.table, self.header = table, TABLES[table]
-
-    def __getattr__(self, name):
-        if name not in self.header:
-            raise KeyError(f"column {name!r} is not in {self.table} (the testbed's catalogue, "
-                           f"{PATH})")
-        return name
 
 
 # the values a column may hold, by file and column (VALUES["verdict.csv"]["view"])
@@ -131,39 +122,18 @@ PER_FRAME = value("verdict.csv", "view", "frame")
 HZ = value("frontier.csv", "quantity", "hz")
 DT = value("frontier.csv", "quantity", "dt")
 
-SUMMARY_CSV = Columns("summary.csv")
-FRONTIER_CSV = Columns("frontier.csv")
-CANDIDATES_CSV = Columns("candidates.csv")
-VERDICT_CSV = Columns("verdict.csv")
-ROBUSTNESS_CSV = Columns("robustness_summary.csv")
-TRACE_CSV = Columns("trace")
-
-
-STATS = {stat["name"]: stat for stat in _CATALOGUE["stats"]}
-
-
-def stat(name):
-    """a stat's name, checked against the catalogue (for those that are not identifiers:
-    stat("at_1s") as ST.at_1s)"""
-    if name not in STATS:
-        raise KeyError(f"stat {name!r} is not in the testbed's catalogue ({PATH})")
-    return name
-
-
-class _Stats:
-    """the summary's stat names as attributes (ST.reseeded_mean), each checked against the
-    catalogue when read"""
-
-    def __getattr__(self, name):
-        return stat(name)
-
-
-ST = _Stats()
+# a CSV's columns by file: FRONTIER_CSV.largest_ok
+SUMMARY_CSV = Names("summary.csv's columns", TABLES["summary.csv"])
+FRONTIER_CSV = Names("frontier.csv's columns", TABLES["frontier.csv"])
+CANDIDATES_CSV = Names("candidates.csv's columns", TABLES["candidates.csv"])
+VERDICT_CSV = Names("verdict.csv's columns", TABLES["verdict.csv"])
+ROBUSTNESS_CSV = Names("robustness_summary.csv's columns", TABLES["robustness_summary.csv"])
+TRACE_CSV = Names("a trace's columns", TABLES["trace"])
 
 
 def stage_metric(stage):
     """the summary's metric of a stage's time"""
-    return metric("{stage}_us").replace("{stage}", stage)
+    return M("{stage}_us").replace("{stage}", stage)
 
 
 _TRACE = _CATALOGUE["trace"]

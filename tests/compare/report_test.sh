@@ -62,43 +62,35 @@ grep -q "Not in the testbed's catalogue.*dropped.*bullet-rigid-2" "$odd/REPORT.m
 grep -q "| dropped | " "$odd/REPORT.md" || fail "REPORT.md dropped the scenario outside the catalogue"
 
 # bad input: one message, status 2, nothing written
+# refused FOLDER WHAT PATTERN [REPORT]: plot.py on FOLDER exits 2 with a message matching the glob
+# PATTERN; with REPORT, it wrote no REPORT.md either
+refused() {
+  local message status
+  set +e
+  message=$($plot "$1" 2>&1); status=$?
+  set -e
+  [ "$status" -eq 2 ] || fail "plot.py on $2: status $status"
+  # shellcheck disable=SC2053 # the pattern is a glob
+  [[ "$message" == $3 ]] || fail "plot.py on $2 said: $message"
+  [ -z "${4:-}" ] || [ ! -e "$1/REPORT.md" ] || fail "plot.py wrote a report from $2"
+}
 empty=$(mktemp -d "$out/empty.XXXX")
-set +e
-message=$($plot "$empty" 2>&1); status=$?
-set -e
-[ "$status" -eq 2 ] || fail "plot.py on an empty folder: status $status"
-[[ "$message" == *"summary.csv: not found"* ]] || fail "plot.py on an empty folder said: $message"
+refused "$empty" "an empty folder" "*summary.csv: not found*"
 mkdir "$empty/main"
 echo "scenario,solver" >"$empty/main/summary.csv"
-set +e
-message=$($plot "$empty" 2>&1); status=$?
-set -e
-[ "$status" -eq 2 ] || fail "plot.py on a malformed summary: status $status"
-[[ "$message" == *"unexpected header"* ]] || fail "plot.py on a malformed summary said: $message"
-[ ! -e "$empty/REPORT.md" ] || fail "plot.py wrote a report from a malformed summary"
+refused "$empty" "a malformed summary" "*unexpected header*" report
 # a CSV whose columns are not the catalogue's for its file (a column renamed in the testbed
 # without regenerating results/catalogue.json) is refused by name, and no report is written
 renamed="$out/renamed"
 mkdir -p "$renamed"
 cp -r "$out/main" "$out/frontier" "$renamed/"
 sed -i '1s/largest_ok/largest_stable/' "$renamed/frontier/frontier.csv"
-set +e
-message=$($plot "$renamed" 2>&1); status=$?
-set -e
-[ "$status" -eq 2 ] || fail "plot.py on a renamed column: status $status"
-[[ "$message" == *"frontier.csv: its columns are not frontier.csv's"* ]] ||
-  fail "plot.py on a renamed column said: $message"
-[ ! -e "$renamed/REPORT.md" ] || fail "plot.py wrote a report from a renamed column"
+refused "$renamed" "a renamed column" "*frontier.csv: its columns are not frontier.csv's*" report
 # a value the catalogue does not list for its column (a verdict renamed in the testbed) is
 # refused by name too
 revalued="$out/revalued"
 mkdir -p "$revalued"
 cp -r "$out/main" "$out/verdict" "$revalued/"
 sed -i '2,$s/,met,/,chosen,/' "$revalued/verdict/verdict.csv"
-set +e
-message=$($plot "$revalued" 2>&1); status=$?
-set -e
-[ "$status" -eq 2 ] || fail "plot.py on a verdict outside the catalogue: status $status"
-[[ "$message" == *"verdict.csv:"*"verdict 'chosen' is not one of"* ]] ||
-  fail "plot.py on a verdict outside the catalogue said: $message"
+refused "$revalued" "a verdict outside the catalogue" "*verdict.csv:*verdict 'chosen' is not one of*"
 echo "report_test: ok"

@@ -206,16 +206,10 @@ TEST(Verdict, TheCommittedCandidatesAreTheCataloguesSearch) {
     committed.insert({f[solver], f[rule], f[setting]});
   }
   std::set<Key> searched;
-  for (const std::string& name : solver_names()) {
-    for (const procedural::Rule r : procedural::kAllRules) {
-      SolverOptions base;
-      base.rule = r;
-      const std::string rule_name = has_rules(name) ? std::string(procedural::rule_name(r)) : "";
-      for (const Setting& s : settings_searched(name, base)) {
-        searched.insert({name, rule_name, s.flags});
-        EXPECT_EQ(s.flags.empty(), s.label.empty()) << name << " " << s.flags;
-      }
-      if (!has_rules(name)) break;
+  for (const SolverConfig& config : solver_configs(solver_names(), procedural::kAllRules)) {
+    for (const Setting& s : settings_searched(config.solver, config.options)) {
+      searched.insert({config.solver, rule_of(config), s.flags});
+      EXPECT_EQ(s.flags.empty(), s.label.empty()) << config.solver << " " << s.flags;
     }
   }
   EXPECT_EQ(committed, searched);

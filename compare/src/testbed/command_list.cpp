@@ -61,20 +61,13 @@ int list_json() {
   // what a verdict searches for each configuration besides dt: the flags candidates.csv names a
   // setting by, and the words tables show for it
   auto& search = out["verdict_search"] = nlohmann::ordered_json::array();
-  for (const Engine& engine : engines()) {
-    if (!engine.built) continue;
-    for (const procedural::Rule rule : procedural::kAllRules) {
-      SolverOptions base;
-      base.rule = rule;
-      nlohmann::ordered_json settings = nlohmann::ordered_json::array();
-      for (const Setting& s : settings_searched(engine.name, base)) {
-        settings.push_back({{"flags", s.flags}, {"label", s.label}});
-      }
-      search.push_back({{"solver", engine.name},
-                        {"rule", engine.has_rules ? procedural::rule_name(rule) : ""},
-                        {"settings", settings}});
-      if (!engine.has_rules) break;
+  for (const SolverConfig& config : solver_configs(solver_names(), procedural::kAllRules)) {
+    nlohmann::ordered_json settings = nlohmann::ordered_json::array();
+    for (const Setting& s : settings_searched(config.solver, config.options)) {
+      settings.push_back({{"flags", s.flags}, {"label", s.label}});
     }
+    search.push_back(
+        {{"solver", config.solver}, {"rule", rule_of(config)}, {"settings", settings}});
   }
   out["stages"] = procedural::kStageNames;
   // the references an accuracy row may name: the truths in the order a model gets them when

@@ -148,21 +148,12 @@ ScenarioOptions parse_scenario_options(const Flags& f) {
 std::vector<SolverConfig> parse_solver_configs(const Flags& f) {
   SolverOptions options = f.options;  // CLI11 checked the ranges
   options.tremble = !f.no_tremble;
-  const auto solvers = expand("--solver", f.solver, compare::solver_names());
-  const auto rules = expand("--rule", f.rule, all_rules());
-  std::vector<SolverConfig> configs;
-  for (const auto& solver : solvers) {
-    if (compare::find_engine(solver)->has_rules) {
-      for (const auto& rule : rules) {
-        SolverOptions o = options;
-        o.rule = *procedural::parse_rule(rule);  // expand() accepted only rule names
-        configs.push_back({solver, o});
-      }
-    } else {
-      configs.push_back({solver, options});
-    }
+  std::vector<procedural::Rule> rules;
+  for (const auto& rule : expand("--rule", f.rule, all_rules())) {
+    rules.push_back(*procedural::parse_rule(rule));  // expand() accepted only rule names
   }
-  return configs;
+  return compare::solver_configs(expand("--solver", f.solver, compare::solver_names()), rules,
+                                 options);
 }
 
 void apply_engine_verdicts(std::vector<SolverConfig>& configs, const Model& model, const Flags& f) {

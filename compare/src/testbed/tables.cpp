@@ -42,15 +42,15 @@ void print_run_table(const std::vector<RunResult>& results, double dt) {
       return std::string(cell);
     };
     const std::string status =
-        r.diverged ? "div@" + show(metric::kDivergedAt, stat::kValue, "%.2f") : std::string("ok");
+        r.diverged ? "div@" + show(metric::kDivergedAt, stats::kValue, "%.2f") : std::string("ok");
     std::printf("%-8s %-16s %-9s %-8s %11s %11s %11s %9s %9s %11s\n", r.scenario.c_str(),
                 r.solver.c_str(), r.rule.empty() ? "-" : r.rule.c_str(), status.c_str(),
-                show(metric::kJointGap, stat::kMax, "%.2e").c_str(),
-                show(metric::kPinGap, stat::kMax, "%.2e").c_str(),
-                show(metric::kEnergyDrift, stat::kFinal, "%+.2e").c_str(),
-                show(metric::kLimitViolation, stat::kMax, "%.1e").c_str(),
-                show(metric::kStepTime, stat::kMedian, "%.1f").c_str(),
-                show(metric::kPoseError, stat::kReseededMean, "%.2e", kTruthReference).c_str());
+                show(metric::kJointGap, stats::kMax, "%.2e").c_str(),
+                show(metric::kPinGap, stats::kMax, "%.2e").c_str(),
+                show(metric::kEnergyDrift, stats::kFinal, "%+.2e").c_str(),
+                show(metric::kLimitViolation, stats::kMax, "%.1e").c_str(),
+                show(metric::kStepTime, stats::kMedian, "%.1f").c_str(),
+                show(metric::kPoseError, stats::kReseededMean, "%.2e", kTruthReference).c_str());
   }
 }
 

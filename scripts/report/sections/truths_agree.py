@@ -1,6 +1,6 @@
 """The report's section `truths-agree`: the two truths against each other."""
 
-from ..catalogue import CONSTRAINTS, M, SECOND_TRUTH, ST, TRUTHS, stat
+from ..catalogue import CONSTRAINTS, M, SECOND_TRUTH, ST, TRUTHS
 from ..common import OPEN_LIMITS, fmt, md_table
 from .open_limits import open_limits_agreement
 
@@ -19,7 +19,7 @@ def lines(r):
         rows = []
         for sc in s.scenarios:
             rows.append([sc] + [fmt(s.truths_agreement(sc, stat)) for stat in
-                                (stat("at_0.267s"), stat("at_1s"), stat("mean_1s"),
+                                (ST("at_0.267s"), ST("at_1s"), ST("mean_1s"),
                                  ST.reseeded_mean)] +
                         [fmt(s.truths_agreement(sc, ST.reseeded_mean, SECOND_TRUTH)),
                          fmt(s.truths_agreement(sc, ST.reseeded_mean,

@@ -9,6 +9,7 @@
 #include "puppet/compare/metrics.h"
 #include "puppet/compare/scenario.h"
 #include "puppet/compare/simulator.h"
+#include "puppet/compare/summary_metrics.h"
 
 namespace puppet::compare {
 
@@ -42,6 +43,10 @@ struct RunResult {
 
   // the summary value of a metric/stat, NaN when absent
   double value(const std::string& metric, const std::string& stat) const;
+  // the same, named from the catalogues (summary_metrics.h)
+  double value(const MetricInfo& metric, const StatInfo& stat) const {
+    return value(std::string(metric.name), std::string(stat.name));
+  }
 };
 
 // the measured run, then (with options.timing) the timing pass

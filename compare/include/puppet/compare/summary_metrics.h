@@ -49,7 +49,7 @@ struct StatInfo {
   std::string_view meaning;
 };
 
-namespace stat {
+namespace stats {
 inline constexpr StatInfo kMax{"max", "the largest over the run"};
 inline constexpr StatInfo kRms{"rms", "the root mean square over the run"};
 inline constexpr StatInfo kFinal{"final", "at the run's last step"};
@@ -69,7 +69,7 @@ inline constexpr StatInfo kReseededMean{
     "reseeded_mean", "the mean of the half-second runs re-seeded from the reference's states"};
 inline constexpr StatInfo kReseededMax{"reseeded_max",
                                        "the largest of the re-seeded half-second runs"};
-}  // namespace stat
+}  // namespace stats
 
 // every metric, in the order the docs list them
 std::span<const MetricInfo> summary_metrics();

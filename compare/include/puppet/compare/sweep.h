@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,11 @@ struct SolverConfig {
 };
 // the rule column of a configuration's rows: its rule's name for procedural, else empty
 std::string rule_of(const SolverConfig& config);
+// the configurations of these solvers, in their order, all from `options`: an engine that runs
+// the rules (has_rules) once per rule of `rules`, each other engine once
+std::vector<SolverConfig> solver_configs(const std::vector<std::string>& solvers,
+                                         std::span<const procedural::Rule> rules,
+                                         const SolverOptions& options = {});
 
 struct SweepSpec {
   const Model* model = nullptr;
