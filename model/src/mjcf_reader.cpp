@@ -6,6 +6,8 @@
 // never dropped. User data written by write_mjcf gives back the exact rest values.
 #include <tinyxml2.h>
 
+#include <charconv>
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -62,6 +64,7 @@ constexpr Names kLightAttributes = {"name",    "class",   "directional", "castsh
 constexpr Names kMaterialAttributes = {"name",        "class",    "texture",  "texrepeat",
                                        "texuniform",  "emission", "specular", "shininess",
                                        "reflectance", "rgba"};
+constexpr Names kOrientationAttributes = {"quat", "axisangle", "xyaxes", "zaxis", "euler"};
 constexpr Names kSizeAttributes = {"njmax",       "nconmax",    "nstack",       "nuserdata",
                                    "nkey",        "nuser_body", "nuser_jnt",    "nuser_geom",
                                    "nuser_site",  "nuser_cam",  "nuser_tendon", "nuser_actuator",
@@ -100,23 +103,35 @@ std::pair<int, std::string> xml_shape_problem(const std::string& text) {
                                         text.begin() + static_cast<std::ptrdiff_t>(stop), '\n'));
     return stop;
   };
-  // "&#...;" at i: the character it names may not be a control character
+  // a reference at i ("&...;"): one of XML's five entities (no DOCTYPE declares others, and
+  // tinyxml2 would keep an unknown one as text), or a character reference to a character that
+  // is not a control character, however many zeros pad it
   auto reference_problem = [&](size_t i) -> std::string {
-    if (text.compare(i, 2, "&#") != 0) return {};
+    const size_t semicolon = text.find(';', i);
+    const std::string shown =
+        detail::printable(text.substr(i, semicolon == std::string::npos ? 12 : semicolon + 1 - i),
+                          detail::kMaxNameLength);
+    if (text.compare(i, 2, "&#") != 0) {
+      for (const char* entity : {"&amp;", "&lt;", "&gt;", "&quot;", "&apos;"}) {
+        if (text.compare(i, std::strlen(entity), entity) == 0) return {};
+      }
+      return "an entity reference XML does not define (" + shown + ")";
+    }
     const bool hex = i + 2 < n && (text[i + 2] == 'x' || text[i + 2] == 'X');
     unsigned long code = 0;
     size_t k = i + (hex ? 3 : 2);
-    for (int digits = 0; k < n && digits < 8 && std::isxdigit(static_cast<unsigned char>(text[k]));
-         ++k, ++digits) {
+    for (; k < n && std::isxdigit(static_cast<unsigned char>(text[k])); ++k) {
       const char c = static_cast<char>(std::tolower(static_cast<unsigned char>(text[k])));
       if (!hex && !std::isdigit(static_cast<unsigned char>(c))) break;
-      code = code * (hex ? 16 : 10) + static_cast<unsigned long>(c <= '9' ? c - '0' : c - 'a' + 10);
+      const unsigned long digit = static_cast<unsigned long>(c <= '9' ? c - '0' : c - 'a' + 10);
+      code = std::min(code * (hex ? 16 : 10) + digit, 0x110000UL);  // past Unicode: saturated
     }
     if (k < n && text[k] == ';' && (code < 0x20 || (code >= 0x7f && code <= 0x9f))) {
-      return "a character reference to a control character (" + text.substr(i, k + 1 - i) + ")";
+      return "a character reference to a control character (" + shown + ")";
     }
     return {};
   };
+  int depth = 0;  // elements open
   size_t i = 0;
   while (i < n) {
     const char c = text[i];
@@ -132,8 +147,11 @@ std::pair<int, std::string> xml_shape_problem(const std::string& text) {
       i = skip_to(i + 4, "-->");
     } else if (text.compare(i, 9, "<![CDATA[") == 0) {
       i = skip_to(i + 9, "]]>");
-    } else if (text.compare(i, 2, "<?") == 0 || text.compare(i, 2, "<!") == 0 ||
-               text.compare(i, 2, "</") == 0) {
+    } else if (text.compare(i, 2, "</") == 0) {
+      // tinyxml2 drops a closing tag that closes nothing
+      if (depth-- == 0) return {line, "a closing tag with no element open"};
+      i = skip_to(i + 1, ">");
+    } else if (text.compare(i, 2, "<?") == 0 || text.compare(i, 2, "<!") == 0) {
       i = skip_to(i + 1, ">");
     } else {
       // an element's start tag: its attributes are its '=' outside quoted values
@@ -177,6 +195,7 @@ std::pair<int, std::string> xml_shape_problem(const std::string& text) {
         }
         ++i;
       }
+      if (i < n && text[i - 1] != '/') ++depth;  // not an empty element ("<a/>")
     }
   }
   return {0, {}};
@@ -195,9 +214,8 @@ class Reader {
   explicit Reader(std::string source) : source_(std::move(source)) {}
 
   Model read(const std::string& text) {
-    if (const size_t nul = text.find('\0'); nul != std::string::npos) {
-      throw ModelError(source_ + ": a NUL byte at offset " + std::to_string(nul) +
-                       " (a model file is text)");
+    if (std::string problem = detail::text_problem(text); !problem.empty()) {
+      throw ModelError(source_ + ": " + problem);
     }
     if (const auto [line, problem] = xml_shape_problem(text); line > 0) {
       throw ModelError(source_ + ":" + std::to_string(line) + ": " + problem);
@@ -213,6 +231,7 @@ class Reader {
     }
     const XMLElement* root = doc.RootElement();
     if (root == nullptr) throw ModelError(source_ + ":1: malformed XML: no element");
+    check_outside_root(doc);
     if (std::string(root->Name()) != "mujoco") {
       throw ModelError(source_ + ":" + std::to_string(root->GetLineNum()) + ": <" +
                        one_line(root->Name()) + ">: the root element must be <mujoco>");
@@ -292,6 +311,23 @@ class Reader {
                      ">: " + detail::printable(problem, 200));
   }
 
+  // Outside its one root element an XML document holds only comments, whitespace and, first, a
+  // declaration. tinyxml2 also keeps text before the root, CDATA and a closing tag after it, a
+  // second byte-order mark and a DOCTYPE there; MuJoCo's reader takes some of those. None is
+  // MJCF, and a DOCTYPE's entities would be read unexpanded, so each is refused.
+  void check_outside_root(const tinyxml2::XMLDocument& doc) const {
+    for (const tinyxml2::XMLNode* node = doc.FirstChild(); node; node = node->NextSibling()) {
+      if (node->ToElement() || node->ToComment()) continue;
+      if (node->ToDeclaration() && node == doc.FirstChild()) continue;
+      std::string what = node->ToDeclaration() ? "a declaration after the first node"
+                         : node->ToUnknown()   ? "a DOCTYPE or other markup declaration"
+                         : node->ToText() && node->ToText()->CData() ? "CDATA"
+                                                                     : "text";
+      throw ModelError(source_ + ":" + std::to_string(node->GetLineNum()) +
+                       ": malformed XML: " + what + " outside the root element");
+    }
+  }
+
   // bounded, single-line text from the file for messages
   static std::string one_line(const std::string& text) {
     return detail::printable(text, detail::kMaxNameLength);
@@ -365,10 +401,21 @@ class Reader {
     while (true) {
       while (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r') ++p;
       if (*p == '\0') break;
-      char* end = nullptr;
-      const double x = std::strtod(p, &end);
-      if (end == p) fail(e, std::string("attribute \"") + key + "\" must be numbers");
-      if (!std::isfinite(x)) fail(e, std::string("attribute \"") + key + "\" must be finite");
+      // decimal numbers only, whatever the locale: from_chars reads no hex ("0x10"), and inf
+      // and nan are refused (a leading '+', which from_chars does not take, is skipped)
+      if (*p == '+') ++p;
+      double x = 0.0;
+      const char* stop = p + std::strlen(p);
+      const auto [end, error] = std::from_chars(p, stop, x);
+      const bool separated =
+          end == stop || *end == ' ' || *end == '\t' || *end == '\n' || *end == '\r';
+      if (error == std::errc::result_out_of_range || (error == std::errc() && !std::isfinite(x))) {
+        fail(e,
+             std::string("attribute \"") + key + "\" must be finite (and within a double's range)");
+      }
+      if (error != std::errc() || !separated) {
+        fail(e, std::string("attribute \"") + key + "\" must be numbers");
+      }
       out.push_back(x);
       p = end;
     }
@@ -395,52 +442,59 @@ class Reader {
 
   double angle(double x) const { return degrees_ ? x * kPi / 180.0 : x; }
 
-  // the element's orientation in its parent's frame: quat, axisangle, euler, xyaxes or zaxis
+  // The element's orientation in its parent's frame, as MuJoCo 2.2.2 compiles it
+  // (mjCAlternative::Set): where the element gives none of quat, axisangle, xyaxes, zaxis and
+  // euler, it takes its class's; the quat is the base, and each alternative that is set, in that
+  // order, replaces it. So a class's euler outranks an element's own quat, as in MuJoCo. One
+  // element (or one class's element) gives at most one of them.
   Quaterniond orientation(const XMLElement* e, const std::string& class_name) const {
-    int given = 0;
-    Quaterniond q = Quaterniond::Identity();
-    for (const char* key : {"quat", "axisangle", "euler", "xyaxes", "zaxis"}) {
-      if (!attribute(e, key)) continue;
-      ++given;
-      const std::string k = key;
-      if (k == "quat") {
-        const auto v = numbers(e, key, class_name, 4, {});
-        check_norm(e, "quat", Eigen::Vector4d(v[0], v[1], v[2], v[3]));
-        q = Quaterniond(v[0], v[1], v[2], v[3]);
-      } else if (k == "axisangle") {
-        const auto v = numbers(e, key, class_name, 4, {});
-        const Vector3d axis = unit(e, "axisangle's axis", Vector3d(v[0], v[1], v[2]));
-        q = Quaterniond(Eigen::AngleAxisd(angle(v[3]), axis));
-      } else if (k == "euler") {
-        const auto v = numbers(e, key, class_name, 3, {});
-        for (int i = 0; i < 3; ++i) {
-          const char axis_name = euler_sequence_[i];
-          const Vector3d axis = std::tolower(axis_name) == 'x'   ? Vector3d::UnitX()
-                                : std::tolower(axis_name) == 'y' ? Vector3d::UnitY()
-                                                                 : Vector3d::UnitZ();
-          const Quaterniond turn(Eigen::AngleAxisd(angle(v[i]), axis));
-          // lower case: about the rotating axes; upper case: about the fixed ones
-          q = std::islower(axis_name) ? Quaterniond(q * turn) : Quaterniond(turn * q);
-        }
-      } else if (k == "xyaxes") {
-        const auto v = numbers(e, key, class_name, 6, {});
-        const Vector3d x = unit(e, "xyaxes' x", Vector3d(v[0], v[1], v[2]));
-        Vector3d y(v[3], v[4], v[5]);
-        check_norm(e, "xyaxes' y", y);
-        y -= x * x.dot(y);
-        if (y.norm() < 1e-9) fail(e, "attribute \"xyaxes\": y is parallel to x");
-        y.normalize();
-        Matrix3d r;
-        r << x, y, x.cross(y);
-        q = Quaterniond(r);
-      } else {
-        const Vector3d z = unit(e, "zaxis", vector3(e, key, class_name, Vector3d::Zero()));
-        q = Quaterniond::FromTwoVectors(Vector3d::UnitZ(), z);
+    check_one_orientation(e);
+    const auto quat = numbers(e, "quat", class_name, 4, {1, 0, 0, 0});
+    check_norm(e, "quat", Eigen::Vector4d(quat[0], quat[1], quat[2], quat[3]));
+    Quaterniond q(quat[0], quat[1], quat[2], quat[3]);
+    if (value(e, "axisangle", class_name)) {
+      const auto v = numbers(e, "axisangle", class_name, 4, {});
+      const Vector3d axis = unit(e, "axisangle's axis", Vector3d(v[0], v[1], v[2]));
+      q = Quaterniond(Eigen::AngleAxisd(angle(v[3]), axis));
+    }
+    if (value(e, "xyaxes", class_name)) {
+      const auto v = numbers(e, "xyaxes", class_name, 6, {});
+      const Vector3d x = unit(e, "xyaxes' x", Vector3d(v[0], v[1], v[2]));
+      Vector3d y(v[3], v[4], v[5]);
+      check_norm(e, "xyaxes' y", y);
+      y -= x * x.dot(y);
+      if (y.norm() < 1e-9) fail(e, "attribute \"xyaxes\": y is parallel to x");
+      y.normalize();
+      Matrix3d r;
+      r << x, y, x.cross(y);
+      q = Quaterniond(r);
+    }
+    if (value(e, "zaxis", class_name)) {
+      const Vector3d z = unit(e, "zaxis", vector3(e, "zaxis", class_name, Vector3d::Zero()));
+      q = Quaterniond::FromTwoVectors(Vector3d::UnitZ(), z);
+    }
+    if (value(e, "euler", class_name)) {
+      const auto v = numbers(e, "euler", class_name, 3, {});
+      q = Quaterniond::Identity();
+      for (int i = 0; i < 3; ++i) {
+        const char axis_name = euler_sequence_[i];
+        const Vector3d axis = std::tolower(axis_name) == 'x'   ? Vector3d::UnitX()
+                              : std::tolower(axis_name) == 'y' ? Vector3d::UnitY()
+                                                               : Vector3d::UnitZ();
+        const Quaterniond turn(Eigen::AngleAxisd(angle(v[i]), axis));
+        // lower case: about the rotating axes; upper case: about the fixed ones
+        q = std::islower(axis_name) ? Quaterniond(q * turn) : Quaterniond(turn * q);
       }
     }
-    if (given > 1) fail(e, "gives its orientation more than once");
     const Eigen::Vector4d unit_coeffs = detail::normalized(Eigen::Vector4d(q.coeffs()));
     return Quaterniond(unit_coeffs[3], unit_coeffs[0], unit_coeffs[1], unit_coeffs[2]);
+  }
+
+  // at most one orientation on one element, a default class's among them (MuJoCo refuses more)
+  void check_one_orientation(const XMLElement* e) const {
+    int given = 0;
+    for (const char* key : kOrientationAttributes) given += e->Attribute(key) != nullptr;
+    if (given > 1) fail(e, "gives its orientation more than once");
   }
 
   void read_compiler(const XMLElement* e) {
@@ -523,6 +577,7 @@ class Reader {
       if (c->FirstChildElement()) fail(c->FirstChildElement(), "is not supported here");
       auto [kind, fresh] = classes_[index].own.try_emplace(tag);
       if (!fresh) fail(c, "a second <" + tag + "> in default class \"" + one_line(name) + "\"");
+      check_one_orientation(c);
       for (const tinyxml2::XMLAttribute* a = c->FirstAttribute(); a; a = a->Next()) {
         if (!among(a->Name(), *known) || std::strcmp(a->Name(), "name") == 0 ||
             std::strcmp(a->Name(), "class") == 0) {
@@ -661,7 +716,9 @@ class Reader {
     }
     Vector3d centre = vector3(geom, "pos", cls, {0, 0, 0});
     Quaterniond frame = orientation(geom, cls);
-    const auto fromto = attribute(geom, "fromto");
+    // a class's fromto too; it sets the centre, so MuJoCo refuses a pos beside it
+    const auto fromto = value(geom, "fromto", cls);
+    if (fromto && !centre.isZero()) fail(geom, "gives both pos and fromto");
     auto need = [&](size_t n) {
       if (size.size() < n) {
         fail(geom, "a " + type + " needs " + std::to_string(n) + " size numbers");
@@ -794,8 +851,9 @@ class Reader {
 
   // an element's user data when the file declares at least `size` numbers per element (size's
   // nuser_body, nuser_jnt) and the element gives them
-  std::optional<std::vector<double>> user_data(const XMLElement* e, int declared, int size) const {
-    const auto text = attribute(e, "user");
+  std::optional<std::vector<double>> user_data(const XMLElement* e, int declared, int size,
+                                               const std::string& class_name = "") const {
+    const auto text = value(e, "user", class_name);
     if (!text || declared < size) return std::nullopt;
     auto v = numbers(e, "user", *text);
     if (v.size() < static_cast<size_t>(size)) return std::nullopt;
@@ -846,7 +904,7 @@ class Reader {
       if (out.range.size() != 2) fail(e, "attribute \"range\" must have 2 numbers");
       out.range = {angle(out.range[0]), angle(out.range[1])};
     }
-    out.user = user_data(e, user_joint_, kJointUserSize);
+    out.user = user_data(e, user_joint_, kJointUserSize, cls);
     if (out.type == "hinge") {
       const Vector3d axis = vector3(e, "axis", cls, {0, 0, 1});
       check_norm(e, "axis", axis);

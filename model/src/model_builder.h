@@ -27,6 +27,9 @@ using puppet::printable;
 using puppet::shown;
 // what is wrong with a name (empty when nothing): 1 to 64 bytes of letters, digits, _ - . :
 std::string name_problem(std::string_view name);
+// what keeps a model file's bytes from being read as UTF-8 text (a UTF-16 or UTF-32 byte-order
+// mark, a NUL byte), or empty
+std::string text_problem(std::string_view text);
 // what is wrong with a segment, a joint, gravity (empty when nothing), by the limits above: the
 // triangle inequality of the moments of inertia, unit rotations and axes
 std::string shape_problem(const Shape& shape);

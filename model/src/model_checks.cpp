@@ -31,6 +31,23 @@ std::string printable(std::string_view text, size_t max_length) {
   return out;
 }
 
+namespace detail {
+
+std::string text_problem(std::string_view text) {
+  const auto starts = [&](std::string_view mark) { return text.substr(0, mark.size()) == mark; };
+  // UTF-32's marks begin as UTF-16's do: looked for first
+  if (starts(std::string_view("\xff\xfe\0\0", 4)) || starts(std::string_view("\0\0\xfe\xff", 4))) {
+    return "is UTF-32 (a model file is UTF-8 text)";
+  }
+  if (starts("\xff\xfe") || starts("\xfe\xff")) return "is UTF-16 (a model file is UTF-8 text)";
+  if (const size_t nul = text.find('\0'); nul != std::string_view::npos) {
+    return "a NUL byte at offset " + std::to_string(nul) + " (a model file is text)";
+  }
+  return {};
+}
+
+}  // namespace detail
+
 std::string one_line(std::string_view text, size_t max_length) {
   // a cut text ends in "...", within max_length
   const bool cut = text.size() > max_length;

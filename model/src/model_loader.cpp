@@ -520,9 +520,8 @@ int Model::find_segment(const std::string& segment_name) const {
 }
 
 Model parse_model(const std::string& json_text, const std::string& source) {
-  if (const size_t nul = json_text.find('\0'); nul != std::string::npos) {
-    throw ModelError(source + ": a NUL byte at offset " + std::to_string(nul) +
-                     " (a model file is text)");
+  if (std::string problem = detail::text_problem(json_text); !problem.empty()) {
+    throw ModelError(source + ": " + problem);
   }
   json document;
   try {

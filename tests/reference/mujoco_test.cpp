@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <numbers>
 #include <random>
 
@@ -256,13 +257,10 @@ TEST(Mujoco, CompliantPinSettlesAtTheStaticDeflection) {
   EXPECT_NEAR(test::compliant_sag_ratio(*solver, kCompliance, kDt), 1.0, 0.01);
 }
 
-// testbed export-mjcf's document, loaded by MuJoCo's own compiler: every body has the model's
-// mass and inertia, every limited joint its range, and the user data the exact rest values
-// models/humanoid.xml read by MuJoCo's own compiler and by parse_mjcf: the same masses,
-// principal moments, centres of mass at rest and joint ranges (an independent reading of its
-// fromto capsules, densities and degrees)
-TEST(ReadMjcf, MujocosCompilerReadsTheHumanoidAsWeDo) {
-  const std::string path = std::string(PUPPET_SOURCE_DIR) + "/models/humanoid.xml";
+// A file read by MuJoCo's own compiler and by parse_mjcf: the same total and body masses,
+// principal moments, centres of mass at rest, geom poses, joint anchors, axes and ranges
+void expect_read_as_mujoco(const std::string& path) {
+  SCOPED_TRACE(path);
   const Model model = load_model(path);
   char error[1000] = "";
   mjModel* m = mj_loadXML(path.c_str(), nullptr, error, sizeof error);
@@ -270,6 +268,7 @@ TEST(ReadMjcf, MujocosCompilerReadsTheHumanoidAsWeDo) {
   mjData* d = mj_makeData(m);
   mj_kinematics(m, d);
   EXPECT_EQ(m->nbody, model.segment_count() + 1);
+  EXPECT_NEAR(mj_getTotalmass(m), model.total_mass, 1e-12 * model.total_mass);
   for (const Segment& segment : model.segments) {
     SCOPED_TRACE(segment.name);
     const int b = mj_name2id(m, mjOBJ_BODY, segment.name.c_str());
@@ -282,6 +281,21 @@ TEST(ReadMjcf, MujocosCompilerReadsTheHumanoidAsWeDo) {
     for (int i = 0; i < 3; ++i) EXPECT_NEAR(theirs[i], ours[i], 1e-9 * ours[2]);
     const Vector3d com(d->xipos[3 * b], d->xipos[3 * b + 1], d->xipos[3 * b + 2]);
     EXPECT_LT((com - segment.rest_position).norm(), 1e-12);
+    // the segment's frame is its geom's (one per body)
+    ASSERT_EQ(m->body_geomnum[b], 1);
+    const int g = m->body_geomadr[b];
+    const Vector3d centre(d->geom_xpos[3 * g], d->geom_xpos[3 * g + 1], d->geom_xpos[3 * g + 2]);
+    EXPECT_LT((centre - segment.rest_position).norm(), 1e-12);
+    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> frame(d->geom_xmat +
+                                                                               9 * g);
+    const Eigen::Matrix3d ours_frame = segment.rest_orientation.toRotationMatrix();
+    if (segment.shape.type == ShapeType::kCapsule || segment.shape.type == ShapeType::kCylinder) {
+      // the same up to the shape's symmetry: the axis, up to its sign (a fromto's segment runs
+      // from its first point to its second, MuJoCo's geom back)
+      EXPECT_LT(1.0 - std::abs(frame.col(2).dot(ours_frame.col(2))), 1e-12);
+    } else {
+      EXPECT_LT((frame - ours_frame).cwiseAbs().maxCoeff(), 1e-12);
+    }
   }
   for (const Joint& joint : model.joints) {
     SCOPED_TRACE(joint.name);
@@ -298,7 +312,7 @@ TEST(ReadMjcf, MujocosCompilerReadsTheHumanoidAsWeDo) {
       EXPECT_NEAR(m->jnt_range[2 * j + 1], joint.upper, 1e-15);
       const Vector3d axis(d->xaxis[3 * j], d->xaxis[3 * j + 1], d->xaxis[3 * j + 2]);
       EXPECT_LT((axis - joint.frame_world * joint.hinge_axis).norm(), 1e-12);
-    } else {
+    } else if (m->jnt_limited[j]) {
       EXPECT_NEAR(m->jnt_range[2 * j + 1], joint.twist, 1e-15);
     }
   }
@@ -306,6 +320,28 @@ TEST(ReadMjcf, MujocosCompilerReadsTheHumanoidAsWeDo) {
   mj_deleteModel(m);
 }
 
+// models/humanoid.xml: an independent reading of its fromto capsules, densities and degrees
+TEST(ReadMjcf, MujocosCompilerReadsTheHumanoidAsWeDo) {
+  expect_read_as_mujoco(std::string(PUPPET_SOURCE_DIR) + "/models/humanoid.xml");
+}
+
+// What MuJoCo cascades through default classes and childclass, read through them as it reads
+// them: fromto, euler (with eulerseq), axisangle, xyaxes, zaxis and quat in classes and their
+// precedence, the joints' pos, axis and range (tests/data/mjcf_classes)
+TEST(ReadMjcf, MujocosCompilerReadsEveryClassCascadeAsWeDo) {
+  const std::filesystem::path folder =
+      std::filesystem::path(PUPPET_SOURCE_DIR) / "tests/data/mjcf_classes";
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    if (entry.path().extension() != ".xml") continue;
+    expect_read_as_mujoco(entry.path().string());
+    ++files;
+  }
+  EXPECT_GE(files, 4);
+}
+
+// testbed export-mjcf's document, loaded by MuJoCo's own compiler: every body has the model's
+// mass and inertia, every limited joint its range, and the user data the exact rest values
 TEST(ExportMjcf, MujocosCompilerLoadsIt) {
   for (const Model& model :
        {load_model(test::kPinocchioPath), make_chain(5), test::rods(2),
