@@ -73,17 +73,21 @@ std::string format(const char* pattern, double value) {
 
 std::vector<GateSpec> read_gate_specs(const std::string& path) {
   const json root = read_json(path);
+  const std::string file = printable(path, 256);
   if (!root.is_object() || !root.contains("gates") || !root["gates"].is_array()) {
-    throw GateError(path + ": expected an object with a \"gates\" array");
+    throw GateError(file + ": expected an object with a \"gates\" array");
   }
   std::vector<GateSpec> specs;
   for (size_t i = 0; i < root["gates"].size(); ++i) {
     const json& gate = root["gates"][i];
-    const std::string where = path + ": gates[" + std::to_string(i) + "]";
+    const std::string where = file + ": gates[" + std::to_string(i) + "]";
     if (!gate.is_object()) throw GateError(where + ": expected an object");
     GateSpec spec;
-    spec.name = gate.value("name", "");
-    if (spec.name.empty()) throw GateError(where + ": \"name\" is required");
+    if (!gate.contains("name") || !gate["name"].is_string() ||
+        gate["name"].get<std::string>().empty()) {
+      throw GateError(where + ": \"name\" (a string) is required");
+    }
+    spec.name = printable(gate["name"].get<std::string>(), 120);
     spec.numerator = required_string(gate, "numerator", where);
     spec.denominator = required_string(gate, "denominator", where);
     spec.numerator_per = optional_number(gate, "numerator_per", where).value_or(1.0);
@@ -127,37 +131,63 @@ std::vector<GateSpec> read_gate_specs(const std::string& path) {
 
 std::vector<BenchTime> read_bench_times(const std::string& path) {
   const json root = read_json(path);
+  const std::string file = printable(path, 256);
   if (!root.is_object() || !root.contains("benchmarks") || !root["benchmarks"].is_array()) {
-    throw GateError(path + ": not Google Benchmark JSON (no \"benchmarks\" array)");
+    throw GateError(file + ": not Google Benchmark JSON (no \"benchmarks\" array)");
   }
   std::vector<BenchTime> times;
-  for (const json& entry : root["benchmarks"]) {
-    if (entry.value("run_type", "") != "aggregate" || entry.value("aggregate_name", "") != "median")
-      continue;
-    if (entry.contains("error_occurred") && entry["error_occurred"].get<bool>()) continue;
+  const json& entries = root["benchmarks"];
+  for (size_t i = 0; i < entries.size(); ++i) {
+    const json& entry = entries[i];
+    const std::string where = file + ": benchmarks[" + std::to_string(i) + "]";
+    if (!entry.is_object()) throw GateError(where + ": expected an object");
+    // a field Google Benchmark writes as a string: absent reads as empty, any other type is
+    // not its JSON
+    auto text = [&](const char* key) -> std::string {
+      if (!entry.contains(key)) return {};
+      if (!entry[key].is_string()) throw GateError(where + ": \"" + key + "\" must be a string");
+      return entry[key].get<std::string>();
+    };
+    if (text("run_type") != "aggregate" || text("aggregate_name") != "median") continue;
+    if (entry.contains("error_occurred")) {
+      if (!entry["error_occurred"].is_boolean()) {
+        throw GateError(where + ": \"error_occurred\" must be true or false");
+      }
+      if (entry["error_occurred"].get<bool>()) continue;
+    }
     // "/manual_time" and "/real_time" say how a benchmark is timed, not what it is
-    std::string name = entry.value("run_name", "");
+    std::string name = text("run_name");
     for (const std::string suffix : {"/manual_time", "/real_time"}) {
       if (name.size() > suffix.size() && name.ends_with(suffix)) {
         name.resize(name.size() - suffix.size());
       }
     }
+    const std::string shown_name = printable(name, 120);
     if (!entry.contains("items_per_second") || !entry["items_per_second"].is_number()) {
-      throw GateError(path + ": " + name + " has no items_per_second");
+      throw GateError(file + ": " + shown_name + " has no items_per_second");
+    }
+    const double rate = entry["items_per_second"].get<double>();
+    if (!std::isfinite(rate) || rate <= 0.0) {
+      throw GateError(file + ": " + shown_name + " has items_per_second " + format("%g", rate) +
+                      " (a rate must be positive)");
     }
     BenchTime time;
     time.name = name;
-    time.seconds = 1.0 / entry["items_per_second"].get<double>();
-    time.repetitions = entry.value("repetitions", 0);
+    time.seconds = 1.0 / rate;
+    if (entry.contains("repetitions") && !entry["repetitions"].is_number_unsigned()) {
+      throw GateError(where + ": \"repetitions\" must be a whole number");
+    }
+    time.repetitions = static_cast<int>(
+        std::min<uint64_t>(entry.value("repetitions", uint64_t{0}), uint64_t{1} << 30));
     if (time.repetitions < kGateRepetitions) {
-      throw GateError(path + ": " + name + " has " + std::to_string(time.repetitions) +
+      throw GateError(file + ": " + shown_name + " has " + std::to_string(time.repetitions) +
                       " repetitions; the gate needs at least " + std::to_string(kGateRepetitions) +
                       " (--benchmark_repetitions)");
     }
     times.push_back(time);
   }
   if (times.empty()) {
-    throw GateError(path + ": no median aggregates (run with --benchmark_repetitions=" +
+    throw GateError(file + ": no median aggregates (run with --benchmark_repetitions=" +
                     std::to_string(kGateRepetitions) + ")");
   }
   return times;

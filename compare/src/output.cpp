@@ -1,5 +1,6 @@
 #include "puppet/compare/output.h"
 
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -119,69 +120,78 @@ std::string output_file_problem(const std::string& path) {
   if (path.empty()) return "is an empty path";
   struct stat link {};
   if (::lstat(path.c_str(), &link) != 0) {
+    if (errno == ENAMETOOLONG) return "has a name longer than the file system allows";
     if (errno != ENOENT) return std::string("cannot be examined (") + std::strerror(errno) + ")";
     const std::filesystem::path folder = std::filesystem::path(path).parent_path();
     std::error_code error;
     if (!folder.empty() && !std::filesystem::is_directory(folder, error)) {
       return "is in a folder that does not exist";
     }
+    if (::access(folder.empty() ? "." : folder.c_str(), W_OK | X_OK) != 0) {
+      return std::string("is in a folder that cannot be written (") + std::strerror(errno) + ")";
+    }
     return {};
   }
-  struct stat target = link;
-  const bool is_link = S_ISLNK(link.st_mode);
-  if (is_link && ::stat(path.c_str(), &target) != 0) {
-    return "is a symbolic link to nothing (it is not followed to make a file)";
-  }
-  if (S_ISREG(target.st_mode)) return {};
-  const char* what = S_ISDIR(target.st_mode)    ? "a folder"
-                     : S_ISCHR(target.st_mode)  ? "a character device"
-                     : S_ISBLK(target.st_mode)  ? "a block device"
-                     : S_ISFIFO(target.st_mode) ? "a FIFO"
-                     : S_ISSOCK(target.st_mode) ? "a socket"
-                                                : "not a regular file";
-  return std::string(is_link ? "is a symbolic link to " : "is ") + what +
-         ", which is never replaced (name a new or a regular file)";
+  if (S_ISREG(link.st_mode)) return {};
+  const char* what = S_ISLNK(link.st_mode)    ? "a symbolic link, which is never written through"
+                     : S_ISDIR(link.st_mode)  ? "a folder"
+                     : S_ISCHR(link.st_mode)  ? "a character device"
+                     : S_ISBLK(link.st_mode)  ? "a block device"
+                     : S_ISFIFO(link.st_mode) ? "a FIFO"
+                     : S_ISSOCK(link.st_mode) ? "a socket"
+                                              : "not a regular file";
+  return std::string("is ") + what + " (name a new or a regular file)";
 }
 
 void write_file_atomically(const std::string& path, const std::string& content) {
-  auto check = [&](const std::string& file) {
-    if (std::string problem = output_file_problem(file); !problem.empty()) {
+  auto check = [&] {
+    if (std::string problem = output_file_problem(path); !problem.empty()) {
       throw OutputError(path + " " + problem);
     }
   };
-  check(path);
-  // through a symbolic link: the file it names is the one replaced, the link stays
-  std::error_code error;
-  const bool is_link = std::filesystem::is_symlink(std::filesystem::symlink_status(path, error));
-  error.clear();  // a new name has no status
-  const std::string file = is_link ? std::filesystem::canonical(path, error).string() : path;
-  if (error) throw OutputError(path + " cannot be resolved (" + error.message() + ")");
-  // a name of this writer's own: two writers of one path (two threads, two processes) never
-  // share a temporary, and the last rename wins whole
+  check();
+  // a name of this writer's own, made new (O_EXCL, and O_NOFOLLOW: a link planted at that name
+  // is never followed): two writers of one path (two threads, two processes) never share a
+  // temporary, and the last rename wins whole
   static std::atomic<unsigned> counter{0};
   const std::string temporary =
-      file + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(path + ": cannot write");
-    out << content;
-    out.flush();
-    if (!out) {
-      const std::string reason = std::strerror(errno);
-      std::remove(temporary.c_str());
+      path + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
+  const int fd =
+      ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    throw std::runtime_error(path + ": cannot write (" + std::strerror(errno) + ")");
+  }
+  TidyPath tidy(temporary);  // removed if the process is stopped while it exists
+  const char* p = content.data();
+  size_t left = content.size();
+  while (left > 0) {
+    const ssize_t wrote = ::write(fd, p, left);
+    if (wrote < 0 && errno == EINTR) continue;
+    if (wrote <= 0) {
+      const std::string reason = wrote < 0 ? std::strerror(errno) : "nothing written";
+      ::close(fd);
+      ::unlink(temporary.c_str());
       throw std::runtime_error(path + ": write failed (" + reason + ")");
     }
+    p += wrote;
+    left -= static_cast<size_t>(wrote);
+  }
+  if (::close(fd) != 0) {
+    const std::string reason = std::strerror(errno);
+    ::unlink(temporary.c_str());
+    throw std::runtime_error(path + ": write failed (" + reason + ")");
   }
   try {
-    check(file);  // what may have appeared at the name while the file was written
+    check();  // what may have appeared at the name while the file was written
   } catch (...) {
-    std::remove(temporary.c_str());
+    ::unlink(temporary.c_str());
     throw;
   }
-  std::filesystem::rename(temporary, file, error);
-  if (error) {
-    std::remove(temporary.c_str());
-    throw std::runtime_error(path + ": cannot write (" + error.message() + ")");
+  // rename replaces the name itself: a link that appeared there since is replaced, never followed
+  if (::rename(temporary.c_str(), path.c_str()) != 0) {
+    const std::string reason = std::strerror(errno);
+    ::unlink(temporary.c_str());
+    throw std::runtime_error(path + ": cannot write (" + reason + ")");
   }
 }
 

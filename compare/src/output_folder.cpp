@@ -36,17 +36,45 @@ OutputFolder::OutputFolder(const std::string& flag, const std::string& path,
   };
   if (path.empty()) throw OutputError(flag + ": an empty path (name the results' folder)");
   if (path.size() > 1024) fail("is longer than 1024 bytes");
-  fs::path absolute = fs::absolute(fs::path(path)).lexically_normal();
+  std::error_code error;
+  fs::path absolute = fs::absolute(fs::path(path), error).lexically_normal();
+  if (error) fail("cannot be resolved (the working folder: " + error.message() + ")");
   if (!absolute.has_filename()) absolute = absolute.parent_path();  // "results/x/"
   const std::string name = absolute.filename().string();
   if (name.empty() || name == "." || name == ".." || absolute == absolute.root_path()) {
     fail("is not a folder of its own (it is replaced whole)");
   }
+  // the staging folder's name adds ".", ".staging-" and a pid to the folder's: checked before
+  // anything is made, so that a name the file system allows but the staging name does not is
+  // refused without leaving folders behind
+  constexpr size_t kNameMax = 255, kStagingExtra = 1 + 9 + 10;
+  if (name.size() + kStagingExtra > kNameMax) {
+    fail("has a name of " + std::to_string(name.size()) + " bytes; at most " +
+         std::to_string(kNameMax - kStagingExtra) + " (its staging folder's name is longer)");
+  }
   path_ = absolute;
   const fs::path parent = absolute.parent_path();
-  std::error_code error;
+  // the parent folders this command makes, removed again if it is refused below
+  fs::path made;
+  for (fs::path p = parent; !p.empty() && p != p.root_path(); p = p.parent_path()) {
+    if (fs::exists(fs::symlink_status(p, error))) break;
+    made = p;
+  }
+  error.clear();
+  struct Unmake {
+    fs::path folder;
+    bool keep = false;
+    ~Unmake() {
+      std::error_code ignored;
+      if (!keep && !folder.empty()) fs::remove_all(folder, ignored);
+    }
+  } unmake{made};
   fs::create_directories(parent, error);
   if (error || !fs::is_directory(parent)) fail("cannot be made (" + error.message() + ")");
+  if (::access(parent.c_str(), W_OK | X_OK) != 0) {
+    fail("cannot be written: its parent folder is not writable (" +
+         std::string(std::strerror(errno)) + ")");
+  }
 
   // what is there: the command's own files, or nothing
   const fs::file_status status = fs::symlink_status(absolute, error);
@@ -66,8 +94,20 @@ OutputFolder::OutputFolder(const std::string& flag, const std::string& path,
   // the lock: an open, locked file; one that was removed while we waited is not the lock
   lock_ = parent / ("." + name + ".lock");
   for (;;) {
-    lock_fd_ = ::open(lock_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    // never through a link planted at the lock's name: its target would be truncated
+    lock_fd_ = ::open(lock_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (lock_fd_ < 0 && errno == ELOOP) {
+      fail("cannot be locked: its lock " + shown(lock_.filename().string()) +
+           " is a symbolic link, which is never written through (remove it)");
+    }
     if (lock_fd_ < 0) fail(std::string("cannot be locked (") + std::strerror(errno) + ")");
+    struct stat opened {};
+    if (::fstat(lock_fd_, &opened) == 0 && !S_ISREG(opened.st_mode)) {
+      ::close(lock_fd_);
+      lock_fd_ = -1;
+      fail("cannot be locked: its lock " + shown(lock_.filename().string()) +
+           " is not a regular file (remove it)");
+    }
     if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
       const std::string holder = lock_holder(lock_fd_);
       ::close(lock_fd_);
@@ -82,6 +122,7 @@ OutputFolder::OutputFolder(const std::string& flag, const std::string& path,
     }
     ::close(lock_fd_);
   }
+  tidy_lock_.emplace(lock_);
   const std::string pid = std::to_string(::getpid()) + "\n";
   if (::ftruncate(lock_fd_, 0) != 0 || ::pwrite(lock_fd_, pid.data(), pid.size(), 0) < 0) {
     // the pid only serves the refusal's message
@@ -96,15 +137,24 @@ OutputFolder::OutputFolder(const std::string& flag, const std::string& path,
   }
   staging_ = parent / (stale_prefix + std::to_string(::getpid()));
   fs::remove_all(staging_, error);
-  fs::create_directory(staging_, error);
+  error.clear();
+  tidy_staging_.emplace(staging_);
+  if (!fs::create_directory(staging_, error) && !error) {
+    error = std::make_error_code(std::errc::file_exists);
+  }
   if (error) {
+    tidy_staging_.reset();
+    tidy_lock_.reset();
     ::unlink(lock_.c_str());
     ::close(lock_fd_);
     fail("cannot be written (" + error.message() + ")");
   }
+  unmake.keep = true;
 }
 
 void OutputFolder::commit() {
+  // the stop watchdog waits for the swap to end before it tidies and exits
+  const std::unique_lock<std::mutex> guard = commit_guard();
   throw_if_cancelled();  // a signal while the results were written: the old ones stay
   std::error_code error;
   if (fs::exists(fs::symlink_status(path_, error))) {

@@ -167,6 +167,12 @@ bool decode(const std::string& bytes, const std::string& key, Trajectory& out) {
       body.q = Quaterniond(w, x, y, z);
       for (int i = 0; i < 3; ++i) body.v[i] = next();
       for (int i = 0; i < 3; ++i) body.w[i] = next();
+      // a trajectory that says it did not diverge holds finite states only: one that does not
+      // is not ours (a planted or damaged file), and a miss
+      if (!out.diverged && !(body.x.allFinite() && body.q.coeffs().allFinite() &&
+                             body.v.allFinite() && body.w.allFinite())) {
+        return false;
+      }
     }
   }
   return true;

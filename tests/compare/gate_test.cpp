@@ -157,5 +157,52 @@ TEST(Gate, BadInputNamesTheFileAndTheProblem) {
   EXPECT_NE(error_of(read_gate_specs, both).find("exactly one"), std::string::npos);
 }
 
+// Hostile benchmark JSON: every malformed entry is a GateError naming the file and the problem in
+// one bounded line, never a JSON library's exception
+TEST(Gate, MalformedBenchmarkJsonIsAGateErrorNeverALibrarysException) {
+  const std::string median =
+      R"({"run_type": "aggregate", "aggregate_name": "median", "run_name": "a", )";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {R"({"benchmarks": [5]})", "benchmarks[0]: expected an object"},
+      {R"({"benchmarks": [[{"run_type": "aggregate"}]]})", "benchmarks[0]: expected an object"},
+      {R"({"benchmarks": [{"run_type": 7}]})", "\"run_type\" must be a string"},
+      {R"({"benchmarks": [)" + median + R"("items_per_second": 1, "repetitions": "5"}]})",
+       "\"repetitions\" must be a whole number"},
+      {R"({"benchmarks": [)" + median + R"("items_per_second": 1, "repetitions": -5}]})",
+       "\"repetitions\" must be a whole number"},
+      {R"({"benchmarks": [)" + median + R"("items_per_second": 0, "repetitions": 5}]})",
+       "a rate must be positive"},
+      {R"({"benchmarks": [)" + median + R"("items_per_second": -3, "repetitions": 5}]})",
+       "a rate must be positive"},
+      {R"({"benchmarks": [)" + median + R"("error_occurred": "yes"}]})",
+       "\"error_occurred\" must be true or false"},
+      {R"({"benchmarks": [{"run_type": "aggregate", "aggregate_name": "median", "run_name": ")" +
+           std::string(5000, 'n') + R"(", "repetitions": 5}]})",
+       "has no items_per_second"},
+  };
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const std::string file = write_temp("hostile" + std::to_string(i) + ".json", cases[i].first);
+    std::string message;
+    try {
+      read_bench_times(file);
+    } catch (const GateError& e) {
+      message = e.what();
+    }
+    EXPECT_NE(message.find(cases[i].second), std::string::npos) << i << ": " << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << i;
+    EXPECT_LE(message.size(), 500u) << i;
+  }
+  const std::string unnamed =
+      write_temp("unnamed.json",
+                 R"({"gates": [{"name": 3, "numerator": "a", "denominator": "b", "min": 1}]})");
+  std::string message;
+  try {
+    read_gate_specs(unnamed);
+  } catch (const GateError& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find("\"name\" (a string) is required"), std::string::npos) << message;
+}
+
 }  // namespace
 }  // namespace puppet::compare

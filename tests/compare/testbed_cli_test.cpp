@@ -256,12 +256,16 @@ TEST(TestbedCli, OutputsNeverReplaceWhatIsNotOurs) {
                "--csv: ");
     EXPECT_EQ(fs::symlink_status(folder / name).type(), before.type()) << name;
   }
-  // a regular file is replaced, through a link to it too (the link stays a link)
+  // a regular file is replaced; a link, even to a regular file, is never written through
   std::ofstream(folder / "old.xml") << "old";
-  fs::create_symlink("old.xml", folder / "link.xml");
-  ASSERT_EQ(testbed("export-mjcf chain:3 -o " + (folder / "link.xml").string()).status, 0);
-  EXPECT_TRUE(fs::is_symlink(folder / "link.xml"));
+  ASSERT_EQ(testbed("export-mjcf chain:3 -o " + (folder / "old.xml").string()).status, 0);
   EXPECT_NE(slurp(folder / "old.xml").find("<mujoco model=\"chain:3\">"), std::string::npos);
+  std::ofstream(folder / "victim.xml") << "victim";
+  fs::create_symlink("victim.xml", folder / "link.xml");
+  expect_bad("export-mjcf chain:3 -o " + (folder / "link.xml").string(),
+             "is a symbolic link, which is never written through");
+  EXPECT_TRUE(fs::is_symlink(folder / "link.xml"));
+  EXPECT_EQ(slurp(folder / "victim.xml"), "victim");
   // standard output that cannot be written is a failure, not success
   for (const char* command : {"export-mjcf pinocchio", "validate pinocchio", "list"}) {
     const Outcome o = shell(std::string(TESTBED_BINARY) + " " + command + " 2>&1 >/dev/full");
@@ -832,25 +836,198 @@ TEST(TestbedCli, ACrashLeavesTheOldResultsAndTheNextRunTidies) {
   fs::remove_all(out);
 }
 
-// a second command on a folder being written is refused, and the first one finishes unharmed
+// a JSON chain of n spheres joined by ball joints, each limited to ±limit_deg about every axis of
+// a box: at 1° every limit acts at once in shake, and one btMultiBody step of 300 links takes
+// seconds (its rows span the whole tree)
+fs::path limited_chain(const fs::path& folder, int n, double limit_deg) {
+  std::string json = "{\"name\": \"limited\", \"segments\": [";
+  for (int i = 0; i < n; ++i) {
+    json += (i ? ", " : "") + std::string("{\"name\": \"s") + std::to_string(i) +
+            "\", \"mass\": 1, \"position\": [0, 0, " + std::to_string(-0.1 * i) +
+            "], \"orientation\": [1, 0, 0, 0], \"shape\": {\"type\": \"sphere\", "
+            "\"radius\": 0.04}}";
+  }
+  json += "], \"joints\": [";
+  const std::string d = std::to_string(limit_deg);
+  for (int i = 1; i < n; ++i) {
+    json += (i > 1 ? ", " : "") + std::string("{\"name\": \"j") + std::to_string(i) +
+            "\", \"parent\": \"s" + std::to_string(i - 1) + "\", \"child\": \"s" +
+            std::to_string(i) + "\", \"anchor\": [0, 0, " + std::to_string(-0.1 * i + 0.05) +
+            "], \"type\": \"ball\", \"box_deg\": {\"order\": \"yxz\", \"lower\": [-" + d + ", -" +
+            d + ", -" + d + "], \"upper\": [" + d + ", " + d + ", " + d + "]}}";
+  }
+  json += "]}";
+  fs::create_directories(folder);
+  const fs::path path = folder / ("limited" + std::to_string(n) + ".json");
+  write_text(path, json);
+  return path;
+}
+
+// a run of bullet-multibody on a 300-link chain whose limits all act: each step takes seconds,
+// so a signal arrives inside one (--engine-budget lifts the engine's own refusal)
+std::vector<std::string> long_step_run(const fs::path& model, const fs::path& out) {
+  return {"run",      "--model",          model.string(), "--scenario",      "shake",
+          "--solver", "bullet-multibody", "--dt",         "1/240",           "--duration",
+          "1",        "--no-accuracy",    "--no-timing",  "--engine-budget", "1e9",
+          "--out",    out.string()};
+}
+
+// a second command on a folder being written is refused at once, naming the first one, which
+// goes on undisturbed
 TEST(TestbedCli, ASecondCommandOnTheSameFolderIsRefused) {
+  // the first command: one whose steps take seconds, so that it surely holds the folder when
+  // the second one comes, however fast the machine
+  const fs::path model = limited_chain(fresh_folder("contended_model"), 300, 1.0);
   const fs::path out = fresh_folder("contended");
-  const Child first =
-      start({"run", "--scenario", "all", "--solver", "procedural", "--rule", "tree", "--dt",
-             "1/480", "--duration", "2", "--no-accuracy", "--no-timing", "--out", out.string()});
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  const Child first = start(long_step_run(model, out));
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
   const Outcome second = testbed("run --scenario hang --duration 0.1 --out " + out.string());
   EXPECT_EQ(second.status, 2) << second.output;
-  EXPECT_NE(second.output.find("is being written by another command (pid"), std::string::npos)
+  EXPECT_NE(second.output.find("is being written by another command (pid " +
+                               std::to_string(first.pid) + ")"),
+            std::string::npos)
       << second.output;
+  // the first one was not disturbed: it runs on until it is stopped, and then tidies
   int status = -1;
-  // the first run takes about a second in the release build and minutes in the sanitizer build
-  // on a busy machine (121 s once, beside a main job): the wait is for it to end, not a bound
-  ASSERT_TRUE(first.wait(900.0, &status));
-  EXPECT_EQ(status, 0);
-  EXPECT_NE(read_all(out / "summary.csv").find("\ndrag,"), std::string::npos);
+  EXPECT_FALSE(first.wait(0.2, &status));
+  ::kill(first.pid, SIGINT);
+  ASSERT_TRUE(first.wait(5.0, &status));
+  EXPECT_EQ(status, 128 + SIGINT);
+  EXPECT_FALSE(fs::exists(out));
   EXPECT_TRUE(leftovers(out).empty());
+  fs::remove_all(model.parent_path());
+}
+
+// A step that does not return (Bullet cannot be asked to stop inside one) is not waited for: the
+// process ends within a second of SIGINT or SIGTERM, the old results whole, nothing left beside
+TEST(TestbedCli, ALongEngineStepStopsWithinASecond) {
+  const fs::path model = limited_chain(fresh_folder("long_step_model"), 300, 1.0);
+  for (const int signal : {SIGINT, SIGTERM}) {
+    const fs::path out = folder_with_results("long_step");
+    const std::string before = read_all(out / "summary.csv");
+    const Child child = start(long_step_run(model, out));
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // inside a step
+    ::kill(child.pid, signal);
+    int status = 0;
+    ASSERT_TRUE(child.wait(1.0, &status)) << "still running a second after signal " << signal;
+    EXPECT_EQ(status, 128 + signal);
+    EXPECT_EQ(read_all(out / "summary.csv"), before);
+    EXPECT_TRUE(leftovers(out).empty()) << leftovers(out).front();
+    fs::remove_all(out);
+  }
+  fs::remove_all(model.parent_path());
+}
+
+// A second signal ends the process at once, without the grace the first one gives
+TEST(TestbedCli, ASecondSignalEndsTheCommandAtOnce) {
+  const fs::path model = limited_chain(fresh_folder("second_signal_model"), 300, 1.0);
+  const fs::path out = folder_with_results("second_signal");
+  const std::string before = read_all(out / "summary.csv");
+  const Child child = start(long_step_run(model, out));
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  ::kill(child.pid, SIGINT);
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ::kill(child.pid, SIGINT);
+  int status = 0;
+  // well inside the first signal's grace (compare::kStopGraceSeconds, 0.5 s)
+  ASSERT_TRUE(child.wait(0.3, &status)) << "still running after the second signal";
+  EXPECT_EQ(status, 128 + SIGINT);
+  EXPECT_EQ(read_all(out / "summary.csv"), before);
+  EXPECT_TRUE(leftovers(out).empty()) << leftovers(out).front();
   fs::remove_all(out);
+  fs::remove_all(model.parent_path());
+}
+
+// A signal at any moment of a run (its truths, its runs, its writing, its swap) leaves the old
+// results or the new ones whole, within a second, and nothing beside them
+TEST(TestbedCli, ASignalAtAnyMomentLeavesTheOldResultsOrTheNew) {
+  const std::vector<std::string> run = {"run",        "--scenario", "spin", "--solver",
+                                        "procedural", "--rule",     "xpbd", "--dt",
+                                        "1/240",      "--duration", "0.5",  "--no-timing"};
+  int old_kept = 0, new_written = 0;
+  for (int at_ms = 20; at_ms <= 2000; at_ms += 180) {
+    const fs::path out = folder_with_results("any_moment");
+    const std::string before = read_all(out / "summary.csv");
+    std::vector<std::string> arguments = run;
+    arguments.insert(arguments.end(), {"--out", out.string()});
+    const Child child = start(arguments);
+    std::this_thread::sleep_for(std::chrono::milliseconds(at_ms));
+    ::kill(child.pid, at_ms % 360 == 20 ? SIGINT : SIGTERM);
+    int status = 0;
+    ASSERT_TRUE(child.wait(1.0, &status))
+        << "still running a second after the signal, at " << at_ms << " ms";
+    const std::string after = read_all(out / "summary.csv");
+    if (status == 0) {
+      ++new_written;
+      EXPECT_NE(after.find("\nspin,"), std::string::npos) << at_ms;
+      EXPECT_EQ(after.find("\nhang,"), std::string::npos) << at_ms;
+    } else {
+      ++old_kept;
+      EXPECT_TRUE(status == 128 + SIGINT || status == 128 + SIGTERM) << status;
+      EXPECT_EQ(after, before) << at_ms;
+    }
+    EXPECT_TRUE(leftovers(out).empty()) << at_ms << " ms: " << leftovers(out).front();
+    fs::remove_all(out);
+  }
+  EXPECT_GT(old_kept, 0);  // the signals fell inside runs, not only after them
+}
+
+// A symbolic link planted at the lock's name is never written through: the command is refused
+// in one line and the file it names keeps its bytes
+TEST(TestbedCli, ALinkPlantedAtTheLockIsRefusedNotFollowed) {
+  const fs::path root = fresh_folder("planted_lock");
+  fs::create_directories(root);
+  const fs::path victim = root / "victim.txt";
+  write_text(victim, "precious");
+  fs::create_symlink(victim, root / ".out.lock");
+  expect_bad(
+      "run --scenario hang --solver procedural --rule literal --duration 0.1 "
+      "--no-accuracy --no-timing --out " +
+          (root / "out").string(),
+      "is a symbolic link, which is never written through");
+  EXPECT_EQ(read_all(victim), "precious");
+  EXPECT_FALSE(fs::exists(root / "out"));
+  fs::remove_all(root);
+}
+
+// A folder name the file system allows but the staging name does not is refused before anything
+// is made: the parent folders it would have needed are not left behind
+TEST(TestbedCli, ATooLongFolderNameLeavesNothingBehind) {
+  const fs::path root = fresh_folder("long_name");
+  const fs::path out = root / "a" / "b" / std::string(250, 'n');
+  expect_bad(
+      "run --scenario hang --solver procedural --rule literal --duration 0.1 "
+      "--no-accuracy --no-timing --out " +
+          out.string(),
+      "--out: ");
+  EXPECT_FALSE(fs::exists(root));
+}
+
+// Each engine refuses a model it cannot step one simulated second of within the budget, in one
+// line naming it and its estimate; validate lists it among the refusals; --engine-budget lifts it
+TEST(TestbedCli, AnEngineRefusesAModelPastItsBudget) {
+  const fs::path folder = fresh_folder("budget");
+  const fs::path model = limited_chain(folder, 3000, 30.0);
+  const Outcome validate = testbed("validate " + model.string());
+  EXPECT_EQ(validate.status, 0) << validate.output;
+  EXPECT_NE(validate.output.find("not bullet-multibody: one simulated second"), std::string::npos)
+      << validate.output;
+  EXPECT_NE(validate.output.find("(--engine-budget)"), std::string::npos);
+  EXPECT_NE(validate.output.find("engines: procedural, bullet-rigid"), std::string::npos);
+  expect_bad("run --model " + model.string() +
+                 " --scenario hang --solver bullet-multibody --duration 0.1 --out " +
+                 (folder / "out").string(),
+             "--solver: bullet-multibody cannot run");
+  EXPECT_FALSE(fs::exists(folder / "out"));
+  const Outcome lifted = testbed("validate --engine-budget 1e9 " + model.string());
+  EXPECT_EQ(lifted.output.find("not bullet-multibody"), std::string::npos) << lifted.output;
+  expect_bad("validate --engine-budget 0 " + model.string(), "--engine-budget");
+  // Pinocchio and chain:3000 (no limits) are well within it everywhere
+  for (const char* name : {"pinocchio", "chain:3000"}) {
+    const Outcome o = testbed(std::string("validate ") + name);
+    EXPECT_EQ(o.output.find("past the budget"), std::string::npos) << o.output;
+  }
+  fs::remove_all(folder);
 }
 
 // a disk that fills up mid-run (here: no file may pass 4 kB) fails the run, which says so, and

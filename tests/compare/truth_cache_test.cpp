@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <set>
 
 #include "puppet/compare/output.h"
@@ -128,6 +129,48 @@ TEST(TruthCache, ADamagedFileIsAMissAndIsWrittenAnew) {
                                   }),
                         truth));
   EXPECT_EQ(computed, 1);
+}
+
+// A file of the right key and shape whose states are not finite, though it says the run did not
+// diverge, is a miss: it is computed again, never handed to the accuracy as a truth
+TEST(TruthCache, AFileOfNonFiniteStatesIsAMiss) {
+  const Case c;
+  const TruthCache cache(fresh_folder("nan").string());
+  const Trajectory truth = cache.get(c.key(), [&] { return c.compute(); });
+  ASSERT_FALSE(truth.diverged);
+  Trajectory poisoned = truth;
+  poisoned.samples.back().back().x.x() = std::numeric_limits<double>::quiet_NaN();
+  // stored by a cache of its own under the same key: the file a planted one would be
+  const TruthCache planter(cache.folder());
+  const fs::path file = fs::path(cache.folder()) / (c.key() + ".truth");
+  fs::remove(file);
+  planter.get(c.key(), [&] { return poisoned; });
+  ASSERT_TRUE(fs::exists(file));
+  int computed = 0;
+  const Trajectory read = cache.get(c.key(), [&] {
+    ++computed;
+    return c.compute();
+  });
+  EXPECT_EQ(computed, 1);
+  EXPECT_TRUE(same_bits(read, truth));
+}
+
+// A symbolic link planted at a truth's name is never written through: its target keeps its bytes
+TEST(TruthCache, ALinkAtATruthsNameIsNeverWrittenThrough) {
+  const Case c;
+  const fs::path folder = fresh_folder("link");
+  const TruthCache cache(folder.string());
+  const fs::path victim = folder / "victim.txt";
+  std::ofstream(victim) << "not a truth";
+  fs::create_symlink(victim, folder / (c.key() + ".truth"));
+  int computed = 0;
+  cache.get(c.key(), [&] {
+    ++computed;
+    return c.compute();
+  });
+  EXPECT_EQ(computed, 1);
+  std::ifstream in(victim);
+  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(in)), {}), "not a truth");
 }
 
 TEST(TruthCache, TheKeyChangesWithEachInputOfTheTruth) {

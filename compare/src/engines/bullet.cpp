@@ -2,6 +2,7 @@
 // btRigidBody ragdoll): one library, two worlds (reference/bullet.h), and one set of flags
 // (--bullet-iterations, --bullet-euler-limits) that both read.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 
 #include "puppet/compare/engines.h"
 #include "puppet/reference/bullet.h"
@@ -50,6 +51,27 @@ void search(const SolverOptions& base, std::vector<Setting>& out) {
   }
 }
 
+// Measured on the reference machine (docs/reliability.md, "Engines bounded by what they can
+// step"): chains of limited ball joints at dt 1/240 s, 20 steps, Release. A btMultiBody
+// constraint row spans every degree of freedom of the tree, so with every limit acting a step
+// grows with dofs × rows² (100, 200 and 400 links: 0.08, 0.66 and 5.9 s a step, 3.5 ns each);
+// with none acting, each limit's rows are still built, dofs × rows (6 ns each); the rest is about
+// 15 µs a link. The estimate takes every limit acting, the worst a scenario can ask.
+double multibody_cost(const Model& model, const SolverOptions&) {
+  const ModelSize n = model_size(model);
+  const double dofs = n.dofs, rows = n.limit_rows;
+  const double step = 15e-6 * n.segments + 6e-9 * dofs * rows + 3.5e-9 * dofs * rows * rows;
+  return step / kBudgetDt;
+}
+
+// A btRigidBody ragdoll is linear in its bodies and rows, per sweep (1,600 links with every
+// limit acting: 15 ms a step at ten sweeps, 0.6 µs a body or row and sweep)
+double rigid_cost(const Model& model, const SolverOptions& options) {
+  const ModelSize n = model_size(model);
+  const double rows = n.segments + 3.0 * static_cast<double>(model.joints.size()) + n.limit_rows;
+  return 0.6e-6 * rows * std::max(1, options.bullet.iterations) / kBudgetDt;
+}
+
 }  // namespace
 
 Engine bullet_multibody_engine() {
@@ -62,6 +84,7 @@ Engine bullet_multibody_engine() {
           "about 2% of an impact's speed, a moving pin aimed at its target's "
           "velocity); a contact's friction impulses are clamped per direction",
       .model_problem = reference::bullet_model_problem,
+      .second_cost = multibody_cost,
       .make = make<reference::Kind::kMultibody>,
       .add_flags = add_flags,
       .replay_flags = replay_flags,
@@ -76,6 +99,7 @@ Engine bullet_rigid_engine() {
               "each joint is a constraint between two free bodies, its impulses "
               "iterated ten sweeps, so joints open under load",
           .model_problem = reference::bullet_model_problem,
+          .second_cost = rigid_cost,
           .make = make<reference::Kind::kRigid>,
           .search = search};
 }

@@ -1,6 +1,9 @@
 // The engine catalogue (engines.h): the rows, and what every client asks of them.
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <atomic>
+#include <cstdio>
+#include <numbers>
 
 #include "puppet/compare/engines.h"
 #include "puppet/model/text.h"
@@ -50,10 +53,63 @@ std::vector<Setting> settings_searched(std::string_view solver, const SolverOpti
   return out;
 }
 
-std::string engine_model_problem(std::string_view name, const Model& model) {
+namespace {
+std::atomic<double> g_budget{kDefaultEngineBudget};
+constexpr double kPi = std::numbers::pi;
+}  // namespace
+
+void set_engine_budget(double seconds) { g_budget.store(seconds); }
+double engine_budget() { return g_budget.load(); }
+
+ModelSize model_size(const Model& model) {
+  ModelSize size;
+  size.segments = model.segment_count();
+  size.dofs = 6;  // the root, free
+  // segments come parent before child (the loader's order): one pass gives the depths
+  std::vector<int> parent(static_cast<size_t>(model.segment_count()), -1);
+  for (const Joint& joint : model.joints) {
+    parent[static_cast<size_t>(joint.child)] = joint.parent;
+    switch (joint.type) {
+      case JointType::kBall: {
+        size.dofs += 3;
+        // a limit of half a turn or more never acts, and no engine builds it
+        const bool open = joint.ball_limit == BallLimit::kSwingTwist && joint.swing_x >= kPi &&
+                          joint.swing_y >= kPi && joint.twist >= kPi;
+        size.limit_rows += open ? 0 : joint.ball_limit == BallLimit::kEulerBox ? 3 : 2;
+        break;
+      }
+      case JointType::kHinge:
+        size.dofs += 1;
+        size.limit_rows += joint.lower <= -kPi && joint.upper >= kPi ? 0 : 1;
+        break;
+      case JointType::kFixed:
+        break;
+    }
+  }
+  std::vector<int> depth(parent.size(), 0);
+  for (size_t s = 0; s < parent.size(); ++s) {
+    if (parent[s] >= 0) depth[s] = depth[static_cast<size_t>(parent[s])] + 1;
+    size.depth = std::max(size.depth, depth[s]);
+  }
+  return size;
+}
+
+std::string engine_model_problem(std::string_view name, const Model& model,
+                                 const SolverOptions& options) {
   const Engine* engine = find_engine(name);
   if (!engine) return "unknown solver " + shown(name);
-  return engine->model_problem(model);
+  if (std::string problem = engine->model_problem(model); !problem.empty()) return problem;
+  if (!engine->second_cost) return {};
+  const double cost = engine->second_cost(model, options);
+  if (cost <= engine_budget()) return {};
+  const ModelSize size = model_size(model);
+  char line[320];
+  std::snprintf(line, sizeof line,
+                "one simulated second at dt 1/240 s would take it about %.3g s of CPU (%d degrees "
+                "of freedom, %d limit rows, joints %d deep), past the budget of %.3g s "
+                "(--engine-budget)",
+                cost, size.dofs, size.limit_rows, size.depth, engine_budget());
+  return line;
 }
 
 std::unique_ptr<Simulator> make_simulator(const std::string& solver, const SolverOptions& options) {

@@ -1,6 +1,7 @@
 // The engine `mujoco`: MuJoCo 2.2 (reference/mujoco.h), where the build has it, with its flag
 // (--mujoco-integrator).
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <array>
 #include <string>
 #include <utility>
@@ -67,6 +68,17 @@ void search(const SolverOptions& base, std::vector<Setting>& out) {
   }
 }
 
+// Measured on the reference machine (docs/reliability.md): MuJoCo's Newton solver factors a
+// dense matrix over the degrees of freedom and its constraint rows, dofs × max(dofs, rows)²
+// (a comb of 25 four-link arms, 306 dofs and 300 limit rows all acting: 0.1 s a step, 3.5 ns
+// each; 4 ns taken); RK4 steps four times
+double mujoco_cost(const Model& model, const SolverOptions& options) {
+  const ModelSize n = model_size(model);
+  const double dofs = n.dofs, rows = std::max<double>(n.dofs, n.limit_rows);
+  const double stages = options.mujoco.integrator == MujocoIntegrator::kRk4 ? 4.0 : 1.0;
+  return stages * 4e-9 * dofs * rows * rows / kBudgetDt;
+}
+
 }  // namespace
 
 Engine mujoco_engine() {
@@ -79,6 +91,7 @@ Engine mujoco_engine() {
               "speed); a contact's friction cone is elliptic",
           .built = reference::have_mujoco(),
           .model_problem = reference::mujoco_model_problem,
+          .second_cost = mujoco_cost,
           .make = make,
           .add_flags = add_flags,
           .replay_flags = replay_flags,

@@ -197,6 +197,9 @@ Model parse_model(const std::string& path) {
 }
 
 void stop_on_signals() {
+  // a step that does not return within compare::kStopGraceSeconds, or a second signal, is not
+  // waited for (cancel.h)
+  compare::start_stop_watchdog("testbed");
   struct sigaction action {};
   action.sa_handler = [](int signal) {
     if (compare::cancel_points().load() > 0) {

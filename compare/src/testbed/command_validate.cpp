@@ -69,9 +69,14 @@ int validate(const std::string& path) {
 
 Command add_validate_command(CLI::App& app) {
   auto path = std::make_shared<std::string>();
+  auto budget = std::make_shared<double>(compare::kDefaultEngineBudget);
   CLI::App* command = app.add_subcommand("validate", "load a model and print it, or its error");
   command->add_option("MODEL", *path, "model file, pinocchio, or chain:N")->required();
-  return {command, [path] { return validate(*path); }};
+  add_engine_budget_flag(command, *budget);
+  return {command, [path, budget] {
+            compare::set_engine_budget(*budget);
+            return validate(*path);
+          }};
 }
 
 }  // namespace puppet::testbed

@@ -48,11 +48,21 @@ void add_output_flags(CLI::App* command, Flags& f, const char* jobs_help) {
       ->capture_default_str();
 }
 
+void add_engine_budget_flag(CLI::App* command, double& budget) {
+  command
+      ->add_option("--engine-budget", budget,
+                   "CPU seconds an engine may take for one simulated second at dt 1/240 s, by "
+                   "its estimate from the model; past it the engine refuses the model")
+      ->check(CLI::Range(1e-3, 1e9))
+      ->capture_default_str();
+}
+
 void add_engine_flags(CLI::App* command, Flags& f) {
   // every row's, built or not: a command line means the same in every build
   for (const compare::Engine& engine : compare::engines()) {
     if (engine.add_flags) engine.add_flags(*command, f.options);
   }
+  add_engine_budget_flag(command, f.engine_budget);
 }
 
 void add_grab_flags(CLI::App* command, Flags& f) {
@@ -157,10 +167,11 @@ std::vector<SolverConfig> parse_solver_configs(const Flags& f) {
 }
 
 void apply_engine_verdicts(std::vector<SolverConfig>& configs, const Model& model, const Flags& f) {
+  compare::set_engine_budget(f.engine_budget);
   std::vector<std::string> refused;
   for (const SolverConfig& config : configs) {
     if (std::find(refused.begin(), refused.end(), config.solver) != refused.end()) continue;
-    const std::string problem = compare::engine_model_problem(config.solver, model);
+    const std::string problem = compare::engine_model_problem(config.solver, model, config.options);
     if (problem.empty()) continue;
     if (f.solver != "all") {
       throw UsageError("--solver: " + config.solver + " cannot run " + shown(f.model) + ": " +

@@ -8,6 +8,7 @@
 #include <thread>
 #include <vector>
 
+#include "puppet/compare/engines.h"
 #include "puppet/compare/scenario.h"
 #include "puppet/compare/simulator.h"
 #include "puppet/compare/sweep.h"
@@ -26,6 +27,7 @@ struct Flags {
   // every engine's own settings, bound by its row's flags (engines.h); the rule is --rule's
   compare::SolverOptions options;
   int jobs = default_jobs();
+  double engine_budget = compare::kDefaultEngineBudget;  // --engine-budget (engines.h)
   bool no_tremble = false, no_timing = false;
   bool no_accuracy = false;
   bool first_truth_only = false;
@@ -41,6 +43,8 @@ struct Flags {
   }
 };
 
+// --engine-budget (engines.h: engine_budget)
+void add_engine_budget_flag(CLI::App* command, double& budget);
 // --model
 void add_model_flag(CLI::App* command, Flags& f);
 // --solver and --rule

@@ -40,6 +40,11 @@ struct Engine {
   bool has_rules = false;  // true: a sweep runs it once per --rule (procedural)
   // why it cannot run the model (empty when it can), decided before anything runs
   std::string (*model_problem)(const Model& model) = nullptr;
+  // an estimate of the CPU seconds it takes to step one simulated second of the model at
+  // kBudgetDt with `options` (its solver's order in joints, limit rows and sweeps, calibrated on
+  // this project's reference machine; docs/reliability.md): engine_model_problem refuses a model
+  // whose estimate exceeds engine_budget()
+  double (*second_cost)(const Model& model, const SolverOptions& options) = nullptr;
   // a simulator with these options; throws ScenarioError for invalid settings
   std::unique_ptr<Simulator> (*make)(const SolverOptions& options) = nullptr;
   // its own flags, bound to its part of `options` (null: none, or a sibling row adds them)
@@ -72,7 +77,28 @@ bool has_rules(std::string_view solver);
 // what a verdict searches for one solver besides dt: its row's search from `base`, or `base`
 // alone
 std::vector<Setting> settings_searched(std::string_view solver, const SolverOptions& base);
-// why the engine cannot run the model (empty when it can); an unknown name says so
-std::string engine_model_problem(std::string_view name, const Model& model);
+// why the engine cannot run the model (empty when it can): its row's model_problem, or an
+// estimated cost per simulated second above engine_budget(); an unknown name says so
+std::string engine_model_problem(std::string_view name, const Model& model,
+                                 const SolverOptions& options = {});
+
+// The budget: how many CPU seconds stepping one simulated second of a model at kBudgetDt may
+// take an engine (--engine-budget; kDefaultEngineBudget unless set). A model past it is refused
+// before anything runs, in one line naming the engine and its estimate.
+inline constexpr double kBudgetDt = 1.0 / 240.0;
+inline constexpr double kDefaultEngineBudget = 60.0;
+void set_engine_budget(double seconds);
+double engine_budget();
+
+// what an engine's cost grows with, counted from the model: degrees of freedom (a free root's
+// six among them), the deepest chain of joints, and the limit rows when every limit acts (a box
+// three, a swing–twist limit two, a hinge's range one)
+struct ModelSize {
+  int segments = 0;
+  int dofs = 0;
+  int depth = 0;
+  int limit_rows = 0;
+};
+ModelSize model_size(const Model& model);
 
 }  // namespace puppet::compare

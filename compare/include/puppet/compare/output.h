@@ -47,16 +47,15 @@ inline constexpr const char* kPosesHeader = "t,segment,x,y,z,qw,qx,qy,qz";
 std::string trace_csv(const RunResult& result, double sample_hz = 0.0);
 std::string poses_csv(const Model& model, const RunResult& result);
 
-// What is wrong with writing a file at `path` (empty when nothing). The testbed writes only to a
-// new name in an existing folder or over a regular file, a symbolic link being followed to the
-// regular file it names; a folder, a device, a FIFO, a socket, a link to one of them or to
-// nothing is never replaced.
+// What keeps `path` from being written (empty when nothing): it must be a new name in a folder
+// that exists and can be written, or a regular file, which is replaced whole. A symbolic link
+// (whatever it names), a folder, a device, a FIFO or a socket is never replaced nor written
+// through.
 std::string output_file_problem(const std::string& path);
 
-// Writes to a name of its own beside the file and renames it into place, through a symbolic
-// link to the file it names. Throws OutputError when output_file_problem() objects (checked
-// before writing and again before the rename), std::runtime_error naming the file when a write
-// fails.
+// Writes to a new name of its own beside the file (never through a link planted there) and
+// renames it into place. Throws OutputError when output_file_problem() objects (checked before
+// writing and again before the rename), std::runtime_error naming the file when a write fails.
 void write_file_atomically(const std::string& path, const std::string& content);
 
 // the commit the binary runs from ("unknown" outside a git checkout) and a one-line machine id

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -46,6 +47,8 @@ class OutputFolder {
  private:
   std::filesystem::path path_, staging_, lock_;
   CancelPoint tidy_;  // from here on a signal stops the command, which removes its staging
+  // what the stop watchdog removes when a step does not return after a signal (cancel.h)
+  std::optional<TidyPath> tidy_lock_, tidy_staging_;
   int lock_fd_ = -1;
   bool committed_ = false;
 };
