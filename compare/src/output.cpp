@@ -118,6 +118,13 @@ std::string poses_csv(const Model& model, const RunResult& r) {
 
 std::string output_file_problem(const std::string& path) {
   if (path.empty()) return "is an empty path";
+  // the temporary name write_file_atomically gives it adds ".tmp.<pid>.<n>", at most 26 bytes
+  constexpr size_t kNameMax = 255, kTemporaryExtra = 26;
+  if (const size_t name = std::filesystem::path(path).filename().string().size();
+      name + kTemporaryExtra > kNameMax) {
+    return "has a name of " + std::to_string(name) + " bytes; at most " +
+           std::to_string(kNameMax - kTemporaryExtra) + " (its temporary name is longer)";
+  }
   struct stat link {};
   if (::lstat(path.c_str(), &link) != 0) {
     if (errno == ENAMETOOLONG) return "has a name longer than the file system allows";

@@ -1001,6 +1001,12 @@ TEST(TestbedCli, ATooLongFolderNameLeavesNothingBehind) {
           out.string(),
       "--out: ");
   EXPECT_FALSE(fs::exists(root));
+  // a file name the file system allows (250 bytes) whose temporary name it would not
+  fs::create_directories(root);
+  expect_bad("export-mjcf chain:3 -o " + (root / std::string(250, 'f')).string(),
+             "bytes; at most 229 (its temporary name is longer)");
+  EXPECT_TRUE(fs::is_empty(root));
+  fs::remove_all(root);
 }
 
 // Each engine refuses a model it cannot step one simulated second of within the budget, in one

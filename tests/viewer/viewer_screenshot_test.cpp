@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 namespace {
@@ -145,6 +146,16 @@ TEST(ViewerScreenshot, BadInputExitsTwoAndWritesNothing) {
   EXPECT_EQ(viewer("--screenshot " + path.string(), false), 2);  // needs --frames
   EXPECT_EQ(viewer("--frames 2 --screenshot /nonexistent/dir/out.png", false), 2);
   EXPECT_FALSE(fs::exists(path));
+  // a link planted at the screenshot's name is never written through
+  const fs::path victim = scratch() / "victim.txt";
+  const fs::path link = scratch() / "linked.png";
+  fs::remove(link);
+  std::ofstream(victim) << "victim";
+  fs::create_symlink(victim, link);
+  EXPECT_EQ(viewer("--frames 2 --screenshot " + link.string(), false), 2);
+  std::ifstream in(victim);
+  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(in)), {}), "victim");
+  fs::remove(link);
 }
 
 }  // namespace

@@ -15,12 +15,12 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <optional>
 
 #include "panel.h"
 #include "puppet/compare/number.h"
+#include "puppet/compare/output.h"
 #include "puppet/compare/scenario.h"
 #include "puppet/compare/simulator.h"
 #include "puppet/model/text.h"
@@ -134,24 +134,24 @@ void on_key(GLFWwindow* window, int key, int /*scancode*/, int action, int /*mod
   }
 }
 
-// written to a temporary name and renamed: never half a file
+// encoded in memory, then written to a new name of its own and renamed (output.h): never half a
+// file, and never through a link planted at the name or beside it
 bool write_png(const std::string& path, int width, int height) {
   const std::vector<std::uint8_t> pixels = Renderer::read_pixels(width, height);
-  const std::string temporary = path + ".tmp";
-  if (stbi_write_png(temporary.c_str(), width, height, 3, pixels.data(), width * 3) == 0) {
+  std::string bytes;
+  const auto append = [](void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data),
+                                               static_cast<size_t>(size));
+  };
+  if (stbi_write_png_to_func(append, &bytes, width, height, 3, pixels.data(), width * 3) == 0) {
     return false;
   }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  return !error;
-}
-
-bool writable(const std::string& path) {
-  const std::string probe = path + ".tmp";
-  const bool ok = static_cast<bool>(std::ofstream(probe));
-  std::error_code ignored;
-  std::filesystem::remove(probe, ignored);
-  return ok;
+  try {
+    compare::write_file_atomically(path, bytes);
+  } catch (const std::exception&) {
+    return false;
+  }
+  return true;
 }
 
 void on_glfw_error(int /*code*/, const char* description) {
@@ -330,8 +330,10 @@ int main(int argc, char** argv) {
     script = parse_script(script_name);
     if (!script) return bad("--script: expected drag, shake or hang, got " + shown(script_name));
   }
-  if (!screenshot.empty() && !writable(screenshot)) {
-    return bad("--screenshot: cannot write " + screenshot);
+  if (!screenshot.empty()) {
+    if (std::string problem = compare::output_file_problem(screenshot); !problem.empty()) {
+      return bad("--screenshot: " + shown(screenshot) + " " + problem);
+    }
   }
   std::optional<App> state;
   try {
