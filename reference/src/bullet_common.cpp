@@ -1,4 +1,5 @@
 #include "bullet_common.h"
+#include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
 
 #include <cmath>
 #include <stdexcept>
@@ -50,6 +51,10 @@ void clear_contact_caches(btCollisionDispatcher& dispatcher) {
 }  // namespace detail
 
 std::string bullet_model_problem(const Model& /*model*/) { return {}; }
+
+int bullet_shared_fixed_body_constraints() {
+  return btTypedConstraint::getFixedBody().getNumConstraintRefs();
+}
 
 std::unique_ptr<Solver> make_solver(Kind kind, const Model& model, const Environment& environment,
                                     const Settings& settings) {

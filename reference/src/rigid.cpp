@@ -73,6 +73,12 @@ class RigidSolver final : public Solver {
   btSequentialImpulseConstraintSolver constraint_solver_;
   std::vector<std::unique_ptr<btCollisionShape>> shapes_;
   std::vector<std::unique_ptr<btRigidBody>> bodies_;
+  // The world, for pins: a static body of this solver's own at the origin. Bullet's one-body
+  // constraints hold to btTypedConstraint::getFixedBody(), one static body for the whole
+  // process, and adding or removing a constraint grows or shrinks its list of constraints:
+  // two solvers on two threads corrupted the heap there (double free, found by ThreadSanitizer
+  // in a --jobs 2 sweep; scripts/tsan_sweep.sh).
+  btRigidBody anchor_{btRigidBody::btRigidBodyConstructionInfo(0.0, nullptr, nullptr)};
   std::vector<std::unique_ptr<btTypedConstraint>> joints_;
   std::vector<std::unique_ptr<btPoint2PointConstraint>> pins_;
   PinSprings springs_;  // which pins are hard, and the compliant ones
@@ -227,10 +233,9 @@ void RigidSolver::set_pins(std::span<const Pin> pins) {
   springs_.clear();
   for (const Pin& pin : pins) {
     if (!springs_.add(pin, static_cast<int>(pins_.size()))) continue;
-    // one body: the pin holds pivotInA at the world point pivotInB
-    auto p2p =
-        std::make_unique<btPoint2PointConstraint>(*bodies_[pin.segment], to_bt(pin.local_point));
-    p2p->setPivotB(to_bt(pin.target));
+    // the pin holds pivotInA at pivotInB, a point of the anchor at the origin: a world point
+    auto p2p = std::make_unique<btPoint2PointConstraint>(*bodies_[pin.segment], anchor_,
+                                                         to_bt(pin.local_point), to_bt(pin.target));
     world_->addConstraint(p2p.get(), true);
     pins_.push_back(std::move(p2p));
   }

@@ -43,6 +43,12 @@ std::string validate(const Settings& settings);
 // place a limitation would be stated
 std::string bullet_model_problem(const Model& model);
 
+// How many constraints hold to Bullet's process-wide static body (btTypedConstraint::
+// getFixedBody()). No solver of this project uses it (a pin holds to a static body of its own
+// solver's: adding constraints to the shared one from two threads corrupts the heap), so this is
+// 0 whatever has run; for the tests.
+int bullet_shared_fixed_body_constraints();
+
 // builds the model at rest in the environment (its ground, gravity and forces); the model must
 // outlive the solver. Throws ModelError when the model cannot be expressed in Bullet
 // (bullet_model_problem).
