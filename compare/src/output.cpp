@@ -134,6 +134,12 @@ std::string output_file_problem(const std::string& path) {
     if (!folder.empty() && !std::filesystem::is_directory(folder, error)) {
       return "is in a folder that does not exist";
     }
+    if (std::filesystem::path(path).is_relative()) {
+      const std::filesystem::path working = std::filesystem::current_path(error);
+      if (error || working.empty()) {
+        return "is relative to a working folder that no longer exists";
+      }
+    }
     if (::access(folder.empty() ? "." : folder.c_str(), W_OK | X_OK) != 0) {
       return std::string("is in a folder that cannot be written (") + std::strerror(errno) + ")";
     }
