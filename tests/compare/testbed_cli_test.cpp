@@ -898,44 +898,38 @@ TEST(TestbedCli, ASecondCommandOnTheSameFolderIsRefused) {
   fs::remove_all(model.parent_path());
 }
 
-// A step that does not return (Bullet cannot be asked to stop inside one) is not waited for: the
-// process ends within a second of SIGINT or SIGTERM, the old results whole, nothing left beside
-TEST(TestbedCli, ALongEngineStepStopsWithinASecond) {
+// A run inside a step that takes seconds, sent `signals` 20 ms apart: it ends within `seconds` of
+// the last with 128 + the first, the old results whole and nothing left beside them
+void expect_a_long_step_stopped(const std::vector<int>& signals, double seconds) {
   const fs::path model = limited_chain(fresh_folder("long_step_model"), 300, 1.0);
-  for (const int signal : {SIGINT, SIGTERM}) {
-    const fs::path out = folder_with_results("long_step");
-    const std::string before = read_all(out / "summary.csv");
-    const Child child = start(long_step_run(model, out));
-    std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // inside a step
-    ::kill(child.pid, signal);
-    int status = 0;
-    ASSERT_TRUE(child.wait(1.0, &status)) << "still running a second after signal " << signal;
-    EXPECT_EQ(status, 128 + signal);
-    EXPECT_EQ(read_all(out / "summary.csv"), before);
-    EXPECT_TRUE(leftovers(out).empty()) << leftovers(out).front();
-    fs::remove_all(out);
-  }
-  fs::remove_all(model.parent_path());
-}
-
-// A second signal ends the process at once, without the grace the first one gives
-TEST(TestbedCli, ASecondSignalEndsTheCommandAtOnce) {
-  const fs::path model = limited_chain(fresh_folder("second_signal_model"), 300, 1.0);
-  const fs::path out = folder_with_results("second_signal");
+  const fs::path out = folder_with_results("long_step");
   const std::string before = read_all(out / "summary.csv");
   const Child child = start(long_step_run(model, out));
-  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
-  ::kill(child.pid, SIGINT);
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  ::kill(child.pid, SIGINT);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // inside a step
+  for (size_t k = 0; k < signals.size(); ++k) {
+    if (k > 0) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    ::kill(child.pid, signals[k]);
+  }
   int status = 0;
-  // well inside the first signal's grace (compare::kStopGraceSeconds, 0.5 s)
-  ASSERT_TRUE(child.wait(0.3, &status)) << "still running after the second signal";
-  EXPECT_EQ(status, 128 + SIGINT);
+  ASSERT_TRUE(child.wait(seconds, &status))
+      << "still running " << seconds << " s after " << signals.size() << " signal(s)";
+  EXPECT_EQ(status, 128 + signals.front());
   EXPECT_EQ(read_all(out / "summary.csv"), before);
   EXPECT_TRUE(leftovers(out).empty()) << leftovers(out).front();
   fs::remove_all(out);
   fs::remove_all(model.parent_path());
+}
+
+// A step that does not return (Bullet cannot be asked to stop inside one) is not waited for: the
+// process ends within a second of SIGINT or SIGTERM
+TEST(TestbedCli, ALongEngineStepStopsWithinASecond) {
+  for (const int signal : {SIGINT, SIGTERM}) expect_a_long_step_stopped({signal}, 1.0);
+}
+
+// A second signal ends the process at once: well inside the grace the first one gives
+// (compare::kStopGraceSeconds, 0.5 s)
+TEST(TestbedCli, ASecondSignalEndsTheCommandAtOnce) {
+  expect_a_long_step_stopped({SIGINT, SIGINT}, 0.3);
 }
 
 // A signal at any moment of a run (its truths, its runs, its writing, its swap) leaves the old
