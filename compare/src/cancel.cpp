@@ -14,29 +14,35 @@ namespace puppet::compare {
 namespace {
 
 std::atomic<int> g_signal{0};
-std::atomic<int> g_signals{0};  // how many signals asked
+std::atomic<int> g_signals{0};        // how many signals asked
+std::atomic<bool> g_watching{false};  // the watchdog waits on its semaphore
 
-// posted by request_cancel (sem_post is async-signal-safe), waited for by the watchdog
-sem_t g_wake;
-std::once_flag g_started;
-
-std::mutex g_commit;
-
-// the paths to remove before a forced exit; a fixed table, so that registering never allocates
-// more than the path itself and the watchdog never meets a table being resized
+// What the watchdog reads, made once and never destroyed: it may wake while the process exits,
+// after static objects are gone. The paths to remove before a forced exit sit in a fixed table,
+// so that registering allocates only the path and the watchdog never meets a table resized.
 constexpr int kSlots = 256;
-std::mutex g_tidy_mutex;
-std::array<std::filesystem::path, kSlots> g_tidy;
-std::array<bool, kSlots> g_tidy_used{};
+struct Watch {
+  sem_t wake;  // posted by request_cancel (sem_post is async-signal-safe)
+  std::once_flag started;
+  std::mutex commit;
+  std::mutex tidy_mutex;
+  std::array<std::filesystem::path, kSlots> tidy;
+  std::array<bool, kSlots> used{};
+};
+Watch& watch_state() {
+  static Watch* const state = new Watch;
+  return *state;
+}
 
 void tidy_all() {
-  const std::lock_guard<std::mutex> lock(g_tidy_mutex);
-  for (int i = 0; i < kSlots; ++i) {
-    if (!g_tidy_used[static_cast<size_t>(i)]) continue;
+  Watch& w = watch_state();
+  const std::lock_guard<std::mutex> lock(w.tidy_mutex);
+  for (size_t i = 0; i < kSlots; ++i) {
+    if (!w.used[i]) continue;
     // a folder that a running job may still be filling: tried again until it is gone
     for (int attempt = 0; attempt < 5; ++attempt) {
       std::error_code error;
-      std::filesystem::remove_all(g_tidy[static_cast<size_t>(i)], error);
+      std::filesystem::remove_all(w.tidy[i], error);
       if (!error) break;
     }
   }
@@ -47,7 +53,7 @@ void write_line(const std::string& line) {
 }
 
 [[noreturn]] void watch(std::string program) {
-  while (::sem_wait(&g_wake) != 0) {
+  while (::sem_wait(&watch_state().wake) != 0) {
   }
   const auto deadline =
       std::chrono::steady_clock::now() + std::chrono::duration<double>(kStopGraceSeconds);
@@ -55,7 +61,7 @@ void write_line(const std::string& line) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   // the command did not end by itself: a step that does not return, or a second signal
-  const std::unique_lock<std::mutex> commit(g_commit);
+  const std::unique_lock<std::mutex> commit(watch_state().commit);
   tidy_all();
   const int signal = g_signal.load();
   const char* name = signal == SIGTERM ? "SIGTERM" : "SIGINT";
@@ -71,27 +77,32 @@ void write_line(const std::string& line) {
 void request_cancel(int signal) {
   if (g_signals.fetch_add(1) == 0) g_signal.store(signal);
   cancel_flag().store(true);
-  ::sem_post(&g_wake);
+  if (g_watching.load()) ::sem_post(&watch_state().wake);
 }
 
 int cancel_signal() { return g_signal.load(); }
 
 void start_stop_watchdog(const char* program) {
-  std::call_once(g_started, [program] {
-    ::sem_init(&g_wake, 0, 0);
+  Watch& w = watch_state();
+  std::call_once(w.started, [&w, program] {
+    ::sem_init(&w.wake, 0, 0);
     std::thread(watch, std::string(program)).detach();
+    g_watching.store(true);
   });
 }
 
-std::unique_lock<std::mutex> commit_guard() { return std::unique_lock<std::mutex>(g_commit); }
+std::unique_lock<std::mutex> commit_guard() {
+  return std::unique_lock<std::mutex>(watch_state().commit);
+}
 
 TidyPath::TidyPath(std::filesystem::path path) {
-  const std::lock_guard<std::mutex> lock(g_tidy_mutex);
-  for (int i = 0; i < kSlots; ++i) {
-    if (g_tidy_used[static_cast<size_t>(i)]) continue;
-    g_tidy[static_cast<size_t>(i)] = std::move(path);
-    g_tidy_used[static_cast<size_t>(i)] = true;
-    slot_ = i;
+  Watch& w = watch_state();
+  const std::lock_guard<std::mutex> lock(w.tidy_mutex);
+  for (size_t i = 0; i < kSlots; ++i) {
+    if (w.used[i]) continue;
+    w.tidy[i] = std::move(path);
+    w.used[i] = true;
+    slot_ = static_cast<int>(i);
     return;
   }
   // more than kSlots at once: this one is not tidied by a forced exit (a crash's leftovers,
@@ -100,9 +111,10 @@ TidyPath::TidyPath(std::filesystem::path path) {
 
 void TidyPath::release() {
   if (slot_ < 0) return;
-  const std::lock_guard<std::mutex> lock(g_tidy_mutex);
-  g_tidy_used[static_cast<size_t>(slot_)] = false;
-  g_tidy[static_cast<size_t>(slot_)].clear();
+  Watch& w = watch_state();
+  const std::lock_guard<std::mutex> lock(w.tidy_mutex);
+  w.used[static_cast<size_t>(slot_)] = false;
+  w.tidy[static_cast<size_t>(slot_)].clear();
   slot_ = -1;
 }
 
