@@ -606,7 +606,7 @@ TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
 // below the truth's floor refused with its reason, the chosen rows naming a candidate that was
 // put through every start
 TEST(TestbedCli, AVerdictWritesEveryRowAndRefusesABudgetBelowTheFloor) {
-  const fs::path out = fresh_folder("verdict");
+  const fs::path out = fresh_folder("verdict_command");
   const Outcome o = testbed(
       "verdict --model chain:3 --scenario hang --solver procedural,bullet-rigid --rule "
       "xpbd,literal "
@@ -900,9 +900,11 @@ TEST(TestbedCli, ASecondCommandOnTheSameFolderIsRefused) {
 
 // A run inside a step that takes seconds, sent `signals` 20 ms apart: it ends within `seconds` of
 // the last with 128 + the first, the old results whole and nothing left beside them
-void expect_a_long_step_stopped(const std::vector<int>& signals, double seconds) {
-  const fs::path model = limited_chain(fresh_folder("long_step_model"), 300, 1.0);
-  const fs::path out = folder_with_results("long_step");
+// (`name`: the test's own folders, since tests run side by side)
+void expect_a_long_step_stopped(const std::string& name, const std::vector<int>& signals,
+                                double seconds) {
+  const fs::path model = limited_chain(fresh_folder(name + "_model"), 300, 1.0);
+  const fs::path out = folder_with_results(name);
   const std::string before = read_all(out / "summary.csv");
   const Child child = start(long_step_run(model, out));
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // inside a step
@@ -923,13 +925,13 @@ void expect_a_long_step_stopped(const std::vector<int>& signals, double seconds)
 // A step that does not return (Bullet cannot be asked to stop inside one) is not waited for: the
 // process ends within a second of SIGINT or SIGTERM
 TEST(TestbedCli, ALongEngineStepStopsWithinASecond) {
-  for (const int signal : {SIGINT, SIGTERM}) expect_a_long_step_stopped({signal}, 1.0);
+  for (const int signal : {SIGINT, SIGTERM}) expect_a_long_step_stopped("long_step", {signal}, 1.0);
 }
 
 // A second signal ends the process at once: well inside the grace the first one gives
 // (compare::kStopGraceSeconds, 0.5 s)
 TEST(TestbedCli, ASecondSignalEndsTheCommandAtOnce) {
-  expect_a_long_step_stopped({SIGINT, SIGINT}, 0.3);
+  expect_a_long_step_stopped("second_signal", {SIGINT, SIGINT}, 0.3);
 }
 
 // A signal at any moment of a run (its truths, its runs, its writing, its swap) leaves the old
