@@ -58,7 +58,7 @@ void crowd_benchmark(benchmark::State& state, procedural::Rule rule) {
   const Workload workload = make_workload(pinocchio(), "drag", kCrowdBatchSteps);
   const compare::Scenario& scenario = workload.scenario;
   const auto lone = warmed_up_solver(state, workload, rule);
-  procedural::Crowd crowd(pinocchio(), procedural_settings(workload, rule), scenario.environment,
+  procedural::Crowd crowd(pinocchio(), procedural_settings(rule), scenario.environment,
                           puppets, threads, crowd_lanes(lanes));
   if (crowd.lanes() != lanes) {
     state.SkipWithError("this processor has no such lanes");

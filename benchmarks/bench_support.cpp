@@ -103,10 +103,10 @@ bool warm_up(benchmark::State& state, compare::Simulator& simulator, const Workl
   return true;
 }
 
-procedural::Settings procedural_settings(const Workload& workload, procedural::Rule rule) {
+procedural::Settings procedural_settings(procedural::Rule rule) {
   compare::SolverOptions options;
   options.rule = rule;
-  return compare::procedural_settings(options, workload.scenario);
+  return compare::procedural_settings(options);
 }
 
 std::unique_ptr<procedural::Solver> warmed_up_solver(benchmark::State& state,
@@ -114,7 +114,7 @@ std::unique_ptr<procedural::Solver> warmed_up_solver(benchmark::State& state,
                                                      procedural::Rule rule) {
   const compare::Scenario& scenario = workload.scenario;
   auto solver = std::make_unique<procedural::Solver>(
-      *workload.model, procedural_settings(workload, rule), scenario.environment);
+      *workload.model, procedural_settings(rule), scenario.environment);
   solver->reset(scenario.initial);
   solver->set_pins(scenario.initial_pins());
   compare::MetricsProbe probe = make_probe(workload);

@@ -60,9 +60,9 @@ const Model& chain(int n);
 // skipped with the reason) when it diverged on the way.
 bool warm_up(benchmark::State& state, compare::Simulator& simulator, const Workload& workload);
 
-// The settings compare/ gives the procedural solver with this rule in the workload's scenario,
+// The settings compare/ gives the procedural solver with this rule,
 // and such a solver stepped through the warm-up (the benchmark skipped if it diverged).
-procedural::Settings procedural_settings(const Workload& workload, procedural::Rule rule);
+procedural::Settings procedural_settings(procedural::Rule rule);
 std::unique_ptr<procedural::Solver> warmed_up_solver(benchmark::State& state,
                                                      const Workload& workload,
                                                      procedural::Rule rule);

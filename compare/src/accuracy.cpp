@@ -101,6 +101,7 @@ ReseededError reseeded_error(Simulator& simulator, const Model& model, const Sce
     scenario.targets_at(t0, targets);
     simulator.set_pin_targets(targets);  // before set_state: the state starts at these targets
     simulator.set_state(truth.samples[k0]);
+    simulator.set_time(t0);  // the tremble reads the clock
     Trajectory run;
     advance(simulator, model, scenario, t0, dt, per_sample, horizon_samples, run);
     out.seed_times.push_back(t0);

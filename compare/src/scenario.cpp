@@ -2,6 +2,8 @@
 // model. The scenarios themselves are one file each under scenarios/ (catalogue.cpp lists them).
 #include "puppet/compare/scenario.h"
 
+#include "puppet/model/user_forces.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -46,11 +48,32 @@ bool Scenario::conserves_energy() const {
   const bool pins_fixed = std::all_of(
       pins.begin(), pins.end(), [](const PinPath& p) { return p.path == TargetPath::kFixed; });
   return pins_fixed && environment.air_drag == 0.0 && !environment.water && !environment.ground &&
-         !tremble;
+         !environment.tremble;
 }
 
 bool Scenario::conserves_momentum() const {
   return conserves_energy() && pins.empty() && environment.gravity.isZero();
+}
+
+GrabSpring grab_spring(const Model& model, const GrabSettings& settings) {
+  return {.hz = settings.hz,
+          .damping_ratio = settings.damping_ratio,
+          .max_force = settings.cap_weights * model.total_mass * kStandardGravity};
+}
+
+std::optional<ScenarioError> grab_settings_problem(const GrabSettings& settings) {
+  // bounds a user meets only by a slip: a spring faster than any step resolves, a damper past a
+  // thousand times critical, a cap of a thousand figures
+  if (!(settings.hz > 0.0 && settings.hz <= 1e3)) {
+    return ScenarioError("expected a frequency in (0, 1000] Hz", "grab_hz");
+  }
+  if (!(settings.damping_ratio >= 0.0 && settings.damping_ratio <= 1e3)) {
+    return ScenarioError("expected a damping ratio in [0, 1000]", "grab_ratio");
+  }
+  if (!(settings.cap_weights > 0.0 && settings.cap_weights <= 1e3)) {
+    return ScenarioError("expected a force cap in (0, 1000] figure weights", "grab_cap");
+  }
+  return std::nullopt;
 }
 
 std::string with_flag(const ScenarioError& error) {

@@ -73,20 +73,22 @@ void add_model(KeyBytes& key, const Model& model) {
 
 void add_scenario(KeyBytes& key, const Scenario& scenario) {
   const Environment& e = scenario.environment;
-  key.add(scenario.name).add(scenario.duration).add(scenario.tremble);
+  key.add(scenario.name).add(scenario.duration);
   key.add(e.gravity).add(e.air_drag).add(e.water).add(e.water_level).add(e.water_density);
-  key.add(e.water_drag).add(e.ground).add(e.friction);
+  key.add(e.water_drag).add(e.ground).add(e.friction).add(e.tremble);
+  key.add(static_cast<int64_t>(e.tremble_seed));
   key.add(static_cast<int64_t>(scenario.initial.size()));
   for (const BodyState& body : scenario.initial) add_state(key, body);
   key.add(static_cast<int64_t>(scenario.pins.size()));
   for (const PinPath& p : scenario.pins) {
     key.add(p.pin.segment).add(p.pin.local_point).add(p.pin.target).add(p.pin.compliance);
+    key.add(p.pin.grab.hz).add(p.pin.grab.damping_ratio).add(p.pin.grab.max_force);
     key.add(p.path).add(p.radius).add(p.hz).add(p.phase);
   }
 }
 
 void add_options(KeyBytes& key, const SolverOptions& o) {
-  key.add(o.rule).add(o.iterations).add(o.substeps).add(o.derive_velocities).add(o.tremble);
+  key.add(o.rule).add(o.iterations).add(o.substeps).add(o.derive_velocities).add(o.position_tremble);
   key.add(o.bullet.iterations).add(o.bullet.erp).add(o.bullet.euler_ball_limits);
   key.add(o.mujoco.integrator).add(o.mujoco.constraint_time_constant);
 }

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "puppet/model/user_forces.h"
 #include "stages.h"
 
 namespace puppet::procedural {
@@ -62,6 +63,8 @@ void Solver::reset(std::span<const BodyState> bodies) {
     state_.tremble_offset[i].setZero();
   }
   state_.pin_count = 0;
+  state_.grab_count = 0;
+  state_.slot_count = 0;
   state_.pin_force.fill(0.0);
   state_.tremble_phase = 0.0;
   state_.time = 0.0;
@@ -80,6 +83,9 @@ void Solver::place(std::span<const BodyState> bodies) {
   }
   // substeps interpolate from the previous targets: a placed state starts at the current ones
   for (int i = 0; i < state_.pin_count; ++i) state_.pin_previous_target[i] = state_.pins[i].target;
+  for (int i = 0; i < state_.grab_count; ++i) {
+    state_.grab_previous_target[i] = state_.grabs[i].target;
+  }
   state_.diverged = false;
 }
 
@@ -87,12 +93,28 @@ void Solver::restore(const State& state) {
   const size_t n = static_cast<size_t>(model_.segment_count());
   if (state.bodies.size() != n || state.x_prev.size() != n || state.q_prev.size() != n ||
       state.user_force.size() != n || state.user_torque.size() != n ||
-      state.tremble_offset.size() != n || state.pin_count < 0 || state.pin_count > kMaxPins) {
+      state.tremble_offset.size() != n || state.pin_count < 0 || state.pin_count > kMaxPins ||
+      state.grab_count < 0 || state.grab_count > kMaxPins - state.pin_count ||
+      state.slot_count != state.pin_count + state.grab_count) {
     throw std::invalid_argument("restore: a state of another model");
   }
+  auto on_model = [&](const Pin& pin) {
+    return pin.segment >= 0 && pin.segment < model_.segment_count();
+  };
   for (int i = 0; i < state.pin_count; ++i) {
-    if (state.pins[i].segment < 0 || state.pins[i].segment >= model_.segment_count()) {
+    if (!on_model(state.pins[i])) {
       throw std::invalid_argument("restore: a pin on a segment that does not exist");
+    }
+  }
+  for (int i = 0; i < state.grab_count; ++i) {
+    if (!on_model(state.grabs[i])) {
+      throw std::invalid_argument("restore: a grab on a segment that does not exist");
+    }
+  }
+  for (int k = 0; k < state.slot_count; ++k) {
+    const int slot = state.slots[k];
+    if (slot >= state.pin_count || -1 - slot >= state.grab_count) {
+      throw std::invalid_argument("restore: a pin slot out of range");
     }
   }
   state_ = state;  // same sizes: copies into the existing storage
@@ -105,17 +127,31 @@ void Solver::set_pins(std::span<const Pin> pins) {
       throw std::invalid_argument("pin on a segment that does not exist");
     }
   }
-  state_.pin_count = static_cast<int>(pins.size());
-  for (size_t i = 0; i < pins.size(); ++i) {
-    state_.pins[i] = pins[i];
-    state_.pin_previous_target[i] = pins[i].target;
-    state_.pin_force[i] = 0.0;
+  state_.pin_count = 0;
+  state_.grab_count = 0;
+  state_.slot_count = static_cast<int>(pins.size());
+  for (size_t k = 0; k < pins.size(); ++k) {
+    if (pins[k].is_grab()) {
+      const int i = state_.grab_count++;
+      state_.grabs[i] = pins[k];
+      state_.grab_previous_target[i] = pins[k].target;
+      state_.slots[k] = -1 - i;
+    } else {
+      const int i = state_.pin_count++;
+      state_.pins[i] = pins[k];
+      state_.pin_previous_target[i] = pins[k].target;
+      state_.pin_force[i] = 0.0;
+      state_.slots[k] = i;
+    }
   }
 }
 
 void Solver::set_pin_targets(std::span<const Vector3d> targets) {
-  const int count = std::min(static_cast<int>(targets.size()), state_.pin_count);
-  for (int i = 0; i < count; ++i) state_.pins[i].target = targets[i];
+  const int count = std::min(static_cast<int>(targets.size()), state_.slot_count);
+  for (int k = 0; k < count; ++k) {
+    const int slot = state_.slots[k];
+    (slot >= 0 ? state_.pins[slot] : state_.grabs[-1 - slot]).target = targets[k];
+  }
 }
 
 void Solver::step(double dt) {
@@ -127,13 +163,24 @@ void Solver::step(double dt) {
     if (state_.diverged) break;
   }
   for (int i = 0; i < state_.pin_count; ++i) state_.pin_previous_target[i] = state_.pins[i].target;
+  for (int i = 0; i < state_.grab_count; ++i) {
+    state_.grab_previous_target[i] = state_.grabs[i].target;
+  }
 }
+
+std::span<const Wrench> Solver::user_wrenches() const { return workspace_->user_wrenches; }
 
 void Solver::substep(double h, double target_fraction) {
   // the pins' targets at the end of this substep
   for (int i = 0; i < state_.pin_count; ++i) {
     substep_targets_[i] = state_.pin_previous_target[i] +
                           target_fraction * (state_.pins[i].target - state_.pin_previous_target[i]);
+  }
+  for (int i = 0; i < state_.grab_count; ++i) {
+    substep_grabs_[i] = state_.grabs[i];
+    substep_grabs_[i].target =
+        state_.grab_previous_target[i] +
+        target_fraction * (state_.grabs[i].target - state_.grab_previous_target[i]);
   }
   if (!settings_.time_stages) {
     for (int stage = 0; stage < kStageCount; ++stage) run_stage(static_cast<Stage>(stage), h);
@@ -155,7 +202,11 @@ void Solver::run_stage(Stage stage, double h) {
   Workspace& ws = *workspace_;
   switch (stage) {
     case kUpdate:
-      update(model_, environment_, state_, h);
+      // the user's forces on the state at the start of the substep, as every engine applies them
+      puppet::user_wrenches(model_, environment_,
+                    std::span<const Pin>(substep_grabs_.data(), state_.grab_count), state_.bodies,
+                    state_.time, ws.user_wrenches);
+      update(model_, environment_, ws.user_wrenches, state_, h);
       if (settings_.tremble) tremble(model_, settings_, state_, h, ws.tremble_delta);
       break;
     case kAdjust: {

@@ -25,7 +25,8 @@ namespace puppet::procedural {
 using PinTargets = std::array<Vector3d, kMaxPins>;
 
 // --- stage 1, update.cpp, tremble.cpp
-void update(const Model& model, const Environment& environment, State& state, double h);
+void update(const Model& model, const Environment& environment, std::span<const Wrench> user,
+            State& state, double h);
 // the seed's tremble (§3.4), added to positions at the end of update; delta per segment out
 void tremble(const Model& model, const Settings& settings, State& state, double h,
              std::vector<Vector3d>& delta);

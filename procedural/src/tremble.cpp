@@ -13,37 +13,14 @@
 #include <cmath>
 #include <cstdint>
 
+#include "puppet/model/user_forces.h"
 #include "stages.h"
 
 namespace puppet::procedural {
 namespace {
 
-constexpr double kMaxAmplitude = 0.003;  // m
-constexpr double kBaseFrequency = 8.0;   // Hz
-
-uint64_t mix(uint64_t x) {  // splitmix64 finaliser
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
-// gradient at an integer lattice point, in [−1, 1]
-double gradient(uint64_t seed, int64_t lattice) {
-  const uint64_t bits = mix(seed ^ mix(static_cast<uint64_t>(lattice)));
-  return static_cast<double>(bits >> 11) * (2.0 / 9007199254740992.0) - 1.0;
-}
-
-// 1-D gradient noise in about [−0.5, 0.5], smooth (quintic fade), zero at lattice points
-double gradient_noise(uint64_t seed, double t) {
-  const double cell = std::floor(t);
-  const double f = t - cell;
-  const auto lattice = static_cast<int64_t>(cell);
-  const double g0 = gradient(seed, lattice) * f;
-  const double g1 = gradient(seed, lattice + 1) * (f - 1.0);
-  const double fade = f * f * f * (f * (f * 6.0 - 15.0) + 10.0);
-  return g0 + fade * (g1 - g0);
-}
+constexpr double kMaxAmplitude = kTrembleAmplitude;  // m
+constexpr double kBaseFrequency = kTrembleHz;        // Hz
 
 }  // namespace
 
@@ -67,7 +44,7 @@ void tremble(const Model& model, const Settings& settings, State& state, double 
     const double amplitude = kMaxAmplitude * std::abs(std::sin(gamma)) * std::exp(-pull_hat);
     Vector3d offset;
     for (int axis = 0; axis < 3; ++axis) {
-      const uint64_t seed = mix(settings.tremble_seed + 3 * static_cast<uint64_t>(i) + axis);
+      const uint64_t seed = mix_bits(settings.tremble_seed + 3 * static_cast<uint64_t>(i) + axis);
       offset[axis] = 2.0 * amplitude * gradient_noise(seed, state.tremble_phase);
     }
     delta[i] = offset - state.tremble_offset[i];

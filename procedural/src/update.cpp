@@ -6,7 +6,7 @@
 //   q ← exp(h·ω) ⊗ q, renormalised                      (exact exponential map)
 //
 // Forces: the environment's (gravity, air drag, buoyancy and water drag: the same formulas as
-// every solver), the user's, and the seed's ground repulsion: a spring on the deepest point
+// every solver), the user's (state.user_force, and the grabs and tremble of user_forces.h), and the seed's ground repulsion: a spring on the deepest point
 // below z = 0, the soft part of the contact that resolve_contacts() makes hard.
 #include "puppet/model/rotation.h"
 #include "stages.h"
@@ -37,7 +37,8 @@ Vector3d gyroscopic_step(const Vector3d& inertia, const Vector3d& w_body, double
 
 }  // namespace
 
-void update(const Model& model, const Environment& environment, State& state, double h) {
+void update(const Model& model, const Environment& environment, std::span<const Wrench> user,
+            State& state, double h) {
   // out of water every segment's drag rate is the air's: one expm1 per substep, not per segment
   const double air_rate = step_drag_rate(environment.air_drag, h);
   for (int i = 0; i < model.segment_count(); ++i) {
@@ -49,7 +50,7 @@ void update(const Model& model, const Environment& environment, State& state, do
     const EnvironmentForce environment_part = environment.water
                                                   ? environment_force(segment, environment, body, h)
                                                   : air_force(segment, environment, body, air_rate);
-    Vector3d force = environment_part.force + state.user_force[i];
+    Vector3d force = environment_part.force + state.user_force[i] + user[i].force;
     if (environment.ground) {
       double low = 0.0, high = 0.0;
       vertical_extent(segment, body.q, body.x, &low, &high);
@@ -65,7 +66,7 @@ void update(const Model& model, const Environment& environment, State& state, do
     // the user's torque impulse, then the implicit gyroscopic step
     Vector3d w_body = body.q.conjugate() * body.w;
     if (environment_part.drag != 0.0) w_body *= 1.0 - h * environment_part.drag;
-    const Vector3d& torque = state.user_torque[i];
+    const Vector3d torque = state.user_torque[i] + user[i].torque;
     if (!torque.isZero(0.0)) {
       w_body += h * (body.q.conjugate() * torque).cwiseProduct(segment.inv_inertia);
     }

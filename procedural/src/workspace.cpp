@@ -13,6 +13,7 @@ Workspace::Workspace(const Model& model, const ModelTables& tables) {
   motion_q.resize(n);
   motion_t.resize(n);
   tremble_delta.assign(n, Vector3d::Zero());
+  user_wrenches.assign(n, Wrench{});
   joint_lambda.assign(model.joint_count(), Vector3d::Zero());
   limit_lambda.assign(model.joint_count(), Vector3d::Zero());
   tree_nodes.resize(n + model.joint_count() + 1);

@@ -124,7 +124,7 @@ class MujocoSolver final : public Solver {
     // the exact pin stays exact while it is among the pins, hard, and its target unchanged
     int exact = -1;
     for (size_t k = 0; k < pins.size(); ++k) {
-      if (exact_ >= 0 && pins[k].compliance <= 0.0 && same_point(pins[k], pins_[exact_]) &&
+      if (exact_ >= 0 && pins[k].is_hard() && same_point(pins[k], pins_[exact_]) &&
           pins[k].target == pins_[exact_].target) {
         exact = static_cast<int>(k);
       }
@@ -134,7 +134,7 @@ class MujocoSolver final : public Solver {
     for (size_t k = 0; exact < 0 && k < pins.size(); ++k) {
       const Pin& pin = pins[k];
       const BodyState& b = bodies_[pin.segment];
-      if (pin.compliance <= 0.0 && (b.x + b.q * pin.local_point - pin.target).norm() <= 1e-9) {
+      if (pin.is_hard() && (b.x + b.q * pin.local_point - pin.target).norm() <= 1e-9) {
         exact = static_cast<int>(k);
       }
     }
@@ -188,6 +188,9 @@ class MujocoSolver final : public Solver {
       if (d_->warning[w].number > 0) diverged_ = true;
     }
   }
+
+  void set_time(double time) override { d_->time = time; }
+  std::span<const Wrench> user_wrenches() const override { return springs_.user; }
 
   void read_state(std::span<BodyState> out) const override {
     refresh();
@@ -432,12 +435,14 @@ class MujocoSolver final : public Solver {
   }
 
   void apply_wrenches() {
+    for (int s = 0; s < model_.segment_count(); ++s) bodies_[s] = body_state(s);
+    springs_.time = d_->time;
+    const std::span<const Wrench> wrenches =
+        springs_.wrenches(model_, environment_, bodies_, m_->opt.timestep);
     for (int s = 0; s < model_.segment_count(); ++s) {
-      const BodyState body = body_state(s);
-      const Wrench w = springs_.wrench(model_.segments[s], environment_, s, body, m_->opt.timestep);
       mjtNum* out = d_->xfrc_applied + 6 * body_of_[s];
-      std::copy_n(w.force.data(), 3, out);
-      std::copy_n(w.torque.data(), 3, out + 3);
+      std::copy_n(wrenches[s].force.data(), 3, out);
+      std::copy_n(wrenches[s].torque.data(), 3, out + 3);
     }
   }
 

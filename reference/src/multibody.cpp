@@ -53,6 +53,8 @@ class MultibodySolver final : public Solver {
   void set_pins(std::span<const Pin> pins) override;
   void set_pin_targets(std::span<const Vector3d> targets) override;
   void step(double dt) override;
+  void set_time(double time) override { springs_.time = time; }
+  std::span<const Wrench> user_wrenches() const override { return springs_.user; }
   void read_state(std::span<BodyState> out) const override;
   void set_state(std::span<const BodyState> bodies) override;
   std::vector<double> save() const override;
@@ -392,9 +394,9 @@ void MultibodySolver::set_pins(std::span<const Pin> pins) {
   read_state(bodies_);
   auto alone = [&pins](int k) {
     for (int i = 0; i < static_cast<int>(pins.size()); ++i) {
-      if (i != k && pins[i].segment == pins[k].segment && pins[i].compliance <= 0.0) return false;
+      if (i != k && pins[i].segment == pins[k].segment && pins[i].is_hard()) return false;
     }
-    return pins[k].compliance <= 0.0;
+    return pins[k].is_hard();
   };
   Hang hang;
   for (int k = 0; hang_.pin >= 0 && k < static_cast<int>(pins.size()); ++k) {
@@ -446,8 +448,9 @@ void MultibodySolver::step(double dt) {
   // the environment's forces on the state at the start of the step, as in the procedural
   // solver; world frame, at each COM
   read_state(bodies_);
+  const std::span<const Wrench> wrenches = springs_.wrenches(model_, environment_, bodies_, dt);
   for (int s = 0; s < model_.segment_count(); ++s) {
-    const Wrench w = springs_.wrench(model_.segments[s], environment_, s, bodies_[s], dt);
+    const Wrench& w = wrenches[s];
     const int link = link_of_[s];
     if (link < 0) {
       body_->addBaseForce(to_bt(w.force));
@@ -459,6 +462,7 @@ void MultibodySolver::step(double dt) {
   }
   // exactly one internal step of dt: maxSubSteps = 0 turns Bullet's fixed-step accumulator off
   world_->stepSimulation(dt, 0, dt);
+  springs_.time += dt;
   for (auto& pin : hard_) {
     if (pin) pin->step_done();
   }
@@ -552,7 +556,7 @@ void MultibodySolver::set_state(std::span<const BodyState> bodies) {
   coordinates_changed();
 }
 
-// The assembly's generation, then its coordinates and pin targets; then every segment's world
+// The assembly's generation and the clock, then its coordinates and pin targets; then every segment's world
 // pose and velocity, for a restore into another assembly.
 std::vector<double> MultibodySolver::save() const {
   std::vector<double> saved;
@@ -560,6 +564,7 @@ std::vector<double> MultibodySolver::save() const {
     for (int k = 0; k < count; ++k) saved.push_back(values[k]);
   };
   saved.push_back(static_cast<double>(generation_));
+  saved.push_back(springs_.time);
   const btVector3 x = body_->getBasePos();
   const btQuaternion q = body_->getWorldToBaseRot();
   const double pose[7] = {x.x(), x.y(), x.z(), q.x(), q.y(), q.z(), q.w()};
@@ -582,13 +587,14 @@ std::vector<double> MultibodySolver::save() const {
 
 void MultibodySolver::load(std::span<const double> saved) {
   diverged_ = saved.back() != 0.0;
+  springs_.time = saved[1];
   if (static_cast<long>(saved[0]) != generation_) {
-    // saved under another assembly: only the world state carries over
+    // saved under another assembly: only the world state (and the clock) carries over
     read_world_poses(saved, bodies_);
     set_state(bodies_);
     return;
   }
-  const double* v = saved.data() + 1;
+  const double* v = saved.data() + 2;
   body_->setBasePos(btVector3(v[0], v[1], v[2]));
   body_->setWorldToBaseRot(btQuaternion(v[3], v[4], v[5], v[6]));
   v += 7;

@@ -1,20 +1,25 @@
-// How a reference holds its pins: hard ones as its own constraints, compliant ones as springs
-// applied as external forces (pin_spring_wrench), evaluated at the start of each step.
+// How a reference holds its pins: hard ones as its own constraints, compliant ones as springs and
+// grabs as capped spring–dampers (user_forces.h), both applied as external forces with the
+// environment's and the tremble, evaluated on the state at the start of each step.
 #pragma once
 
 #include <span>
 #include <vector>
 
 #include "puppet/model/environment.h"
+#include "puppet/model/user_forces.h"
 
 namespace puppet::reference::detail {
 
-// A reference's pins: the hard ones are its own constraints, the compliant ones
-// springs applied as forces (pin_spring_wrench). Pin k is hard pin slots[k] when that is ≥ 0,
-// else spring −1 − slots[k].
+// A reference's pins: the hard ones are its own constraints, the others forces. Pin k is hard pin
+// slots[k] when that is ≥ 0, else spring −1 − slots[k] (compliant: pin_spring_wrench; a grab:
+// grab_force).
 struct PinSprings {
   std::vector<Pin> springs;
   std::vector<int> slots;
+  std::vector<Wrench> user;     // the user's forces of the last step, per segment
+  double time = 0.0;            // the time the tremble reads, advanced by every step
+  std::vector<Wrench> applied;  // every external force of the last step, per segment
 
   void clear() {
     springs.clear();
@@ -22,7 +27,7 @@ struct PinSprings {
   }
   // records `pin`; true when it is hard, and then it is the solver's hard pin `hard_count`
   bool add(const Pin& pin, int hard_count) {
-    const bool hard = pin.compliance <= 0.0;
+    const bool hard = pin.is_hard();
     slots.push_back(hard ? hard_count : -1 - static_cast<int>(springs.size()));
     if (!hard) springs.push_back(pin);
     return hard;
@@ -33,18 +38,27 @@ struct PinSprings {
     springs[-1 - slots[k]].target = target;
     return -1;
   }
-  // the environment's wrench on a segment over a step of length h plus its springs' pull (world,
-  // at the COM)
-  Wrench wrench(const Segment& segment, const Environment& environment, int index,
-                const BodyState& body, double h) const {
-    Wrench w = environment_wrench(segment, environment, body, h);
-    for (const Pin& spring : springs) {
-      if (spring.segment != index) continue;
-      const Wrench pull = pin_spring_wrench(spring, body);
-      w.force += pull.force;
-      w.torque += pull.torque;
+  // every segment's external wrench for a step of length h from `bodies` (world, at the COM):
+  // the environment's, the compliant springs', the grabs' and the tremble (into `applied`)
+  std::span<const Wrench> wrenches(const Model& model, const Environment& environment,
+                                   std::span<const BodyState> bodies, double h) {
+    const size_t n = static_cast<size_t>(model.segment_count());
+    user.resize(n);
+    applied.resize(n);
+    user_wrenches(model, environment, springs, bodies, time, user);
+    for (size_t s = 0; s < n; ++s) {
+      Wrench w = environment_wrench(model.segments[s], environment, bodies[s], h);
+      w.force += user[s].force;
+      w.torque += user[s].torque;
+      applied[s] = w;
     }
-    return w;
+    for (const Pin& spring : springs) {
+      if (spring.is_grab()) continue;
+      const Wrench pull = pin_spring_wrench(spring, bodies[spring.segment]);
+      applied[spring.segment].force += pull.force;
+      applied[spring.segment].torque += pull.torque;
+    }
+    return applied;
   }
 };
 

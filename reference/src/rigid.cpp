@@ -43,6 +43,8 @@ class RigidSolver final : public Solver {
   void set_pins(std::span<const Pin> pins) override;
   void set_pin_targets(std::span<const Vector3d> targets) override;
   void step(double dt) override;
+  void set_time(double time) override { springs_.time = time; }
+  std::span<const Wrench> user_wrenches() const override { return springs_.user; }
   void read_state(std::span<BodyState> out) const override;
   void set_state(std::span<const BodyState> bodies) override;
   std::vector<double> save() const override;
@@ -251,13 +253,14 @@ void RigidSolver::set_pin_targets(std::span<const Vector3d> targets) {
 void RigidSolver::step(double dt) {
   if (diverged_) return;
   read_state(states_);
+  const std::span<const Wrench> wrenches = springs_.wrenches(model_, environment_, states_, dt);
   for (int s = 0; s < model_.segment_count(); ++s) {
-    const Wrench w = springs_.wrench(model_.segments[s], environment_, s, states_[s], dt);
-    bodies_[s]->applyCentralForce(to_bt(w.force));
-    bodies_[s]->applyTorque(to_bt(w.torque));
+    bodies_[s]->applyCentralForce(to_bt(wrenches[s].force));
+    bodies_[s]->applyTorque(to_bt(wrenches[s].torque));
   }
   // exactly one internal step of dt: maxSubSteps = 0 turns Bullet's fixed-step accumulator off
   world_->stepSimulation(dt, 0, dt);
+  springs_.time += dt;
   read_state(states_);
   diverged_ = diverged_ || !all_finite(states_);
 }
@@ -304,6 +307,7 @@ std::vector<double> RigidSolver::save() const {
   for (const Pin& spring : springs_.springs) {
     saved.insert(saved.end(), {spring.target.x(), spring.target.y(), spring.target.z()});
   }
+  saved.push_back(springs_.time);
   saved.push_back(diverged_ ? 1.0 : 0.0);
   return saved;
 }
@@ -325,6 +329,7 @@ void RigidSolver::load(std::span<const double> saved) {
     spring.target = Vector3d(v[0], v[1], v[2]);
     v += 3;
   }
+  springs_.time = *v++;
   diverged_ = v[0] != 0.0;
   clear_contact_caches(machinery_.dispatcher);
 }

@@ -81,6 +81,8 @@ class FailingSimulator : public Simulator {
   void step(double) override {
     if (++steps_ == 10) bodies_[3].x.z() = NAN;
   }
+  void set_time(double) override {}
+  std::span<const Wrench> user_wrenches() const override { return {}; }
   void read_state(std::span<BodyState> out) const override {
     std::copy(bodies_.begin(), bodies_.end(), out.begin());
   }

@@ -80,7 +80,6 @@ TEST(Allocation, NoneInsideAStep) {
     for (Rule rule : kAllRules) {
       Settings settings;
       settings.rule = rule;
-      settings.tremble = scenario.tremble;
       settings.substeps = 2;
       settings.time_stages = true;
       // 0.67 s at 1/60 in two substeps: long enough for drop to reach the ground

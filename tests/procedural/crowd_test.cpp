@@ -30,7 +30,7 @@ TEST(Crowd, EveryPuppetMatchesALoneSolverBitForBit) {
   for (int k = 0; k < kPuppets; ++k) {
     compare::ScenarioOptions options;
     options.tilt_deg = 10.0 + 8.0 * k;
-    scenarios.push_back(compare::make_scenario("drag", model, options));
+    scenarios.push_back(compare::make_scenario("marionette", model, options));
   }
   Settings settings;
   settings.rule = Rule::kWeighted;
@@ -114,7 +114,10 @@ std::vector<compare::Scenario> lane_scenarios(const Model& model, const LaneCase
     compare::ScenarioOptions options;
     options.tilt_deg = 4.0 + 6.0 * k;
     scenarios.push_back(compare::make_scenario(c.scenario, model, options));
-    for (compare::PinPath& path : scenarios.back().pins) path.pin.compliance = c.pin_compliance;
+    for (compare::PinPath& path : scenarios.back().pins) {
+      path.pin.grab = {};  // the lanes hold pins (a grabbed puppet steps alone: crowd.h)
+      path.pin.compliance = c.pin_compliance;
+    }
   }
   // the fifth puppet keeps its first pin only
   scenarios[4].pins.resize(1);
@@ -189,8 +192,8 @@ LaneRun run_crowd(const Model& model, const LaneCase& c, CrowdLanes lanes, int t
 TEST(CrowdLanes, XpbdLanesMatchLoneSolversToRounding) {
   const std::string models = std::string(PUPPET_SOURCE_DIR) + "/models/";
   for (const LaneCase& c :
-       {LaneCase{"drag", 0.0, 0.0, 0.0, false}, LaneCase{"shake", 0.0, 0.0, 0.0, false},
-        LaneCase{"drag", 1e-3, 1e-7, 1e-5, false}, LaneCase{"drag", 0.0, 0.0, 0.0, true},
+       {LaneCase{"marionette", 0.0, 0.0, 0.0, false}, LaneCase{"shake", 0.0, 0.0, 0.0, false},
+        LaneCase{"marionette", 1e-3, 1e-7, 1e-5, false}, LaneCase{"marionette", 0.0, 0.0, 0.0, true},
         LaneCase{"shake", 0.0, 0.0, 0.0, true, "pinocchio-swing-twist"}}) {
     SCOPED_TRACE(::testing::Message() << c.scenario << " " << c.model);
     const Model model = load_model(models + c.model + ".json");
@@ -223,7 +226,7 @@ TEST(CrowdLanes, XpbdLanesMatchLoneSolversToRounding) {
 // result depends neither on the processor nor on its batch
 TEST(CrowdLanes, EveryWidthGivesTheSameBits) {
   const Model model = compare::load_named_model("pinocchio");
-  const LaneCase c{"drag", 1e-3, 0.0, 0.0, true};
+  const LaneCase c{"marionette", 1e-3, 0.0, 0.0, true};
   int two = 0;
   const LaneRun reference = run_crowd(model, c, CrowdLanes::kTwo, 1, &two);
   ASSERT_EQ(two, 2);
@@ -248,7 +251,7 @@ TEST(CrowdLanes, EveryWidthGivesTheSameBits) {
 // flags it (it is stepped again alone); its batch's other puppets go on untouched
 TEST(CrowdLanes, ADivergingLaneIsFlaggedAsALoneSolverFlagsIt) {
   const Model model = compare::load_named_model("pinocchio");
-  const compare::Scenario scenario = compare::make_scenario("drag", model);
+  const compare::Scenario scenario = compare::make_scenario("marionette", model);
   Settings settings;
   settings.rule = Rule::kXpbd;
   const auto poison = [](Solver& puppet) {

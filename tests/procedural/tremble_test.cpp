@@ -1,5 +1,6 @@
-// The seed's tremble (tremble.cpp, §3.4): bounded by its amplitude, present only under a pull,
-// reproducible from its seed.
+// The seed's tremble read as position noise (tremble.cpp, §3.4; the rule option
+// --position-tremble): bounded by its amplitude, present only under a pull, reproducible from its
+// seed. The tremble scenario's tremble is a force (user_forces_test.cpp).
 #include <gtest/gtest.h>
 
 #include "puppet/compare/scenario.h"
@@ -21,8 +22,11 @@ struct TrembleRun {
 
 TrembleRun run_tremble(uint64_t seed, bool pinned) {
   const Model model = load_model(std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json");
-  const compare::Scenario scenario = compare::make_scenario("tremble", model);
-  Settings settings = compare::procedural_settings(compare::SolverOptions{}, scenario);
+  // the hand on a hard pin: the pull the position tremble reads is the pins' corrections
+  const compare::Scenario scenario = compare::make_scenario("marionette", model);
+  compare::SolverOptions options;
+  options.position_tremble = true;
+  Settings settings = compare::procedural_settings(options);
   EXPECT_TRUE(settings.tremble);
   settings.tremble_seed = seed;
   Solver solver(model, settings, scenario.environment);

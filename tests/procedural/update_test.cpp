@@ -33,6 +33,13 @@ State state_of(const Model& model) {
   return state;
 }
 
+// no grab and no tremble: the update's user forces are zero
+std::span<const Wrench> no_user_forces(const Model& model) {
+  static std::vector<Wrench> zeros;
+  zeros.assign(model.segment_count(), Wrench{});
+  return zeros;
+}
+
 TEST(Update, FreeFallIsSemiImplicitEulerStepForStep) {
   // v_n = v_0 + n h g, x_n = x_0 + n h v_0 + h² g n(n+1)/2: the scheme's own closed form
   const Model model = box();
@@ -43,7 +50,7 @@ TEST(Update, FreeFallIsSemiImplicitEulerStepForStep) {
   const Vector3d x0 = state.bodies[0].x;
   const double h = 1.0 / 240.0;
   for (int n = 1; n <= 480; ++n) {
-    update(model, environment, state, h);
+    update(model, environment, no_user_forces(model), state, h);
     const Vector3d v = v0 + n * h * environment.gravity;
     const Vector3d x = x0 + n * h * v0 + h * h * environment.gravity * (n * (n + 1) / 2.0);
     ASSERT_LT((state.bodies[0].v - v).norm(), 1e-12) << n;
@@ -64,7 +71,7 @@ TEST(Update, DragDecaysByExactlyItsExponentialAtAnyRate) {
     state.bodies[0].w = w0;  // about a principal axis: no gyroscopic coupling
     const double h = 1.0 / 240.0;
     for (int n = 1; n <= 240; ++n) {
-      update(model, environment, state, h);
+      update(model, environment, no_user_forces(model), state, h);
       const double decay = std::exp(-c * n * h);
       ASSERT_LT((state.bodies[0].v - decay * v0).norm(), 1e-12 * v0.norm()) << c << " " << n;
       ASSERT_LT((state.bodies[0].w - decay * w0).norm(), 1e-12 * w0.norm()) << c << " " << n;
@@ -82,7 +89,7 @@ TEST(Update, ASteadySpinTurnsByExactlyOmegaT) {
   state.bodies[0].w = w;
   const double h = 1.0 / 60.0;
   for (int n = 1; n <= 600; ++n) {
-    update(model, environment, state, h);
+    update(model, environment, no_user_forces(model), state, h);
     const Quaterniond expected = quat_exp(n * h * w);
     ASSERT_LT(state.bodies[0].q.angularDistance(expected), 1e-12) << n;
   }
@@ -107,7 +114,7 @@ TEST(Update, TheImplicitGyroscopicTermNeverGainsEnergy) {
   const double e0 = energy(), l0 = momentum();
   double previous = e0;
   for (int n = 0; n < 2400; ++n) {
-    update(model, environment, state, 1.0 / 240.0);
+    update(model, environment, no_user_forces(model), state, 1.0 / 240.0);
     const double e = energy();
     ASSERT_LE(e, previous * (1 + 1e-12)) << n;
     previous = e;
@@ -125,7 +132,7 @@ TEST(Update, UserForcesAndTorquesAreImpulsesOverTheStep) {
   state.user_force[0] = Vector3d(4.0, 0.0, -2.0);
   state.user_torque[0] = Vector3d(0.0, 0.0, 0.6);
   const double h = 0.01;
-  update(model, environment, state, h);
+  update(model, environment, no_user_forces(model), state, h);
   EXPECT_LT((state.bodies[0].v - h * state.user_force[0] / segment.mass).norm(), 1e-15);
   // from rest the gyroscopic term is zero: Δω = h I⁻¹ τ
   EXPECT_LT((state.bodies[0].w - Vector3d(0, 0, h * 0.6 / segment.inertia.z())).norm(), 1e-14);
@@ -140,13 +147,13 @@ TEST(Update, TheSeedsGroundSpringPushesTheDeepestPointUp) {
   const double depth = 0.01;
   state.bodies[0].x.z() = 0.2 - depth;  // half height 0.2 m
   const double h = 1.0 / 240.0;
-  update(model, environment, state, h);
+  update(model, environment, no_user_forces(model), state, h);
   const double stiffness = std::pow(2 * M_PI * 5.0, 2);
   EXPECT_NEAR(state.bodies[0].v.z(), h * (environment.gravity.z() + stiffness * depth),
               1e-3 * h * stiffness * depth);
   // and nothing above the ground
   State above = state_of(model);
-  update(model, environment, above, h);
+  update(model, environment, no_user_forces(model), above, h);
   EXPECT_NEAR(above.bodies[0].v.z(), h * environment.gravity.z(), 1e-15);
 }
 

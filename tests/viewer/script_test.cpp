@@ -14,8 +14,15 @@ TEST(Script, Names) {
   EXPECT_FALSE(parse_script("wave"));
 }
 
+// the scripts' drag checks the point is at the mouse: a pin holds it there
+SessionConfig with_pin() {
+  SessionConfig c;
+  c.grab_pin = true;
+  return c;
+}
+
 struct Played {
-  Session session{SessionConfig{}};
+  Session session{with_pin()};
   OrbitCamera camera;
   Controller controller{camera, session};
   ScriptPlayer player;

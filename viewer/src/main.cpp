@@ -290,8 +290,20 @@ int main(int argc, char** argv) {
   app.add_option("--substeps", config.options.substeps, compare::procedural_substeps_help());
   app.add_option("--start", config.start,
                  "SEED:INDEX: a random start of testbed robustness (its worst.csv lists them)");
+  app.add_option("--grab-hz", config.grab_spring.hz,
+                 "the mouse's grab: the frequency f of its spring (the grab of drag, shake, "
+                 "water and tremble)")
+      ->capture_default_str();
+  app.add_option("--grab-ratio", config.grab_spring.damping_ratio,
+                 "the mouse's grab: its damping ratio")
+      ->capture_default_str();
+  app.add_option("--grab-cap", config.grab_spring.cap_weights,
+                 "the mouse's grab: its force cap in the figure's weights")
+      ->capture_default_str();
+  app.add_flag("--grab-pin", config.grab_pin,
+               "the mouse holds the point with a pin instead (--grab-compliance)");
   app.add_option("--grab-compliance", config.grab_compliance,
-                 "the mouse's grab: 0 holds the point (default), C > 0 (m/N) pulls it with a "
+                 "with --grab-pin: 0 holds the point (default), C > 0 (m/N) pulls it with a "
                  "spring of stiffness 1/C")
       ->capture_default_str();
   app.add_option("--frames", frames, "headless: run this many frames of 1/60 s, then exit");

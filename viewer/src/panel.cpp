@@ -107,7 +107,6 @@ void scenario_section(Session& session, PanelState& state) {
 
 void world_section(Session& session) {
   Environment e = session.scenario().environment;
-  bool tremble = session.scenario().tremble;
   std::array<float, 3> g = {static_cast<float>(e.gravity.x()), static_cast<float>(e.gravity.y()),
                             static_cast<float>(e.gravity.z())};
   float air = static_cast<float>(e.air_drag), level = static_cast<float>(e.water_level),
@@ -123,14 +122,18 @@ void world_section(Session& session) {
   }
   changed |= ImGui::Checkbox("ground", &e.ground);
   ImGui::SameLine();
-  changed |= ImGui::Checkbox("tremble (procedural)", &tremble);
+  changed |= ImGui::Checkbox("tremble", &e.tremble);
+  if (ImGui::IsItemHovered()) {
+    ImGui::SetTooltip("the seed's tremble: a force on every segment, in every solver, that grows "
+                      "with the grab's pull");
+  }
   if (!changed) return;
   e.gravity = {g[0], g[1], g[2]};
   e.air_drag = air;
   e.water_level = level;
   e.water_density = density;
   e.water_drag = water_drag;
-  session.set_environment(e, tremble);
+  session.set_environment(e);
 }
 
 void time_section(Session& session, Controller& controller, PanelState& state) {
@@ -153,17 +156,40 @@ void time_section(Session& session, Controller& controller, PanelState& state) {
   if (compare::has_rules(config.solver) || compare::has_rules(config.ghost)) {
     changed |= rule_count_slider("substeps", config, &config.options.substeps, 1, 32);
   }
-  // the mouse's spring: 0 is the hard pin; compliance from 1e-5 (100 kN/m) to 0.01 m/N
-  float compliance = static_cast<float>(config.grab_compliance);
-  if (ImGui::SliderFloat("grab C (m/N)", &compliance, 0.0f, 0.01f, "%.1e",
-                         ImGuiSliderFlags_Logarithmic)) {
-    config.grab_compliance = compliance;
-    changed = true;
-  }
+  // the mouse: the judged scenarios' grab (a capped spring–damper), or a pin on the cursor
+  changed |= ImGui::Checkbox("grab with a pin", &config.grab_pin);
   if (ImGui::IsItemHovered()) {
     ImGui::SetTooltip(
-        "0 holds the grabbed point on the cursor; C > 0 pulls it with a spring of "
-        "stiffness 1/C");
+        "off: the grab drag, shake, water and tremble judge, a spring-damper of frequency f and "
+        "damping ratio, normalised by the segment's mass, its force capped in figure weights; "
+        "on: a pin holds the point on the cursor (C = 0), or pulls it with stiffness 1/C");
+  }
+  if (config.grab_pin) {
+    // compliance from 1e-5 (100 kN/m) to 0.01 m/N; 0 is the hard pin
+    float compliance = static_cast<float>(config.grab_compliance);
+    if (ImGui::SliderFloat("grab C (m/N)", &compliance, 0.0f, 0.01f, "%.1e",
+                           ImGuiSliderFlags_Logarithmic)) {
+      config.grab_compliance = compliance;
+      changed = true;
+    }
+  } else {
+    compare::GrabSettings& spring = config.grab_spring;
+    float hz = static_cast<float>(spring.hz), ratio = static_cast<float>(spring.damping_ratio),
+          cap = static_cast<float>(spring.cap_weights);
+    if (ImGui::SliderFloat("grab f (Hz)", &hz, 0.25f, 20.0f, "%.2f",
+                           ImGuiSliderFlags_Logarithmic)) {
+      spring.hz = hz;
+      changed = true;
+    }
+    if (ImGui::SliderFloat("grab damping ratio", &ratio, 0.0f, 2.0f, "%.2f")) {
+      spring.damping_ratio = ratio;
+      changed = true;
+    }
+    if (ImGui::SliderFloat("grab cap (weights)", &cap, 0.05f, 10.0f, "%.2f",
+                           ImGuiSliderFlags_Logarithmic)) {
+      spring.cap_weights = cap;
+      changed = true;
+    }
   }
   if (changed) configure(session, config, state);
 

@@ -53,6 +53,7 @@ std::optional<compare::ScenarioError> validate(const SessionConfig& config) {
   if (!(config.grab_compliance >= 0.0 && config.grab_compliance <= 1.0)) {
     return ScenarioError("expected a compliance in [0, 1] m/N", "grab_compliance");
   }
+  if (auto problem = compare::grab_settings_problem(config.grab_spring)) return problem;
   if (config.anchor != "auto" && config.anchor != "grab" && config.anchor != "scenario") {
     return ScenarioError("expected auto, grab or scenario, got " + shown(config.anchor), "anchor");
   }
@@ -146,9 +147,8 @@ void Session::configure(const SessionConfig& config) {
   runs_ = std::move(runs);
 }
 
-void Session::set_environment(const Environment& environment, bool tremble) {
+void Session::set_environment(const Environment& environment) {
   scenario_.environment = environment;
-  scenario_.tremble = tremble;
   for (Run& run : runs_) {
     if (!run.diverged) rebuild(run, std::vector<BodyState>(run.bodies));
   }
@@ -264,8 +264,16 @@ void Session::collect_pins() {
   pins_ = scenario_.initial_pins();
   if (grabbing()) {
     if (released_pin_ >= 0) pins_.erase(pins_.begin() + released_pin_);
-    pins_.insert(pins_.begin() + grab_index(),
-                 Pin{grab_segment_, grab_local_, grab_target_, config_.grab_compliance});
+    Pin grab;
+    grab.segment = grab_segment_;
+    grab.local_point = grab_local_;
+    grab.target = grab_target_;
+    if (config_.grab_pin) {
+      grab.compliance = config_.grab_compliance;
+    } else {
+      grab.grab = compare::grab_spring(*model_, config_.grab_spring);
+    }
+    pins_.insert(pins_.begin() + grab_index(), grab);
   }
   for (size_t i = 0; i < pins_.size(); ++i) pins_[i].target = targets_[i];
 }

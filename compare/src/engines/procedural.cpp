@@ -24,15 +24,14 @@ class ProceduralSnapshot : public Snapshot {
 
 class ProceduralSimulator : public Simulator {
  public:
-  explicit ProceduralSimulator(const SolverOptions& options, const procedural::Settings& settings)
-      : options_(options), settings_(settings) {}
+  explicit ProceduralSimulator(const procedural::Settings& settings) : settings_(settings) {}
 
   std::string name() const override { return "procedural"; }
   std::string rule() const override { return std::string(procedural::rule_name(settings_.rule)); }
   int substeps() const override { return settings_.substeps; }
 
   void reset(const Model& model, const Scenario& scenario) override {
-    procedural::Settings settings = procedural_settings(options_, scenario);
+    procedural::Settings settings = settings_;
     settings.time_stages = time_stages_;
     solver_.emplace(model, settings, scenario.environment);
     solver_->reset(scenario.initial);
@@ -43,6 +42,8 @@ class ProceduralSimulator : public Simulator {
     solver_->set_pin_targets(targets);
   }
   void step(double dt) override { solver_->step(dt); }
+  void set_time(double time) override { solver_->set_time(time); }
+  std::span<const Wrench> user_wrenches() const override { return solver_->user_wrenches(); }
   void read_state(std::span<BodyState> out) const override {
     const auto& bodies = solver_->state().bodies;
     std::copy(bodies.begin(), bodies.end(), out.begin());
@@ -66,14 +67,14 @@ class ProceduralSimulator : public Simulator {
   }
 
  private:
-  SolverOptions options_;
-  procedural::Settings settings_;  // without the scenario's
+  procedural::Settings settings_;
   bool time_stages_ = false;
   std::optional<procedural::Solver> solver_;
 };
 
-procedural::Settings settings_without_scenario(const SolverOptions& options) {
+procedural::Settings settings_from(const SolverOptions& options) {
   procedural::Settings settings;
+  settings.tremble = options.position_tremble;
   settings.rule = options.rule;
   settings.iterations = options.iterations;
   settings.substeps = options.substeps;
@@ -84,7 +85,7 @@ procedural::Settings settings_without_scenario(const SolverOptions& options) {
 }
 
 std::unique_ptr<Simulator> make(const SolverOptions& options) {
-  return std::make_unique<ProceduralSimulator>(options, settings_without_scenario(options));
+  return std::make_unique<ProceduralSimulator>(settings_from(options));
 }
 
 std::string model_problem(const Model&) { return {}; }  // it runs every valid model
@@ -168,10 +169,8 @@ std::string procedural_substeps_help() {
   return "procedural substeps per step (default: the rule's: " + defaults + "the others 1)";
 }
 
-procedural::Settings procedural_settings(const SolverOptions& options, const Scenario& scenario) {
-  procedural::Settings settings = settings_without_scenario(options);
-  settings.tremble = options.tremble && scenario.tremble;
-  return settings;
+procedural::Settings procedural_settings(const SolverOptions& options) {
+  return settings_from(options);
 }
 
 Engine procedural_engine() {

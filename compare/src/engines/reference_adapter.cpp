@@ -26,6 +26,8 @@ class ReferenceSimulator : public Simulator {
     solver_->set_pin_targets(targets);
   }
   void step(double dt) override { solver_->step(dt); }
+  void set_time(double time) override { solver_->set_time(time); }
+  std::span<const Wrench> user_wrenches() const override { return solver_->user_wrenches(); }
   void read_state(std::span<BodyState> out) const override { solver_->read_state(out); }
   void set_state(std::span<const BodyState> bodies) override { solver_->set_state(bodies); }
   std::unique_ptr<Snapshot> snapshot() const override {

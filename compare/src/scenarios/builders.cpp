@@ -75,12 +75,13 @@ Vector3d centre_of_mass(const Model& model, const std::vector<BodyState>& bodies
   return com / model.total_mass;
 }
 
-HandPath circling_hand(const ScenarioOptions& options) {
+HandPath circling_hand(const ScenarioOptions& options, bool grab) {
   constexpr double kCircleRadius = 0.3;  // m
   return {.segment = "r_forearm",
           .path = TargetPath::kCircle,
           .radius = kCircleRadius,
-          .hz = options.start ? options.start->hz : options.hz};
+          .hz = options.start ? options.start->hz : options.hz,
+          .grab = grab};
 }
 
 Scenario held_figure(const Model& model, const ScenarioOptions& options, bool head,
@@ -122,7 +123,11 @@ Scenario held_figure(const Model& model, const ScenarioOptions& options, bool he
     PinPath grab;
     grab.pin = hand_pin;
     grab.pin.target = world_of(s.initial, hand_pin);
-    grab.pin.compliance = options.grab_compliance;
+    if (hand->grab) {
+      grab.pin.grab = grab_spring(model, options.grab_spring);
+    } else {
+      grab.pin.compliance = options.grab_compliance;
+    }
     grab.path = hand->path;
     grab.radius = hand->radius;
     grab.hz = hand->hz;

@@ -27,15 +27,19 @@ struct HandPath {
   TargetPath path = TargetPath::kCircle;
   double radius = 0.0;  // m
   double hz = 0.0;
+  // the user's grab (ScenarioOptions::grab_spring's law), else a hard pin on the path (the
+  // seed's marionette string), compliant by --grab-compliance
+  bool grab = false;
 };
 
-// the circle of drag, water, tremble and yank (docs/design.md): 0.3 m, at --hz or a start's
-HandPath circling_hand(const ScenarioOptions& options);
+// the circle of drag, marionette, water, tremble and yank (docs/design.md): 0.3 m, at --hz or a
+// start's; held by the grab when `grab`, else by a hard pin
+HandPath circling_hand(const ScenarioOptions& options, bool grab);
 
 // The figure at rest (or at options.start, posed from the segment held first), with gravity the
 // model's and no other force. `head`: a marionette, its head's top (--pin) fixed where it is, the
 // figure tilted by --tilt (or the start's) about world x through it. `hand`: a second pin on a
-// hand whose target follows the path, compliant by --grab-compliance.
+// hand whose target follows the path: the grab, or a pin compliant by --grab-compliance.
 Scenario held_figure(const Model& model, const ScenarioOptions& options, bool head,
                      const std::optional<HandPath>& hand);
 

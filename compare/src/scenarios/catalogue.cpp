@@ -16,13 +16,15 @@ ScenarioRow drop_scenario();
 ScenarioRow water_scenario();
 ScenarioRow tremble_scenario();
 ScenarioRow yank_scenario();
+ScenarioRow marionette_scenario();
 
 namespace {
 
 const std::vector<ScenarioRow>& rows() {
   static const std::vector<ScenarioRow> all = {
-      hang_scenario(), drag_scenario(),  shake_scenario(),   spin_scenario(),
-      drop_scenario(), water_scenario(), tremble_scenario(), yank_scenario()};
+      hang_scenario(),  drag_scenario(),    marionette_scenario(), shake_scenario(),
+      spin_scenario(),  drop_scenario(),    water_scenario(),      tremble_scenario(),
+      yank_scenario()};
   return all;
 }
 

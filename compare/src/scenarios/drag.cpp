@@ -1,6 +1,7 @@
-// drag: the marionette with its right hand's tip led round a 0.3 m circle in the x–z plane at
-// --hz (0.5 Hz), in air drag 0.1/s (the paper's figure 4a). The headline: a user dragging the
-// puppet is what the testbed is for.
+// drag: the figure hanging from its head, its right hand's tip grabbed as a user grabs it (the
+// capped spring–damper of GrabSettings) and the grab led round a 0.3 m circle in the x–z plane
+// at --hz (0.5 Hz), in air drag 0.1/s. The headline: a user dragging the puppet is what the
+// testbed is for.
 #include "builders.h"
 
 namespace puppet::compare {
@@ -8,7 +9,7 @@ namespace puppet::compare {
 ScenarioRow drag_scenario() {
   return {"drag",
           [](const Model& model, const ScenarioOptions& options) {
-            Scenario s = held_figure(model, options, /*head=*/true, circling_hand(options));
+            Scenario s = held_figure(model, options, /*head=*/true, circling_hand(options, /*grab=*/true));
             s.environment.air_drag = 0.1;
             return s;
           },

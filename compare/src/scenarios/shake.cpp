@@ -1,5 +1,5 @@
-// shake: the marionette with its left hand's tip shaken ±0.1 m along x at 3 Hz, in air drag
-// 0.1/s.
+// shake: the figure hanging from its head, its left hand's tip grabbed (drag's grab) and the
+// grab shaken ±0.1 m along x at 3 Hz, in air drag 0.1/s.
 #include "builders.h"
 
 namespace puppet::compare {
@@ -12,7 +12,8 @@ ScenarioRow shake_scenario() {
             const HandPath hand{.segment = "l_forearm",
                                 .path = TargetPath::kShakeX,
                                 .radius = kShakeAmplitude,
-                                .hz = hz};
+                                .hz = hz,
+                                .grab = true};
             Scenario s = held_figure(model, options, /*head=*/true, hand);
             s.environment.air_drag = 0.1;
             return s;

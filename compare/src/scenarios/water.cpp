@@ -1,11 +1,11 @@
-// water: drag's marionette under a water surface 3 m up: buoyancy and water drag 2/s.
+// water: drag's grabbed figure under a water surface 3 m up: buoyancy and water drag 2/s.
 #include "builders.h"
 
 namespace puppet::compare {
 
 ScenarioRow water_scenario() {
   return {"water", [](const Model& model, const ScenarioOptions& options) {
-            Scenario s = held_figure(model, options, /*head=*/true, circling_hand(options));
+            Scenario s = held_figure(model, options, /*head=*/true, circling_hand(options, /*grab=*/true));
             s.environment.air_drag = 0.1;
             s.environment.water = true;
             s.environment.water_level = 3.0;

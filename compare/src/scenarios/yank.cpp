@@ -1,12 +1,12 @@
-// yank: the figure held by its right hand alone, led round drag's circle with no air drag (the
-// frontier's scenario: at what frequency and dt each solver stays ok).
+// yank: the figure held by its right hand alone, a hard pin led round drag's circle with no air
+// drag (the frontier's scenario: at what frequency and dt each solver stays ok).
 #include "builders.h"
 
 namespace puppet::compare {
 
 ScenarioRow yank_scenario() {
   return {"yank", [](const Model& model, const ScenarioOptions& options) {
-            return held_figure(model, options, /*head=*/false, circling_hand(options));
+            return held_figure(model, options, /*head=*/false, circling_hand(options, /*grab=*/false));
           }};
 }
 

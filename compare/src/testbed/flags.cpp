@@ -3,6 +3,7 @@
 #include "cli.h"
 #include "puppet/compare/engines.h"
 #include "puppet/compare/number.h"
+#include "puppet/compare/output.h"
 #include "puppet/compare/robustness.h"
 #include "puppet/model/text.h"
 #include "puppet/procedural/rule.h"
@@ -68,9 +69,20 @@ void add_engine_flags(CLI::App* command, Flags& f) {
 void add_grab_flags(CLI::App* command, Flags& f) {
   command->add_option("--grab", f.grab, "dragged point SEGMENT[:x,y,z] (segment frame)");
   command->add_option("--gravity", f.gravity, "gravity X,Y,Z (m/s^2)");
+  const compare::GrabSettings grab;
+  command->add_option("--grab-hz", f.grab_hz,
+                      "the grab of drag, shake, water and tremble: its spring's frequency f (Hz; "
+                      "default " + compare::csv_number(grab.hz) + ")");
+  command->add_option("--grab-ratio", f.grab_ratio,
+                      "the grab's damping ratio (default " +
+                          compare::csv_number(grab.damping_ratio) + ")");
+  command->add_option("--grab-cap", f.grab_cap,
+                      "the grab's force cap in the figure's weights M g (default " +
+                          compare::csv_number(grab.cap_weights) + ")");
   command->add_option("--grab-compliance", f.grab_compliance,
-                      "the grab's compliance C (m/N): 0 holds the hand on its target (default), "
-                      "C > 0 pulls it with a spring of stiffness 1/C");
+                      "the hand pin of marionette and yank: its compliance C (m/N): 0 holds the "
+                      "hand on its target (default), C > 0 pulls it with a spring of stiffness "
+                      "1/C");
 }
 
 void add_solver_flags(CLI::App* command, Flags& f) {
@@ -91,8 +103,9 @@ void add_sweep_flags(CLI::App* command, Flags& f) {
   command->add_option("--air-drag", f.air_drag, "air drag k_air (1/s)");
   command->add_option("--ground", f.ground, "ground plane on|off")
       ->check(CLI::IsMember({"on", "off"}));
-  command->add_flag("--no-tremble", f.no_tremble,
-                    "procedural: no tremble even in the tremble scenario");
+  command->add_flag("--position-tremble", f.position_tremble,
+                    "procedural: the seed's tremble as position noise in the update, in any "
+                    "scenario (the tremble scenario's is a force every engine feels)");
 }
 
 void add_starts_flags(CLI::App* command, Flags& f, const char* starts_help) {
@@ -129,12 +142,15 @@ std::string replay_flags(const Flags& f) {
     if (engine.replay_flags) engine.replay_flags(f.options, out);
   }
   add("--grab-compliance", f.grab_compliance, defaults.grab_compliance);
+  add("--grab-hz", f.grab_hz, defaults.grab_hz);
+  add("--grab-ratio", f.grab_ratio, defaults.grab_ratio);
+  add("--grab-cap", f.grab_cap, defaults.grab_cap);
   add("--pin", f.pin, defaults.pin);
   add("--grab", f.grab, defaults.grab);
   add("--gravity", f.gravity, defaults.gravity);
   add("--air-drag", f.air_drag, defaults.air_drag);
   add("--ground", f.ground, defaults.ground);
-  if (f.no_tremble) out += " --no-tremble";
+  if (f.position_tremble) out += " --position-tremble";
   return out;
 }
 
@@ -147,6 +163,17 @@ ScenarioOptions parse_scenario_options(const Flags& f) {
   if (!f.grab_compliance.empty()) {
     options.grab_compliance = parse_in("--grab-compliance", f.grab_compliance, 0.0, 1e3, " m/N");
   }
+  auto read = [](const char* flag, const std::string& text, double* value) {
+    if (!text.empty() && !compare::parse_finite(text, value)) {
+      throw UsageError(std::string(flag) + ": not a finite number: " + shown(text));
+    }
+  };
+  read("--grab-hz", f.grab_hz, &options.grab_spring.hz);
+  read("--grab-ratio", f.grab_ratio, &options.grab_spring.damping_ratio);
+  read("--grab-cap", f.grab_cap, &options.grab_spring.cap_weights);
+  if (const auto problem = compare::grab_settings_problem(options.grab_spring)) {
+    throw UsageError(compare::with_flag(*problem));
+  }
   // the model's own limit on gravity
   if (!f.gravity.empty()) options.gravity = parse_vector("--gravity", f.gravity, 1e3);
   // drag decays exactly over a step (step_drag_rate): any rate is stable
@@ -157,7 +184,7 @@ ScenarioOptions parse_scenario_options(const Flags& f) {
 
 std::vector<SolverConfig> parse_solver_configs(const Flags& f) {
   SolverOptions options = f.options;  // CLI11 checked the ranges
-  options.tremble = !f.no_tremble;
+  options.position_tremble = f.position_tremble;
   std::vector<procedural::Rule> rules;
   for (const auto& rule : expand("--rule", f.rule, all_rules())) {
     rules.push_back(*procedural::parse_rule(rule));  // expand() accepted only rule names

@@ -24,11 +24,13 @@ struct Flags {
   std::string dt = "1/30,1/60,1/120,1/240,1/480", duration, out = "results", pin, grab, gravity,
               air_drag, ground;
   std::string tilt = "30", hz = "0.5", sample_hz = "30", grab_compliance;
+  // the grab's law (compare::GrabSettings); empty: its defaults
+  std::string grab_hz, grab_ratio, grab_cap;
   // every engine's own settings, bound by its row's flags (engines.h); the rule is --rule's
   compare::SolverOptions options;
   int jobs = default_jobs();
   double engine_budget = compare::kDefaultEngineBudget;  // --engine-budget (engines.h)
-  bool no_tremble = false, no_timing = false;
+  bool position_tremble = false, no_timing = false;
   bool no_accuracy = false;
   bool first_truth_only = false;
   std::string truth_cache;  // run: a folder of truth trajectories (truth_cache.h)
@@ -55,7 +57,8 @@ void add_scenario_choice_flag(CLI::App* command, Flags& f);
 void add_output_flags(CLI::App* command, Flags& f, const char* jobs_help = "worker threads");
 // every engine's own flags (its row in engines.h), bound to f.options
 void add_engine_flags(CLI::App* command, Flags& f);
-// the scenario's pieces a user may change: the dragged point, gravity, the grab's compliance
+// the scenario's pieces a user may change: the dragged point, gravity, the grab's law and the
+// marionette's pin compliance
 void add_grab_flags(CLI::App* command, Flags& f);
 // what a sweep of runs takes (run, robustness): scenarios, dts, duration, pin, air, ground and
 // the tremble

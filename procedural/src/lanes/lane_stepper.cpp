@@ -63,7 +63,7 @@ std::unique_ptr<LaneStepper> LaneStepper::make(const Solver& puppet, CrowdLanes 
   const Settings& settings = puppet.settings();
   const Environment& environment = puppet.environment();
   if (!rule_info(settings.rule).lanes || settings.tremble || settings.time_stages ||
-      environment.water || environment.ground || puppet.tables_->orders.empty()) {
+      environment.tremble || environment.water || environment.ground || puppet.tables_->orders.empty()) {
     return nullptr;
   }
   const int width = widest_lanes(lanes == CrowdLanes::kWidest ? 8
@@ -189,14 +189,15 @@ bool same_pins(const State& a, const State& b) {
 void LaneStepper::step(std::span<Solver* const> puppets, double dt, Scratch& scratch) const {
   // every puppet goes through lanes (whatever its neighbours, so that its bits do not depend on
   // its batch), in batches of the first waiting puppet and the next ones with its pins; a
-  // diverged one (or any, for dt ≤ 0) is left to Solver::step, which leaves it as it is
+  // diverged one (or any, for dt ≤ 0) is left to Solver::step, which leaves it as it is, and so
+  // is one held by a grab (a force the lanes do not compute)
   constexpr size_t kWindow = 64;  // puppets sorted into batches at a time: one bit each
   for (size_t start = 0; start < puppets.size(); start += kWindow) {
     const size_t count = std::min(kWindow, puppets.size() - start);
     uint64_t waiting = 0;
     for (size_t i = 0; i < count; ++i) {
       Solver& puppet = *puppets[start + i];
-      if (dt > 0.0 && !puppet.state_.diverged) {
+      if (dt > 0.0 && !puppet.state_.diverged && puppet.state_.grab_count == 0) {
         waiting |= uint64_t{1} << i;
       } else {
         puppet.step(dt);

@@ -16,8 +16,8 @@ namespace puppet::procedural::lanes {
 class LaneStepper {
  public:
   // a stepper for puppets made like `puppet` (every puppet of a crowd is), or null when they
-  // cannot be stepped in lanes: a rule other than xpbd, water, the ground, tremble, timed stages,
-  // a model too large to keep its anchor orders, or `lanes` kNone
+  // cannot be stepped in lanes: a rule other than xpbd, water, the ground, either tremble, timed
+  // stages, a model too large to keep its anchor orders, or `lanes` kNone
   static std::unique_ptr<LaneStepper> make(const Solver& puppet, CrowdLanes lanes);
   ~LaneStepper();
 

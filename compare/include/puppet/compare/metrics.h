@@ -16,7 +16,7 @@ namespace puppet::compare {
 
 // |c_a − c_b| of every joint (m)
 void joint_gaps(const Model& model, std::span<const BodyState> bodies, std::span<double> out);
-// |point − target| of every pin (m)
+// |point − target| of every pin (m); 0 for a grab, whose stretch is its law's, not a violation
 void pin_gaps(std::span<const Pin> pins, std::span<const Vector3d> targets,
               std::span<const BodyState> bodies, std::span<double> out);
 // how far each joint is outside its limits (deg, 0 inside)

@@ -33,13 +33,31 @@ struct PointChoice {
   std::optional<Vector3d> local_point;
 };
 
+// The user's grab in drag, shake, water and tremble, and the viewer's mouse (docs/design.md, "The
+// grab"): GrabSpring's law at Jolt's samples' f = 2 Hz and damping ratio 1, its force capped at
+// one figure weight (M g₀): a hand can hold the figure up, not fling it. Applied explicitly, as
+// an external force, it is stable in every engine at every dt the testbed runs (2π f h = 0.42 at
+// 1/30 s); Box2D's 5 Hz at ratio 0.7 is not (docs/design.md, "The grab").
+struct GrabSettings {
+  double hz = 2.0;
+  double damping_ratio = 1.0;
+  double cap_weights = 1.0;  // F_max in the figure's weights M g₀ (user_forces.h: g₀)
+};
+// the law for a model: F_max = cap_weights · M g₀
+GrabSpring grab_spring(const Model& model, const GrabSettings& settings);
+// what is wrong with the settings (a frequency that is not positive, a ratio that is negative or
+// not a number, a cap that is not positive), naming the field ("grab_hz", "grab_ratio",
+// "grab_cap"); nullopt when they are valid
+std::optional<ScenarioError> grab_settings_problem(const GrabSettings& settings);
+
 // what a user may change from the command line; unset fields keep the scenario's values
 struct ScenarioOptions {
   double tilt_deg = 30.0;  // initial tilt of hang and the scenarios built on it
   double hz = 0.5;         // circle frequency of drag and yank
   std::optional<PointChoice> pin;
   std::optional<PointChoice> grab;
-  double grab_compliance = 0.0;  // m/N of the dragged or shaken point's pin (Pin::compliance)
+  double grab_compliance = 0.0;  // m/N of the marionette's and yank's hand pin (Pin::compliance)
+  GrabSettings grab_spring;      // the grab's law in drag, shake, water and tremble
   std::optional<Vector3d> gravity;
   std::optional<double> air_drag;
   std::optional<bool> ground;
@@ -66,7 +84,6 @@ struct Scenario {
   std::string name;
   double duration = 5.0;  // s
   Environment environment;
-  bool tremble = false;  // procedural only
   std::vector<BodyState> initial;
   std::vector<PinPath> pins;
 
@@ -84,7 +101,7 @@ struct Scenario {
 // file per scenario)
 const std::vector<std::string>& scenario_names();
 // the scenario a table quotes when it quotes one (the README's and the verdict's per-frame
-// figures): drag, a user dragging the puppet by its hand
+// figures): drag, a user dragging the puppet by its hand with the grab
 const std::string& headline_scenario();
 // builds a named scenario for a model, then applies the options' overrides of the environment
 // (gravity, air drag, ground); throws ScenarioError

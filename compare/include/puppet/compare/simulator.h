@@ -40,6 +40,12 @@ class Simulator {
   // targets of the pins (world), in the pins' order, for the end of the next step
   virtual void set_pin_targets(std::span<const Vector3d> targets) = 0;
   virtual void step(double dt) = 0;
+  // the clock the tremble reads (s), advanced by every step; a harness that places a state in
+  // the middle of a run (set_state) sets it
+  virtual void set_time(double time) = 0;
+  // the user's forces the last step applied (grabs and tremble: user_wrenches, user_forces.h),
+  // per segment, world, at the COM
+  virtual std::span<const Wrench> user_wrenches() const = 0;
   // per segment, in the model's segment frames: COM, orientation, v, ω (world)
   virtual void read_state(std::span<BodyState> out) const = 0;
   // place every segment (a joint-consistent state, e.g. from another solver's trajectory); the
@@ -63,7 +69,9 @@ struct SolverOptions {
   int iterations = procedural::kRuleDefault;  // relaxed, xpbd: sweeps per substep; tree: Newton
   int substeps = procedural::kRuleDefault;    // procedural: substeps per step
   bool derive_velocities = true;
-  bool tremble = true;  // honoured only where the scenario asks for it
+  // procedural: the seed's tremble read as position noise in the update (Settings::tremble), in
+  // any scenario; the tremble scenario's is a force every engine feels (environment.tremble)
+  bool position_tremble = false;
   // bullet-multibody and bullet-rigid: sequential-impulse sweeps (Bullet's default 10), ERP, and
   // Bullet's own Euler-box ball limits
   reference::Settings bullet;
@@ -74,8 +82,8 @@ struct SolverOptions {
 const std::vector<std::string>& solver_names();
 // throws ScenarioError for an unknown solver or invalid settings
 std::unique_ptr<Simulator> make_simulator(const std::string& solver, const SolverOptions& options);
-// the settings make_simulator("procedural", options) gives its solver in this scenario, for code
-// that drives procedural::Solver directly (benchmarks of its stages, crowds); throws ScenarioError
-procedural::Settings procedural_settings(const SolverOptions& options, const Scenario& scenario);
+// the settings make_simulator("procedural", options) gives its solver, for code that drives
+// procedural::Solver directly (benchmarks of its stages, crowds); throws ScenarioError
+procedural::Settings procedural_settings(const SolverOptions& options);
 
 }  // namespace puppet::compare

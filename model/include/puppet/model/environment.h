@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -13,6 +14,10 @@ namespace puppet {
 
 struct Environment {
   Vector3d gravity{0.0, 0.0, -9.81};
+  /// the seed's tremble (§3.4) as a force on every segment (user_forces.h: tremble_force),
+  /// applied alike by every engine
+  bool tremble = false;
+  uint64_t tremble_seed = 2001;
   double air_drag = 0.0;  ///< k_air (1/s): F = −k·m·v, τ = −k·I·ω
   bool water = false;
   double water_level = 0.0;       ///< z of the surface (m)
@@ -43,6 +48,17 @@ inline bool all_finite(std::span<const BodyState> bodies) {
   return zero == 0.0;
 }
 
+/// A user's grab as every engine's picking tool makes it (docs/design.md, "The grab"): the point
+/// pulled toward its target by a spring–damper normalised by the effective mass M of the grabbed
+/// segment at the point (as a soft constraint's frequency is), its force capped,
+///   F = M (ω² (t − p) − 2 ζ ω ṗ),  ω = 2π f,  |F| ≤ F_max,
+/// applied as an external force at the point (user_forces.h: grab_force).
+struct GrabSpring {
+  double hz = 0.0;             ///< f (Hz); 0: the pin is a constraint (hard or compliant)
+  double damping_ratio = 1.0;  ///< ζ
+  double max_force = 0.0;      ///< F_max (N)
+};
+
 /// a point of a segment held at a world target (a user's drag, a marionette string)
 struct Pin {
   int segment = -1;
@@ -51,6 +67,11 @@ struct Pin {
   /// m/N: 0 holds the point on its target (the seed's hard pin); C > 0 pulls it with the force
   /// (target − point)/C, a zero-length spring of stiffness 1/C, as a user's grab does in an engine
   double compliance = 0.0;
+  /// hz > 0: not a constraint but a grab, a capped spring–damper force (GrabSpring)
+  GrabSpring grab{};
+  bool is_grab() const { return grab.hz > 0.0; }
+  /// held on its target by a constraint (the seed's hard pin): not compliant, not a grab
+  bool is_hard() const { return compliance <= 0.0 && !is_grab(); }
 };
 
 /// every segment at its rest pose, at rest

@@ -31,7 +31,7 @@ class LaneStepper;
 /// how a crowd of xpbd puppets uses SIMD lanes: the widest the processor has (AVX-512's 8
 /// puppets, else AVX2's 4, else SSE2's 2), at most AVX2's 4, SSE2's 2 on any processor, or none
 /// (one Solver::step per puppet). Puppets of other rules, in water, on the ground or trembling
-/// are always stepped one by one.
+/// are always stepped one by one, and so is a puppet while a grab (Pin::is_grab) holds it.
 enum class CrowdLanes { kWidest, kFour, kTwo, kNone };
 
 class Crowd {

@@ -35,6 +35,14 @@ struct State {
   std::array<Vector3d, kMaxPins> pin_previous_target{};
   std::array<double, kMaxPins> pin_force{};  ///< last correction expressed as a force (N)
   int pin_count = 0;
+  /// the grabs (Pin::is_grab): forces, not constraints, applied in the update (user_forces.h)
+  std::array<Pin, kMaxPins> grabs{};
+  std::array<Vector3d, kMaxPins> grab_previous_target{};
+  int grab_count = 0;
+  /// what set_pins was given, in its order: pin k is pins[slots[k]] when that is ≥ 0, else
+  /// grabs[−1 − slots[k]]
+  std::array<int, kMaxPins> slots{};
+  int slot_count = 0;
   double tremble_phase = 0.0;
   double time = 0.0;
   bool diverged = false;  ///< a non-finite value appeared; the state is no longer advanced
@@ -80,12 +88,15 @@ class Solver {
   /// model (a snapshot, or a benchmark's fixed start): the run continues from it bit for bit as it
   /// did. Throws std::invalid_argument for a state of another size.
   void restore(const State& state);
-  /// pins change rarely (a user grabs or lets go). At most kMaxPins; the first pin is the adjust
-  /// pass's anchor.
+  /// pins change rarely (a user grabs or lets go). At most kMaxPins; the first pin that is not a
+  /// grab is the adjust pass's anchor. A grab (Pin::is_grab) is a force in the update, not a
+  /// constraint of the adjust.
   void set_pins(std::span<const Pin> pins);
   /// move the pins' targets (world) for the end of the next step
   void set_pin_targets(std::span<const Vector3d> targets);
   void step(double dt);
+  /// the clock the tremble reads (State::time), for a state placed in the middle of a run
+  void set_time(double time) { state_.time = time; }
   /// One stage of a substep of length h on the current state, with the pins' targets of the last
   /// substep: step() runs kUpdate … kVelocities in order; benchmarks time them one at a time.
   void run_stage(Stage stage, double h);
@@ -97,6 +108,8 @@ class Solver {
   const Settings& settings() const { return settings_; }
   const Environment& environment() const { return environment_; }
   const State& state() const { return state_; }
+  /// the user's forces (grabs and tremble: user_wrenches) the last substep applied, per segment
+  std::span<const Wrench> user_wrenches() const;
   /// wall time (s) of each stage in the last step; zeros unless settings.time_stages
   const std::array<double, kStageCount>& stage_seconds() const { return stage_seconds_; }
 
@@ -114,6 +127,7 @@ class Solver {
   std::shared_ptr<const ModelTables> tables_;
   std::array<double, kStageCount> stage_seconds_{};
   std::array<Vector3d, kMaxPins> substep_targets_{};  ///< pins' targets at the end of the substep
+  std::array<Pin, kMaxPins> substep_grabs_{};  ///< the grabs with their targets at its end
 };
 
 }  // namespace puppet::procedural

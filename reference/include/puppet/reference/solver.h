@@ -23,6 +23,12 @@ class Solver {
   // the targets of the pins, in order, for the end of the next step
   virtual void set_pin_targets(std::span<const Vector3d> targets) = 0;
   virtual void step(double dt) = 0;
+  /// the clock the tremble reads (s), advanced by every step: a harness that places a state in
+  /// the middle of a run sets it
+  virtual void set_time(double time) = 0;
+  /// the user's forces (grabs and tremble: user_wrenches in user_forces.h) the last step applied,
+  /// per segment (world, at the COM)
+  virtual std::span<const Wrench> user_wrenches() const = 0;
   // per segment, in the model's segment frames: COM, orientation, v, ω (world)
   virtual void read_state(std::span<BodyState> out) const = 0;
   // places every segment; a reduced-coordinate world reads the base's pose and velocity and each

@@ -40,14 +40,19 @@ struct SessionConfig {
   double dt = 1.0 / 240.0;
   double shake_amplitude = 0.08;  // m, along the camera's right axis
   double shake_hz = 3.0;
-  // which pin the procedural solver's adjust pass starts from while the user holds a point:
+  // which pin the procedural solver's adjust pass starts from while the user holds a point with
+  // a pin (grab_pin):
   // "grab" (the seed anchors the pass at the dragged segment), "scenario" (the scenario's first
   // pin, the string the puppet hangs from) or "auto": grab for literal, whose translations are
   // stable from any anchor, scenario for the rotating rules, which anchored at a hand lose the
   // puppet within a second (as in yank, results/frontier/frontier.csv). Bullet does not care.
   std::string anchor = "auto";
-  // the mouse's grab: 0 holds the point on the cursor's ray (the seed's hard pin); C > 0 (m/N)
-  // pulls it with a spring of stiffness 1/C, as MuJoCo's and Bullet's pickers do
+  // the mouse's grab: the law drag, shake, water and tremble judge (compare::GrabSettings: a
+  // capped spring–damper, the same force in every engine), so that what a user feels here is
+  // what the verdict measured; or with grab_pin a pin on the cursor's ray, hard (the seed's
+  // marionette string) or of compliance C > 0 (m/N)
+  compare::GrabSettings grab_spring;
+  bool grab_pin = false;
   double grab_compliance = 0.0;
   // "SEED:INDEX": a random start of testbed robustness (compare/start.h), replayed; empty for
   // the scenario's own start
@@ -56,7 +61,8 @@ struct SessionConfig {
 
 // "bad input: one message naming it" for a config (dt, names), empty when valid
 // nullopt when valid, else what is wrong and with which field ("dt", "scenario", "solver",
-// "grab_compliance", "anchor", "ghost", "shake"); the viewer's command line adds its flag
+// "grab_compliance", "grab_hz", "grab_ratio", "grab_cap", "anchor", "ghost", "shake"); the
+// viewer's command line adds its flag
 std::optional<compare::ScenarioError> validate(const SessionConfig& config);
 
 // one solver of the session and what the viewer shows of it
@@ -90,7 +96,7 @@ class Session {
   // the session as it was.
   void configure(const SessionConfig& config);
   // gravity, air drag, water, ground and tremble; the runs keep their states
-  void set_environment(const Environment& environment, bool tremble);
+  void set_environment(const Environment& environment);
   // the scenario's initial state at t = 0, nothing grabbed
   void reset();
 
