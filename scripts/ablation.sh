@@ -27,9 +27,9 @@ configs=(
   "tree|8 substeps x 1 exact solve|xpbd|--solver procedural --rule tree"
   "tree-iterations|1 substep x 8 Newton iterations|tree|--solver procedural --rule tree --substeps 1 --iterations 8"
   "tree-2x2|2 substeps x 2 Newton iterations|tree|--solver procedural --rule tree --substeps 2 --iterations 2"
-  "hard|hard grab (C = 0)||--solver procedural,bullet-multibody,bullet-rigid --rule relaxed,xpbd,tree --scenario drag,yank"
+  "hard|hard grab (C = 0)||--solver procedural,bullet-multibody,bullet-rigid --rule relaxed,xpbd,tree --scenario marionette,yank"
   "open-limits|every joint free (models/pinocchio-open-limits.json), dt 1/60 to 1/480||--model models/pinocchio-open-limits.json --solver procedural --rule xpbd,tree --scenario hang,drag,spin --dt 1/60,1/120,1/240,1/480"
-  "compliant|compliant grab (C = 1e-4 m/N)|hard|--solver procedural,bullet-multibody,bullet-rigid --rule relaxed,xpbd,tree --scenario drag,yank --grab-compliance 1e-4"
+  "compliant|compliant grab (C = 1e-4 m/N)|hard|--solver procedural,bullet-multibody,bullet-rigid --rule relaxed,xpbd,tree --scenario marionette,yank --grab-compliance 1e-4"
 )
 manifest="name,label,against,flags"
 for config in "${configs[@]}"; do
