@@ -76,6 +76,71 @@ std::optional<ScenarioError> grab_settings_problem(const GrabSettings& settings)
   return std::nullopt;
 }
 
+namespace {
+
+// a segment's way up the tree: (segment, the joint into it from its parent), from it to the root
+std::vector<std::pair<int, int>> way_up(const Model& model, int segment) {
+  std::vector<std::pair<int, int>> out;
+  for (int s = segment; s >= 0;) {
+    int into = -1;
+    for (int j = 0; j < model.joint_count(); ++j) {
+      if (model.joints[j].child == s) into = j;
+    }
+    out.emplace_back(s, into);
+    s = into >= 0 ? model.joints[into].parent : -1;
+  }
+  return out;
+}
+
+// the span of the chain of segments from pin a's point to pin b's point
+double chain_span(const Model& model, const Pin& a, const Pin& b) {
+  const auto up_a = way_up(model, a.segment), up_b = way_up(model, b.segment);
+  // the lowest common segment
+  size_t ia = 0, ib = 0;
+  for (; ia < up_a.size(); ++ia) {
+    const auto at = std::find_if(up_b.begin(), up_b.end(),
+                                 [&](const auto& e) { return e.first == up_a[ia].first; });
+    if (at != up_b.end()) {
+      ib = static_cast<size_t>(at - up_b.begin());
+      break;
+    }
+  }
+  if (ia == up_a.size()) return INFINITY;  // two trees: nothing ties the points
+  // the points in each segment along the way, climbing from a, then from b, to the common one
+  double span = 0.0;
+  auto climb = [&](const std::vector<std::pair<int, int>>& up, size_t top, const Vector3d& start) {
+    Vector3d entry = start;  // in up[i]'s frame
+    for (size_t i = 0; i < top; ++i) {
+      const Joint& joint = model.joints[up[i].second];
+      span += (joint.anchor_in_child - entry).norm();
+      entry = joint.anchor_in_parent;
+    }
+    return entry;  // in the common segment's frame
+  };
+  const Vector3d from_a = climb(up_a, ia, a.local_point);
+  const Vector3d from_b = climb(up_b, ib, b.local_point);
+  return span + (from_a - from_b).norm();
+}
+
+}  // namespace
+
+double reach_shortfall(const Model& model, const Scenario& scenario) {
+  std::vector<size_t> hard;
+  for (size_t i = 0; i < scenario.pins.size(); ++i) {
+    if (scenario.pins[i].pin.is_hard()) hard.push_back(i);
+  }
+  if (hard.size() < 2) return -INFINITY;
+  const double span = chain_span(model, scenario.pins[hard[0]].pin, scenario.pins[hard[1]].pin);
+  double farthest = 0.0;
+  std::vector<Vector3d> targets;
+  const int samples = static_cast<int>(std::lround(scenario.duration * 240.0));
+  for (int k = 0; k <= samples; ++k) {
+    scenario.targets_at(k / 240.0, targets);
+    farthest = std::max(farthest, (targets[hard[0]] - targets[hard[1]]).norm());
+  }
+  return farthest - span;
+}
+
 std::string with_flag(const ScenarioError& error) {
   if (error.option.empty()) return error.what();
   std::string flag = "--" + error.option;

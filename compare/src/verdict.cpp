@@ -181,6 +181,31 @@ bool start_diverges(const Model& model, const std::string& name, ScenarioOptions
   return run_for_divergence(config, model, make_scenario(name, model, options), dt).diverged;
 }
 
+// Of the random starts a scenario's candidates within the budget diverged from, those that led a
+// hard pin further than the figure reaches (reach_shortfall): "; 3 of the 4 starts it diverged
+// from asked for more than the figure's reach between its pins", empty when none did.
+std::string out_of_reach_note(const Model& model, const VerdictSpec& spec, size_t s,
+                              const std::vector<Candidate>& candidates, double budget) {
+  std::vector<int64_t> starts;
+  for (const Candidate& c : candidates) {
+    if (c.diverged || c.diverged_starts == 0 || !(c.error_m <= budget)) continue;
+    starts.push_back(c.starts - 1);  // the start it diverged from
+  }
+  std::sort(starts.begin(), starts.end());
+  starts.erase(std::unique(starts.begin(), starts.end()), starts.end());
+  int out_of_reach = 0;
+  for (const int64_t index : starts) {
+    ScenarioOptions options = spec.scenario;
+    options.start = random_start(model, spec.seed, index);
+    if (reach_shortfall(model, make_scenario(spec.scenarios[s], model, options)) > 0.0) {
+      ++out_of_reach;
+    }
+  }
+  if (out_of_reach == 0) return {};
+  return "; " + std::to_string(out_of_reach) + " of the " + std::to_string(starts.size()) +
+         " starts it diverged from asked for more than the figure's reach between its pins";
+}
+
 }  // namespace
 
 VerdictResult run_verdict(const VerdictSpec& spec) {
@@ -443,6 +468,7 @@ VerdictResult run_verdict(const VerdictSpec& spec) {
                     break;
                   case Verdict::kNotRobust:
                     why << "every configuration within the budget diverged from a random start";
+                    why << out_of_reach_note(model, spec, s, all, budget);
                     break;
                   default:
                     why << "nothing was both timed and judged";

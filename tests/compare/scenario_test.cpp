@@ -53,6 +53,44 @@ TEST(Scenario, PinocchioChoices) {
   EXPECT_TRUE(make_scenario("spin", model).pins.empty());
 }
 
+// the user's scenarios hold the hand with the grab, the paper's with a hard pin; the head is a
+// hard pin in both
+TEST(Scenario, TheUsersScenariosGrabAndTheMarionetteIsPinned) {
+  const Model model = load_model(kPinocchio);
+  for (const char* name : {"drag", "shake", "water", "tremble"}) {
+    const Scenario s = make_scenario(name, model);
+    SCOPED_TRACE(name);
+    ASSERT_EQ(s.pins.size(), 2u);
+    EXPECT_TRUE(s.pins[0].pin.is_hard());
+    EXPECT_TRUE(s.pins[1].pin.is_grab());
+    EXPECT_EQ(s.pins[1].pin.grab.hz, 2.0);
+    EXPECT_EQ(s.pins[1].pin.grab.damping_ratio, 1.0);
+    EXPECT_DOUBLE_EQ(s.pins[1].pin.grab.max_force, model.total_mass * 9.81);
+    EXPECT_EQ(s.environment.tremble, std::string(name) == "tremble");
+  }
+  const Scenario marionette = make_scenario("marionette", model);
+  EXPECT_TRUE(marionette.pins[1].pin.is_hard());
+  EXPECT_EQ(marionette.pins[1].path, make_scenario("drag", model).pins[1].path);
+  EXPECT_TRUE(make_scenario("yank", model).pins[0].pin.is_hard());
+}
+
+// the reach between two hard pins: the figure's chain from the head's top to the hand's tip is
+// what it can span. The marionette's own circle is within it; led round a circle 3 m wide it is
+// not; a grab is no pin, so drag has nothing to reach.
+TEST(Scenario, TheReachBetweenTwoHardPins) {
+  const Model model = load_model(kPinocchio);
+  Scenario marionette = make_scenario("marionette", model);
+  EXPECT_LT(reach_shortfall(model, marionette), 0.0);
+  marionette.pins[1].radius = 3.0;
+  EXPECT_GT(reach_shortfall(model, marionette), 1.0);
+  EXPECT_EQ(reach_shortfall(model, make_scenario("drag", model)), -INFINITY);
+  // at rest the two points are no further apart than the span (the chain is its longest
+  // straight): the shortfall of a fixed pair of pins at their rest points is at most 0
+  Scenario still = make_scenario("marionette", model);
+  still.pins[1].path = TargetPath::kFixed;
+  EXPECT_LE(reach_shortfall(model, still), 1e-12);
+}
+
 TEST(Scenario, CircleTargetAfterTheRamp) {
   const Model model = load_model(kPinocchio);
   const Scenario drag = make_scenario("drag", model);

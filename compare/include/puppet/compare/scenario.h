@@ -97,6 +97,13 @@ struct Scenario {
   bool conserves_momentum() const;
 };
 
+// How much further apart a scenario's first two hard pins' targets ever are (sampled every
+// 1/240 s) than the figure can span between the pinned points (m; ≤ 0: within reach; −∞ without
+// two hard pins). The span is the chain of segments between them, point to joint to joint to
+// point, each piece rigid: a hard pin led further asks for more than the figure has (marionette
+// from some random starts), which no solver can give without pumping energy in.
+double reach_shortfall(const Model& model, const Scenario& scenario);
+
 // the names of the scenarios, in the catalogue's order (compare/src/scenarios/catalogue.cpp: one
 // file per scenario)
 const std::vector<std::string>& scenario_names();
