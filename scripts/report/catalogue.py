@@ -19,6 +19,8 @@ with open(PATH) as _file:
 SCENARIOS = list(_CATALOGUE["scenarios"])
 # the scenario a table quotes when it quotes one: a user dragging the puppet
 HEADLINE = _CATALOGUE["headline_scenario"]
+# what each scenario asks of a solver (a catalogue written before this key reads as none)
+SCENARIO_ASKS = dict(_CATALOGUE.get("scenario_asks", {}))
 # the scenario the stability frontier searches (testbed frontier)
 FRONTIER_SCENARIO = _CATALOGUE["frontier_scenario"]
 RULES = [rule["name"] for rule in _CATALOGUE["rules"]]

@@ -16,6 +16,7 @@ namespace puppet::compare {
 // scenario a table quotes when it quotes one (headline_scenario()).
 struct ScenarioRow {
   std::string_view name;
+  std::string_view asks;  // what the scenario asks of a solver, and why (testbed list, REPORT.md)
   Scenario (*make)(const Model& model, const ScenarioOptions& options) = nullptr;
   bool headline = false;
 };

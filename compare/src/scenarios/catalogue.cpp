@@ -22,9 +22,8 @@ namespace {
 
 const std::vector<ScenarioRow>& rows() {
   static const std::vector<ScenarioRow> all = {
-      hang_scenario(),  drag_scenario(),    marionette_scenario(), shake_scenario(),
-      spin_scenario(),  drop_scenario(),    water_scenario(),      tremble_scenario(),
-      yank_scenario()};
+      hang_scenario(), drag_scenario(),  marionette_scenario(), shake_scenario(), spin_scenario(),
+      drop_scenario(), water_scenario(), tremble_scenario(),    yank_scenario()};
   return all;
 }
 
@@ -37,6 +36,12 @@ const std::vector<std::string>& scenario_names() {
     return out;
   }();
   return names;
+}
+
+std::string scenario_asks(const std::string& name) {
+  const auto row = std::find_if(rows().begin(), rows().end(),
+                                [&](const ScenarioRow& r) { return r.name == name; });
+  return row == rows().end() ? std::string() : std::string(row->asks);
 }
 
 const std::string& headline_scenario() {

@@ -8,8 +8,12 @@ namespace puppet::compare {
 
 ScenarioRow drag_scenario() {
   return {"drag",
+          "the head pinned, the right hand grabbed as a user grabs a ragdoll (a capped "
+          "spring–damper, the same force in every engine) and the grab led round a 0.3 m circle at "
+          "0.5 Hz: what a game does with a mouse",
           [](const Model& model, const ScenarioOptions& options) {
-            Scenario s = held_figure(model, options, /*head=*/true, circling_hand(options, /*grab=*/true));
+            Scenario s =
+                held_figure(model, options, /*head=*/true, circling_hand(options, /*grab=*/true));
             s.environment.air_drag = 0.1;
             return s;
           },

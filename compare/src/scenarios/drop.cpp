@@ -8,7 +8,8 @@
 namespace puppet::compare {
 
 ScenarioRow drop_scenario() {
-  return {"drop", [](const Model& model, const ScenarioOptions& options) {
+  return {"drop", "the free figure falls 1 m onto the ground (μ = 0.8): contact",
+          [](const Model& model, const ScenarioOptions& options) {
             Scenario s = held_figure(model, options, /*head=*/false, std::nullopt);
             s.duration = 3.0;
             s.environment.air_drag = 0.05;

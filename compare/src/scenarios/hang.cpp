@@ -5,7 +5,10 @@
 namespace puppet::compare {
 
 ScenarioRow hang_scenario() {
-  return {"hang", [](const Model& model, const ScenarioOptions& options) {
+  return {"hang",
+          "the figure hangs from its head, tilted 30° and let go: energy is conserved, so any "
+          "drift is the solver's",
+          [](const Model& model, const ScenarioOptions& options) {
             return held_figure(model, options, /*head=*/true, std::nullopt);
           }};
 }

@@ -8,9 +8,12 @@
 namespace puppet::compare {
 
 ScenarioRow marionette_scenario() {
-  return {"marionette", [](const Model& model, const ScenarioOptions& options) {
-            Scenario s = held_figure(model, options, /*head=*/true,
-                                     circling_hand(options, /*grab=*/false));
+  return {"marionette",
+          "as drag, the hand on a hard pin led round the circle (the paper's figure 4a): the "
+          "seed's own task, which a random start can put out of the figure's reach",
+          [](const Model& model, const ScenarioOptions& options) {
+            Scenario s =
+                held_figure(model, options, /*head=*/true, circling_hand(options, /*grab=*/false));
             s.environment.air_drag = 0.1;
             return s;
           }};

@@ -5,7 +5,10 @@
 namespace puppet::compare {
 
 ScenarioRow shake_scenario() {
-  return {"shake", [](const Model& model, const ScenarioOptions& options) {
+  return {"shake",
+          "the head pinned, the left hand grabbed and the grab shaken ±0.1 m at 3 Hz: an input "
+          "faster than the grab itself",
+          [](const Model& model, const ScenarioOptions& options) {
             constexpr double kShakeHz = 3.0, kShakeAmplitude = 0.1;  // Hz, m
             // a start's frequency scaled from the circle's default (0.5 Hz) to the shake's
             const double hz = options.start ? kShakeHz * options.start->hz / 0.5 : kShakeHz;

@@ -5,7 +5,8 @@
 namespace puppet::compare {
 
 ScenarioRow spin_scenario() {
-  return {"spin", [](const Model& model, const ScenarioOptions& options) {
+  return {"spin", "the free figure spun without gravity: energy and momentum are conserved",
+          [](const Model& model, const ScenarioOptions& options) {
             Scenario s = held_figure(model, options, /*head=*/false, std::nullopt);
             s.environment.gravity.setZero();
             const Vector3d com = centre_of_mass(model, s.initial);

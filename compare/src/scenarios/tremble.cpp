@@ -5,8 +5,12 @@
 namespace puppet::compare {
 
 ScenarioRow tremble_scenario() {
-  return {"tremble", [](const Model& model, const ScenarioOptions& options) {
-            Scenario s = held_figure(model, options, /*head=*/true, circling_hand(options, /*grab=*/true));
+  return {"tremble",
+          "drag with the seed's tremble as a force on every segment, in every engine: a solver's "
+          "error on a trembling figure",
+          [](const Model& model, const ScenarioOptions& options) {
+            Scenario s =
+                held_figure(model, options, /*head=*/true, circling_hand(options, /*grab=*/true));
             s.environment.air_drag = 0.1;
             s.environment.tremble = true;
             return s;

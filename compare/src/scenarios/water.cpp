@@ -4,8 +4,10 @@
 namespace puppet::compare {
 
 ScenarioRow water_scenario() {
-  return {"water", [](const Model& model, const ScenarioOptions& options) {
-            Scenario s = held_figure(model, options, /*head=*/true, circling_hand(options, /*grab=*/true));
+  return {"water", "drag under water: buoyancy and water drag, the seed's third medium",
+          [](const Model& model, const ScenarioOptions& options) {
+            Scenario s =
+                held_figure(model, options, /*head=*/true, circling_hand(options, /*grab=*/true));
             s.environment.air_drag = 0.1;
             s.environment.water = true;
             s.environment.water_level = 3.0;

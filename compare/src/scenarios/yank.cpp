@@ -5,8 +5,12 @@
 namespace puppet::compare {
 
 ScenarioRow yank_scenario() {
-  return {"yank", [](const Model& model, const ScenarioOptions& options) {
-            return held_figure(model, options, /*head=*/false, circling_hand(options, /*grab=*/false));
+  return {"yank",
+          "only the right hand held, a hard pin on drag's circle: stability, not accuracy (the "
+          "frontier)",
+          [](const Model& model, const ScenarioOptions& options) {
+            return held_figure(model, options, /*head=*/false,
+                               circling_hand(options, /*grab=*/false));
           }};
 }
 

@@ -39,6 +39,7 @@ int list_json() {
   nlohmann::ordered_json out;
   out["scenarios"] = scenario_names();
   out["headline_scenario"] = headline_scenario();
+  for (const std::string& name : scenario_names()) out["scenario_asks"][name] = scenario_asks(name);
   out["frontier_scenario"] = kFrontierScenario;
   auto& engines_out = out["engines"] = nlohmann::ordered_json::array();
   for (const Engine& engine : engines()) {

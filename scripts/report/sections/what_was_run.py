@@ -1,7 +1,7 @@
 """The report's section `what-was-run`: the scenarios, solvers, dts and truths of the run, and how
 errors are measured."""
 
-from ..catalogue import SECOND_TRUTH
+from ..catalogue import SCENARIO_ASKS, SECOND_TRUTH
 from ..common import dt_text, label
 
 
@@ -29,6 +29,11 @@ def lines(r):
             "headline figure. The 0.25 s figure is the sample at 8/30 s = 0.267 s, the first "
             "multiple of 1/30 s after it.",
             "- Timing: medians of a separate pass that runs one job at a time."]
+    asked = [sc for sc in s.scenarios if SCENARIO_ASKS.get(sc)]
+    if asked:
+        out += ["", "What each scenario asks, and why (`testbed list --json`):", "",
+                "| scenario | what it asks |", "|---|---|"]
+        out += [f"| {sc} | {SCENARIO_ASKS[sc]} |" for sc in asked]
     unknown = r.unknown_names()
     if unknown:
         out += [f"- Not in the testbed's catalogue (drawn in grey, listed last): "

@@ -107,6 +107,8 @@ double reach_shortfall(const Model& model, const Scenario& scenario);
 // the names of the scenarios, in the catalogue's order (compare/src/scenarios/catalogue.cpp: one
 // file per scenario)
 const std::vector<std::string>& scenario_names();
+// what a scenario asks of a solver, and why, in a sentence (empty for an unknown name)
+std::string scenario_asks(const std::string& name);
 // the scenario a table quotes when it quotes one (the README's and the verdict's per-frame
 // figures): drag, a user dragging the puppet by its hand with the grab
 const std::string& headline_scenario();
