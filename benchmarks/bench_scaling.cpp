@@ -3,7 +3,7 @@
 //   scaling/<solver or rule>/N   one step of chain:N (N capsules hanging from ball joints) in
 //                                `hang`, N = 4 … 1024, with the complexity fitted over N;
 //                                counter segment_s: seconds per segment and step
-//   crowd/<rule>/puppets:K/threads:T/lanes:L   K independent Pinocchios in `drag` stepped by a
+//   crowd/<rule>/puppets:K/threads:T/lanes:L   K Pinocchios in `marionette` stepped by a
 //                                procedural::Crowd on T threads, L puppets per SIMD batch (xpbd:
 //                                1, 2 (SSE2), 4 (AVX2) and 8 (AVX-512, skipped on a processor
 //                                without it); the other rules: 1); items are puppet-steps
@@ -32,8 +32,8 @@ void scaling_benchmark(benchmark::State& state, const SolverConfig& config) {
       benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
-// K Pinocchios in `drag`, all restored to the state one of them reached after the warm-up, then
-// kCrowdBatchSteps steps timed (each puppet's pin target is set by the crowd's control, just
+// K Pinocchios in `marionette`, all restored to the state one of them reached after the warm-up,
+// then kCrowdBatchSteps steps timed (each puppet's pin target is set by the crowd's control, just
 // before it steps), as a step/ benchmark does for one puppet; the restore (a copy of every
 // puppet's state) is not timed
 constexpr int kCrowdBatchSteps = 8;
@@ -55,11 +55,12 @@ void crowd_benchmark(benchmark::State& state, procedural::Rule rule) {
   const int puppets = static_cast<int>(state.range(0));
   const int threads = static_cast<int>(state.range(1));
   const int lanes = static_cast<int>(state.range(2));
-  const Workload workload = make_workload(pinocchio(), "drag", kCrowdBatchSteps);
+  // marionette: the figure held by two pins (a grabbed puppet is stepped alone, outside the lanes)
+  const Workload workload = make_workload(pinocchio(), "marionette", kCrowdBatchSteps);
   const compare::Scenario& scenario = workload.scenario;
   const auto lone = warmed_up_solver(state, workload, rule);
-  procedural::Crowd crowd(pinocchio(), procedural_settings(rule), scenario.environment,
-                          puppets, threads, crowd_lanes(lanes));
+  procedural::Crowd crowd(pinocchio(), procedural_settings(rule), scenario.environment, puppets,
+                          threads, crowd_lanes(lanes));
   if (crowd.lanes() != lanes) {
     state.SkipWithError("this processor has no such lanes");
     return;

@@ -113,8 +113,8 @@ std::unique_ptr<procedural::Solver> warmed_up_solver(benchmark::State& state,
                                                      const Workload& workload,
                                                      procedural::Rule rule) {
   const compare::Scenario& scenario = workload.scenario;
-  auto solver = std::make_unique<procedural::Solver>(
-      *workload.model, procedural_settings(rule), scenario.environment);
+  auto solver = std::make_unique<procedural::Solver>(*workload.model, procedural_settings(rule),
+                                                     scenario.environment);
   solver->reset(scenario.initial);
   solver->set_pins(scenario.initial_pins());
   compare::MetricsProbe probe = make_probe(workload);

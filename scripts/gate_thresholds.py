@@ -56,8 +56,11 @@ STEP_SCENARIOS = list(ONE_PASS_FLOORS)  # those bench_step times (benchmarks/ben
 
 
 # benchmarks whose code changed after the older machines' last full runs (see the docstring):
-# tree's solve (explicit block inverses, a loop's columns on its path, analytic limit gradients)
-CHANGED = [re.compile(r"^step/[^/]+/tree$")]
+# tree's solve (explicit block inverses, a loop's columns on its path, analytic limit gradients);
+# drag, whose hand is now the grab (a force) instead of a hard pin; and the verdict's choices,
+# chosen anew on the scenarios the grab and the tremble force changed
+CHANGED = [re.compile(r"^step/[^/]+/tree$"), re.compile(r"^(step|stage|floor)/drag/"),
+           re.compile(r"^verdict/")]
 
 
 def medians(path):

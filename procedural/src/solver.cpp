@@ -203,10 +203,18 @@ void Solver::run_stage(Stage stage, double h) {
   switch (stage) {
     case kUpdate:
       // the user's forces on the state at the start of the substep, as every engine applies them
-      puppet::user_wrenches(model_, environment_,
-                    std::span<const Pin>(substep_grabs_.data(), state_.grab_count), state_.bodies,
-                    state_.time, ws.user_wrenches);
-      update(model_, environment_, ws.user_wrenches, state_, h);
+      // (none to compute without a grab or the tremble: the update then adds nothing)
+      if (state_.grab_count > 0 || environment_.tremble) {
+        puppet::user_wrenches(model_, environment_,
+                              std::span<const Pin>(substep_grabs_.data(), state_.grab_count),
+                              state_.bodies, state_.time, ws.user_wrenches);
+        ws.user_pulled = true;
+        update(model_, environment_, ws.user_wrenches, state_, h);
+      } else {
+        if (ws.user_pulled) std::fill(ws.user_wrenches.begin(), ws.user_wrenches.end(), Wrench{});
+        ws.user_pulled = false;
+        update(model_, environment_, {}, state_, h);
+      }
       if (settings_.tremble) tremble(model_, settings_, state_, h, ws.tremble_delta);
       break;
     case kAdjust: {

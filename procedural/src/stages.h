@@ -25,6 +25,7 @@ namespace puppet::procedural {
 using PinTargets = std::array<Vector3d, kMaxPins>;
 
 // --- stage 1, update.cpp, tremble.cpp
+// `user`: the user's forces per segment (grabs and tremble, user_forces.h), or empty for none
 void update(const Model& model, const Environment& environment, std::span<const Wrench> user,
             State& state, double h);
 // the seed's tremble (§3.4), added to positions at the end of update; delta per segment out

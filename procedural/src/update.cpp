@@ -6,8 +6,9 @@
 //   q ← exp(h·ω) ⊗ q, renormalised                      (exact exponential map)
 //
 // Forces: the environment's (gravity, air drag, buoyancy and water drag: the same formulas as
-// every solver), the user's (state.user_force, and the grabs and tremble of user_forces.h), and the seed's ground repulsion: a spring on the deepest point
-// below z = 0, the soft part of the contact that resolve_contacts() makes hard.
+// every solver), the user's (state.user_force, and the grabs and tremble of user_forces.h), and the
+// seed's ground repulsion: a spring on the deepest point below z = 0, the soft part of the contact
+// that resolve_contacts() makes hard.
 #include "puppet/model/rotation.h"
 #include "stages.h"
 
@@ -41,6 +42,7 @@ void update(const Model& model, const Environment& environment, std::span<const 
             State& state, double h) {
   // out of water every segment's drag rate is the air's: one expm1 per substep, not per segment
   const double air_rate = step_drag_rate(environment.air_drag, h);
+  const bool pulled = !user.empty();  // a grab or the tremble: empty without either
   for (int i = 0; i < model.segment_count(); ++i) {
     const Segment& segment = model.segments[i];
     BodyState& body = state.bodies[i];
@@ -50,7 +52,8 @@ void update(const Model& model, const Environment& environment, std::span<const 
     const EnvironmentForce environment_part = environment.water
                                                   ? environment_force(segment, environment, body, h)
                                                   : air_force(segment, environment, body, air_rate);
-    Vector3d force = environment_part.force + state.user_force[i] + user[i].force;
+    Vector3d force = environment_part.force + state.user_force[i];
+    if (pulled) force += user[i].force;
     if (environment.ground) {
       double low = 0.0, high = 0.0;
       vertical_extent(segment, body.q, body.x, &low, &high);
@@ -66,7 +69,8 @@ void update(const Model& model, const Environment& environment, std::span<const 
     // the user's torque impulse, then the implicit gyroscopic step
     Vector3d w_body = body.q.conjugate() * body.w;
     if (environment_part.drag != 0.0) w_body *= 1.0 - h * environment_part.drag;
-    const Vector3d torque = state.user_torque[i] + user[i].torque;
+    Vector3d torque = state.user_torque[i];
+    if (pulled) torque += user[i].torque;
     if (!torque.isZero(0.0)) {
       w_body += h * (body.q.conjugate() * torque).cwiseProduct(segment.inv_inertia);
     }

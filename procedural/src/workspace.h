@@ -61,6 +61,7 @@ struct Workspace {
   std::vector<Vector3d> motion_t;
   std::vector<Vector3d> tremble_delta;  // this substep's tremble displacement per segment
   std::vector<Wrench> user_wrenches;    // this substep's user forces per segment (user_forces.h)
+  bool user_pulled = false;             // user_wrenches holds forces (else zeros)
   // xpbd: each constraint's accumulated multiplier over this substep's sweeps (world), read by
   // the compliance term α̃λ; reset at every substep
   std::vector<Vector3d> joint_lambda;  // by joint
