@@ -88,7 +88,11 @@ void add_scenario(KeyBytes& key, const Scenario& scenario) {
 }
 
 void add_options(KeyBytes& key, const SolverOptions& o) {
-  key.add(o.rule).add(o.iterations).add(o.substeps).add(o.derive_velocities).add(o.position_tremble);
+  key.add(o.rule)
+      .add(o.iterations)
+      .add(o.substeps)
+      .add(o.derive_velocities)
+      .add(o.position_tremble);
   key.add(o.bullet.iterations).add(o.bullet.erp).add(o.bullet.euler_ball_limits);
   key.add(o.mujoco.integrator).add(o.mujoco.constraint_time_constant);
 }

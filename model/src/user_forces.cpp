@@ -38,8 +38,8 @@ Vector3d grab_force(const Pin& grab, const Segment& segment, const BodyState& bo
   // K = (1/m) E − [r]× I⁻¹ [r]×: the point's response to a force at it
   Matrix3d cross;
   cross << 0.0, -arm.z(), arm.y(), arm.z(), 0.0, -arm.x(), -arm.y(), arm.x(), 0.0;
-  const Matrix3d response = segment.inv_mass * Matrix3d::Identity() -
-                            cross * world_inertia_inv(segment, body.q) * cross;
+  const Matrix3d response =
+      segment.inv_mass * Matrix3d::Identity() - cross * world_inertia_inv(segment, body.q) * cross;
   const Vector3d acceleration = omega * omega * (grab.target - point) -
                                 2.0 * grab.grab.damping_ratio * omega * point_velocity;
   Vector3d force = response.ldlt().solve(acceleration);
@@ -48,8 +48,8 @@ Vector3d grab_force(const Pin& grab, const Segment& segment, const BodyState& bo
   return force;
 }
 
-Vector3d tremble_force(double mass, int segment, const BodyState& body, double time,
-                       double pull, uint64_t seed) {
+Vector3d tremble_force(double mass, int segment, const BodyState& body, double time, double pull,
+                       uint64_t seed) {
   constexpr double kOmega = 2.0 * M_PI * kTrembleHz;
   constexpr double kAcceleration = kOmega * kOmega * kTrembleAmplitude;
   const double gamma = pull * body.v.norm();
@@ -67,9 +67,8 @@ Vector3d tremble_force(double mass, int segment, const BodyState& body, double t
   return force;
 }
 
-double user_wrenches(const Model& model, const Environment& environment,
-                     std::span<const Pin> pins, std::span<const BodyState> bodies, double time,
-                     std::span<Wrench> out) {
+double user_wrenches(const Model& model, const Environment& environment, std::span<const Pin> pins,
+                     std::span<const BodyState> bodies, double time, std::span<Wrench> out) {
   for (Wrench& w : out) w = Wrench{};
   double pull = 0.0;
   for (const Pin& pin : pins) {
@@ -84,8 +83,8 @@ double user_wrenches(const Model& model, const Environment& environment,
   }
   if (environment.tremble) {
     for (int i = 0; i < model.segment_count(); ++i) {
-      out[i].force += tremble_force(model.segments[i].mass, i, bodies[i], time, pull,
-                                    environment.tremble_seed);
+      out[i].force +=
+          tremble_force(model.segments[i].mass, i, bodies[i], time, pull, environment.tremble_seed);
     }
   }
   return pull;

@@ -556,8 +556,8 @@ void MultibodySolver::set_state(std::span<const BodyState> bodies) {
   coordinates_changed();
 }
 
-// The assembly's generation and the clock, then its coordinates and pin targets; then every segment's world
-// pose and velocity, for a restore into another assembly.
+// The assembly's generation and the clock, then its coordinates and pin targets; then every
+// segment's world pose and velocity, for a restore into another assembly.
 std::vector<double> MultibodySolver::save() const {
   std::vector<double> saved;
   auto put = [&saved](const double* values, int count) {

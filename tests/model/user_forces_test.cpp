@@ -100,7 +100,8 @@ TEST(UserForces, TheTrembleIsBoundedSilentWithoutAPullAndItsInputsAlone) {
   }
   EXPECT_LE(largest, bound);
   EXPECT_GT(largest, 0.05 * bound);  // it trembles
-  EXPECT_NE(tremble_force(mass, 0, body, 0.3, 1.2, 2001), tremble_force(mass, 0, body, 0.3, 1.2, 7));
+  EXPECT_NE(tremble_force(mass, 0, body, 0.3, 1.2, 2001),
+            tremble_force(mass, 0, body, 0.3, 1.2, 7));
 }
 
 // user_wrenches: a grab's force at its point is a wrench at the COM with the torque r × F, and a

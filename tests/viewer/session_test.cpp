@@ -98,8 +98,7 @@ TEST(Session, ARunDivergesAtTheTestbedsStep) {
 
   compare::ScenarioOptions options;
   options.start = compare::random_start(session.model(), 1, 36);
-  const compare::Scenario scenario =
-      compare::make_scenario("marionette", session.model(), options);
+  const compare::Scenario scenario = compare::make_scenario("marionette", session.model(), options);
   auto simulator = compare::make_simulator("procedural", compare::SolverOptions{});
   compare::RunOptions run;
   run.duration = 0.5;
@@ -213,8 +212,8 @@ TEST(Session, AGrabHoldsThePointAndTheGhostFollowsTheSameTarget) {
 }
 
 // with a pin (grab_pin), the grabbed point is held on the mouse
-// grabbing the hand that scenario marionette moves on its circle takes it from the circle: one pin on
-// the forearm, not two fighting over it (which threw the exact tree projection out at once), and
+// grabbing the hand that scenario marionette moves on its circle takes it from the circle: one pin
+// on the forearm, not two fighting over it (which threw the exact tree projection out at once), and
 // the circle's pin is back on release; tree, xpbd and Bullet hold the hand where the mouse is
 TEST(Session, AGrabTakesOverTheScenarioPinOfItsSegment) {
   for (const char* rule : {"tree", "xpbd", "relaxed"}) {
@@ -289,8 +288,8 @@ TEST(Session, ACompliantGrabHangsTheHandBelowTheCursorInEverySolver) {
   EXPECT_NEAR(sag[0], sag[1], 0.2 * sag[1]);
 }
 
-// a grab with a pin comes first: the one-sided rules start their pass from it, as the seed anchors the
-// adjust at the dragged segment, so the held point is exactly at the mouse and the scenario's
+// a grab with a pin comes first: the one-sided rules start their pass from it, as the seed anchors
+// the adjust at the dragged segment, so the held point is exactly at the mouse and the scenario's
 // string is what stays open
 TEST(Session, TheGrabAnchorsTheProceduralPass) {
   SessionConfig c;

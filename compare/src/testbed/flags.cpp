@@ -72,10 +72,11 @@ void add_grab_flags(CLI::App* command, Flags& f) {
   const compare::GrabSettings grab;
   command->add_option("--grab-hz", f.grab_hz,
                       "the grab of drag, shake, water and tremble: its spring's frequency f (Hz; "
-                      "default " + compare::csv_number(grab.hz) + ")");
-  command->add_option("--grab-ratio", f.grab_ratio,
-                      "the grab's damping ratio (default " +
-                          compare::csv_number(grab.damping_ratio) + ")");
+                      "default " +
+                          compare::csv_number(grab.hz) + ")");
+  command->add_option(
+      "--grab-ratio", f.grab_ratio,
+      "the grab's damping ratio (default " + compare::csv_number(grab.damping_ratio) + ")");
   command->add_option("--grab-cap", f.grab_cap,
                       "the grab's force cap in the figure's weights M g (default " +
                           compare::csv_number(grab.cap_weights) + ")");

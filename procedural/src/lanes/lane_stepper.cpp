@@ -63,7 +63,8 @@ std::unique_ptr<LaneStepper> LaneStepper::make(const Solver& puppet, CrowdLanes 
   const Settings& settings = puppet.settings();
   const Environment& environment = puppet.environment();
   if (!rule_info(settings.rule).lanes || settings.tremble || settings.time_stages ||
-      environment.tremble || environment.water || environment.ground || puppet.tables_->orders.empty()) {
+      environment.tremble || environment.water || environment.ground ||
+      puppet.tables_->orders.empty()) {
     return nullptr;
   }
   const int width = widest_lanes(lanes == CrowdLanes::kWidest ? 8

@@ -36,15 +36,14 @@ inline constexpr double kStandardGravity = 9.81;
 /// the frequency f₀ (1 + ½ cos(γ_i t)) (the seed's "period from cos(γ t)"), and n_ia 1-D gradient
 /// noise in about [−½, ½] seeded by the segment and axis. Deterministic: a function of the state,
 /// the time and the seed alone.
-Vector3d tremble_force(double mass, int segment, const BodyState& body, double time,
-                       double pull, uint64_t seed);
+Vector3d tremble_force(double mass, int segment, const BodyState& body, double time, double pull,
+                       uint64_t seed);
 
 /// The user's forces on every segment at one state, as wrenches at the COMs (world), written over
 /// `out` (one per segment): each grab among `pins` (Pin::is_grab; the others are skipped) pulling
 /// at its point, and with environment.tremble the tremble. Returns the pull x̂. No allocation.
-double user_wrenches(const Model& model, const Environment& environment,
-                     std::span<const Pin> pins, std::span<const BodyState> bodies, double time,
-                     std::span<Wrench> out);
+double user_wrenches(const Model& model, const Environment& environment, std::span<const Pin> pins,
+                     std::span<const BodyState> bodies, double time, std::span<Wrench> out);
 
 /// splitmix64's finaliser: a well-mixed 64-bit value from any seed
 uint64_t mix_bits(uint64_t x);

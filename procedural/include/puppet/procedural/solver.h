@@ -127,7 +127,7 @@ class Solver {
   std::shared_ptr<const ModelTables> tables_;
   std::array<double, kStageCount> stage_seconds_{};
   std::array<Vector3d, kMaxPins> substep_targets_{};  ///< pins' targets at the end of the substep
-  std::array<Pin, kMaxPins> substep_grabs_{};  ///< the grabs with their targets at its end
+  std::array<Pin, kMaxPins> substep_grabs_{};         ///< the grabs with their targets at its end
 };
 
 }  // namespace puppet::procedural
