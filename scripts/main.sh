@@ -12,7 +12,8 @@ cd "$(dirname "$0")/.."
 source scripts/results_layout.sh
 scripts/setup.sh
 cmake --preset release >/dev/null
-cmake --build --preset release
+# the testbed alone: the tests, benchmarks and viewer are the test command's to build
+cmake --build --preset release --target testbed
 # the truths' trajectories, kept for this job's runs on the same model and scenario (the
 # ablation's configurations judge against the main run's truth, the open-limits one against the
 # open-limits run's), and removed at the end

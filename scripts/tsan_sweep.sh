@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Builds the testbed with ThreadSanitizer (the tsan preset: clang 14) and runs the multi-job
+# Builds every target with ThreadSanitizer (the tsan preset: clang 14, warnings as errors, so
+# that it is also CI's check that the whole project builds with clang) and runs the multi-job
 # sweep ROUNDS times (default 3): every solver and rule on Pinocchio, hang and drag, two dts,
 # with the truths, on --jobs 2, so that the jobs share what the engines share (a library's
 # global state, the truth cache, the progress line). Any data race TSan reports fails the run,

@@ -18,6 +18,7 @@
 #include "puppet/compare/run.h"
 #include "puppet/compare/start.h"
 #include "puppet/compare/summary_metrics.h"
+#include "verdict_contact.h"
 
 namespace puppet::compare {
 
@@ -31,6 +32,8 @@ const char* verdict_name(Verdict verdict) {
       return "error-floor";
     case Verdict::kNotRobust:
       return "not-robust";
+    case Verdict::kUnlikeTruth:
+      return "unlike-truth";
     case Verdict::kNotMeasured:
       return "not-measured";
   }
@@ -39,7 +42,7 @@ const char* verdict_name(Verdict verdict) {
 
 Choice cheapest(std::span<const Candidate> candidates, double budget_m, double robustness_ceiling) {
   Choice out;
-  bool measured = false, held = false, within = false;
+  bool measured = false, held = false, within = false, robust = false;
   for (int i = 0; i < static_cast<int>(candidates.size()); ++i) {
     const Candidate& c = candidates[i];
     if (std::isnan(c.cost_us_per_s)) continue;
@@ -54,6 +57,8 @@ Choice cheapest(std::span<const Candidate> candidates, double budget_m, double r
     within = true;
     const double upper = c.starts > 0 ? wilson_interval(c.diverged_starts, c.starts).high : 1.0;
     if (upper > robustness_ceiling) continue;
+    robust = true;
+    if (c.outcome_ratio > 1.0) continue;
     const Candidate* best = out.index >= 0 ? &candidates[out.index] : nullptr;
     if (best == nullptr || c.cost_us_per_s < best->cost_us_per_s ||
         (c.cost_us_per_s == best->cost_us_per_s && c.dt > best->dt)) {
@@ -69,8 +74,10 @@ Choice cheapest(std::span<const Candidate> candidates, double budget_m, double r
     out.verdict = Verdict::kDiverges;
   } else if (!within) {
     out.verdict = Verdict::kErrorFloor;
-  } else {
+  } else if (!robust) {
     out.verdict = Verdict::kNotRobust;
+  } else {
+    out.verdict = Verdict::kUnlikeTruth;
   }
   return out;
 }
@@ -173,14 +180,6 @@ struct Job {
   double dt;
 };
 
-// the scenario's run diverges from its own start (index < 0) or from the random start `index`
-// (seed `seed`)
-bool start_diverges(const Model& model, const std::string& name, ScenarioOptions options,
-                    const SolverConfig& config, double dt, uint64_t seed, int64_t index) {
-  if (index >= 0) options.start = random_start(model, seed, index);
-  return run_for_divergence(config, model, make_scenario(name, model, options), dt).diverged;
-}
-
 // Of the random starts a scenario's candidates within the budget diverged from, those that led a
 // hard pin further than the figure reaches (reach_shortfall): "; 3 of the 4 starts it diverged
 // from asked for more than the figure's reach between its pins", empty when none did.
@@ -204,6 +203,74 @@ std::string out_of_reach_note(const Model& model, const VerdictSpec& spec, size_
   if (out_of_reach == 0) return {};
   return "; " + std::to_string(out_of_reach) + " of the " + std::to_string(starts.size()) +
          " starts it diverged from asked for more than the figure's reach between its pins";
+}
+
+// Puts a candidate within the budget through the scenario's own start and the random ones, until
+// one diverges; in a contact scene, then compares its outcomes over them with the truth's
+void run_starts(const Model& model, const VerdictSpec& spec, size_t s, const SolverConfig& config,
+                const ContactScene* scene, Candidate& c) {
+  const std::string& name = spec.scenarios[s];
+  if (judged_run(config, model, name, spec.scenario, c.dt, spec.seed, -1).run.diverged) {
+    c.diverged = true;
+    c.reason = "its run of the scenario diverged";
+    return;
+  }
+  std::vector<ContactOutcome> outcomes;
+  for (int64_t i = 0; i < spec.starts; ++i) {
+    c.starts = i + 1;
+    const JudgedRun r = judged_run(config, model, name, spec.scenario, c.dt, spec.seed, i);
+    if (r.run.diverged) {
+      c.diverged_starts = 1;
+      return;
+    }
+    outcomes.push_back(r.outcome);
+  }
+  if (scene != nullptr) compare_candidate_outcomes(*scene, outcomes, c);
+}
+
+// the why of a row that is not met
+std::string why_not(const Choice& choice, const std::vector<Candidate>& all, const Model& model,
+                    const VerdictSpec& spec, size_t s, double budget) {
+  std::ostringstream why;
+  why.precision(3);
+  switch (choice.verdict) {
+    case Verdict::kDiverges:
+      why << "every configuration diverges";
+      break;
+    case Verdict::kErrorFloor: {
+      why << "its least error is " << choice.best_error_m << " m";
+      for (const Candidate& c : all) {
+        if (c.error_m == choice.best_error_m && !c.diverged && !c.measure.empty()) {
+          why << " (" << c.measure << ")";
+          break;
+        }
+      }
+      break;
+    }
+    case Verdict::kNotRobust:
+      why << "every configuration within the budget diverged from a random start";
+      why << out_of_reach_note(model, spec, s, all, budget);
+      break;
+    case Verdict::kUnlikeTruth: {
+      // the one whose outcomes came nearest
+      const Candidate* nearest = nullptr;
+      for (const Candidate& c : all) {
+        if (c.outcome_ratio > 1.0 && (!nearest || c.outcome_ratio < nearest->outcome_ratio)) {
+          nearest = &c;
+        }
+      }
+      why << "every configuration within the budget that survived the starts ended unlike the "
+             "truth";
+      if (nearest) {
+        why << ": at best its " << kOutcomeNames[nearest->outcome_worst] << "'s KS statistic is "
+            << nearest->outcome_ratio << " × its bar";
+      }
+      break;
+    }
+    default:
+      why << "nothing was both timed and judged";
+  }
+  return why.str();
 }
 
 }  // namespace
@@ -230,8 +297,10 @@ VerdictResult run_verdict(const VerdictSpec& spec) {
   }
 
   // the truth at h in every scenario, then (unless the spec has them) its floor: its runs at h/2
-  // and 2h and the other truth, each re-seeded from it
+  // and 2h and the other truth, each re-seeded from it; a contact scene's after them
+  // (contact_truths: the floor of its window, and the truths' outcomes over the starts)
   std::vector<Trajectory> truth_runs(scenario_count);
+  std::vector<int> scene_of(scenario_count, -1);  // index into out.contact
   {
     const bool measure_floors = spec.floors.empty();
     size_t done = 0;
@@ -241,6 +310,7 @@ VerdictResult run_verdict(const VerdictSpec& spec) {
     parallel_for(
         scenario_count, spec.jobs,
         [&](size_t s) {
+          if (judged_by_contact(spec.scenarios[s])) return;
           auto simulator = make_simulator(truth.solver, truth.options);
           truth_runs[s] =
               record_trajectory(*simulator, model, scenarios[s], truth.dt, scenarios[s].duration);
@@ -255,6 +325,7 @@ VerdictResult run_verdict(const VerdictSpec& spec) {
           scenario_count * per_scenario, spec.jobs,
           [&](size_t i) {
             const size_t s = i / per_scenario, k = i % per_scenario;
+            if (judged_by_contact(spec.scenarios[s])) return;
             const Truth& judged = k < 2 ? truth : truths[1];
             const double dt = k == 0 ? truth.dt / 2 : k == 1 ? truth.dt * 2 : judged.dt;
             auto simulator = make_simulator(judged.solver, judged.options);
@@ -270,6 +341,13 @@ VerdictResult run_verdict(const VerdictSpec& spec) {
         f.agreement = values[3 * s + 2];
         f.floor = truth_floor(f.half_difference, f.double_difference, f.agreement);
       }
+    }
+    for (size_t s = 0; s < scenario_count; ++s) {
+      if (!judged_by_contact(spec.scenarios[s])) continue;
+      scene_of[s] = static_cast<int>(out.contact.size());
+      out.contact.push_back(contact_truths(model, truths, spec.scenarios[s], spec.scenario,
+                                           spec.starts, spec.seed, spec.jobs, &out.floors[s],
+                                           &truth_runs[s]));
     }
   }
 
@@ -360,6 +438,12 @@ VerdictResult run_verdict(const VerdictSpec& spec) {
           const Job& job = jobs[order[i]];
           Candidate& c = out.candidates[order[i]];
           const SolverConfig& solver = spec.solvers[job.solver];
+          if (scene_of[job.scenario] >= 0) {
+            judge_contact_candidate({solver.solver, job.setting.options}, model,
+                                    scenarios[job.scenario], truth_runs[job.scenario],
+                                    out.contact[scene_of[job.scenario]], job.dt, c);
+            return;
+          }
           auto simulator = make_simulator(solver.solver, job.setting.options);
           const ReseededError e = reseeded_error(*simulator, model, scenarios[job.scenario],
                                                  truth_runs[job.scenario], job.dt);
@@ -428,24 +512,10 @@ VerdictResult run_verdict(const VerdictSpec& spec) {
               for (size_t j : within) {
                 Candidate& c = out.candidates[j];
                 if (c.starts == 0 && !c.diverged) {
-                  const SolverConfig config{spec.solvers[k].solver, jobs[j].setting.options};
-                  // the scenario's own start, then the random ones
-                  if (start_diverges(model, spec.scenarios[s], spec.scenario, config, c.dt,
-                                     spec.seed, -1)) {
-                    c.diverged = true;
-                    c.reason = "its run of the scenario diverged";
-                    continue;
-                  }
-                  for (int64_t i = 0; i < spec.starts; ++i) {
-                    c.starts = i + 1;
-                    if (start_diverges(model, spec.scenarios[s], spec.scenario, config, c.dt,
-                                       spec.seed, i)) {
-                      c.diverged_starts = 1;
-                      break;
-                    }
-                  }
+                  run_starts(model, spec, s, {spec.solvers[k].solver, jobs[j].setting.options},
+                             scene_of[s] >= 0 ? &out.contact[scene_of[s]] : nullptr, c);
                 }
-                if (!c.diverged && c.diverged_starts == 0) break;
+                if (!c.diverged && c.diverged_starts == 0 && !(c.outcome_ratio > 1.0)) break;
               }
               std::vector<Candidate> all;
               for (size_t j : mine) all.push_back(out.candidates[j]);
@@ -457,23 +527,7 @@ VerdictResult run_verdict(const VerdictSpec& spec) {
               if (choice.verdict == Verdict::kMet) {
                 row.chosen = static_cast<int>(mine[choice.index]);
               } else {
-                std::ostringstream why;
-                why.precision(3);
-                switch (choice.verdict) {
-                  case Verdict::kDiverges:
-                    why << "every configuration diverges";
-                    break;
-                  case Verdict::kErrorFloor:
-                    why << "its least error is " << choice.best_error_m << " m";
-                    break;
-                  case Verdict::kNotRobust:
-                    why << "every configuration within the budget diverged from a random start";
-                    why << out_of_reach_note(model, spec, s, all, budget);
-                    break;
-                  default:
-                    why << "nothing was both timed and judged";
-                }
-                row.why = why.str();
+                row.why = why_not(choice, all, model, spec, s, budget);
               }
               rows[p].push_back(row);
             }
@@ -572,7 +626,15 @@ std::string verdict_candidates_csv(const VerdictResult& result, const OutputCont
         << csv_field(c.setting) << ',' << format_dt(c.dt) << ',' << csv_number(c.cost_us_per_s)
         << ',' << csv_number(c.error_m) << ',' << status_of(c) << ',' << csv_field(c.reason) << ','
         << c.starts << ',' << c.diverged_starts << ',' << csv_number(floor) << ','
-        << csv_field(result.truth) << ',' << csv_field(context.model) << ','
+        << csv_field(c.measure) << ',' << csv_number(c.window_error_m) << ',';
+    if (c.measure.empty() || c.diverged) {
+      out << ",,,,";
+    } else {
+      out << csv_number(c.violations.penetration_m) << ',' << csv_number(c.violations.joint_gap_m)
+          << ',' << csv_number(c.violations.limit_overshoot_m) << ','
+          << csv_number(c.violations.energy_gain_m) << ',';
+    }
+    out << csv_number(c.outcome_ratio) << ',' << csv_field(result.truth) << ',' << csv_field(context.model) << ','
         << csv_field(context.git_sha) << ',' << csv_field(context.machine) << '\n';
   }
   return out.str();
@@ -599,6 +661,65 @@ std::string verdict_csv(const VerdictResult& result, const VerdictSpec& spec,
         << ',' << csv_number(r.best_error_m) << ',' << csv_number(r.truth_floor_m) << ','
         << csv_field(r.why) << ',' << csv_field(result.truth) << ',' << csv_field(context.model)
         << ',' << csv_field(context.git_sha) << ',' << csv_field(context.machine) << '\n';
+  }
+  return out.str();
+}
+
+std::string verdict_contact_csv(const VerdictResult& result, const OutputContext& context) {
+  std::ostringstream out;
+  out << kContactHeader << '\n';
+  const std::string tail = ',' + csv_field(result.truth) + ',' + csv_field(context.model) + ',' +
+                           csv_field(context.git_sha) + ',' + csv_field(context.machine) + '\n';
+  auto row = [&](const std::string& scenario, const char* role, const std::string& solver,
+                 const std::string& measure, const char* stat, double value, const char* unit) {
+    out << csv_field(scenario) << ',' << role << ',' << csv_field(solver) << ','
+        << csv_field(measure) << ',' << stat << ',' << csv_number(value) << ',' << unit << tail;
+  };
+  for (const ContactScene& scene : result.contact) {
+    const std::string& name = scene.scenario;
+    const TruthFloor* floor = nullptr;
+    for (const TruthFloor& f : result.floors) {
+      if (f.scenario == name) floor = &f;
+    }
+    row(name, "truth", result.truth, "first_contact", "value", scene.first_contact_s, "s");
+    row(name, "truth", result.truth, "window_end", "value", scene.window_end_s, "s");
+    if (floor) {
+      row(name, "truth", result.truth, "window_error", "half_difference", floor->half_difference,
+          "m");
+      row(name, "truth", result.truth, "window_error", "double_difference",
+          floor->double_difference, "m");
+      row(name, "second", scene.second_truth, "window_error", "agreement", floor->agreement, "m");
+      row(name, "truth", result.truth, "window_error", "floor", floor->floor, "m");
+    }
+    auto solver_of = [&](const char* role) {
+      return std::string(role) == "truth" ? result.truth : scene.second_truth;
+    };
+    auto violations = [&](const char* role, const ContactViolations& v) {
+      row(name, role, solver_of(role), "penetration", "max", v.penetration_m, "m");
+      row(name, role, solver_of(role), "joint_gap", "max", v.joint_gap_m, "m");
+      row(name, role, solver_of(role), "limit_overshoot", "max", v.limit_overshoot_m, "m");
+      row(name, role, solver_of(role), "energy_gain", "max", v.energy_gain_m, "m");
+    };
+    violations("truth", scene.truth_violations);
+    if (!scene.second_truth.empty()) violations("second", scene.second_violations);
+    for (int k = 0; k < kOutcomeCount; ++k) {
+      auto column = [&](const std::vector<ContactOutcome>& outcomes, const char* role) {
+        if (outcomes.empty()) return;
+        std::vector<double> v;
+        for (const ContactOutcome& o : outcomes) v.push_back(outcome_value(o, k));
+        std::sort(v.begin(), v.end());
+        const double mean = std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+        const char* unit = k == 2 ? "s" : "m";
+        row(name, role, solver_of(role), kOutcomeNames[k], "mean", mean, unit);
+        row(name, role, solver_of(role), kOutcomeNames[k], "min", v.front(), unit);
+        row(name, role, solver_of(role), kOutcomeNames[k], "median", v[v.size() / 2], unit);
+        row(name, role, solver_of(role), kOutcomeNames[k], "max", v.back(), unit);
+      };
+      column(scene.truth_outcomes, "truth");
+      column(scene.second_outcomes, "second");
+      row(name, "second", scene.second_truth, kOutcomeNames[k], "ks_statistic", scene.truths_statistic[k], "1");
+      row(name, "truth", result.truth, kOutcomeNames[k], "ks_critical", scene.critical, "1");
+    }
   }
   return out.str();
 }

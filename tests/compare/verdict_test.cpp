@@ -88,6 +88,23 @@ TEST(Verdict, SaysWhyNothingMeetsIt) {
   EXPECT_EQ(cheapest({}, 1.0, 0.10).verdict, Verdict::kNotMeasured);
 }
 
+// a contact scene's candidate that survives its starts but ends unlike the truth is not met
+TEST(Verdict, OutcomesUnlikeTheTruthsAreNotMet) {
+  std::vector<Candidate> c = table();
+  const Choice met = cheapest(c, 1.0, 0.05);
+  ASSERT_EQ(met.verdict, Verdict::kMet);
+  c[met.index].outcome_ratio = 1.5;
+  const Choice next = cheapest(c, 1.0, 0.05);
+  EXPECT_EQ(next.verdict, Verdict::kMet);
+  EXPECT_NE(next.index, met.index);
+  for (Candidate& x : c) x.outcome_ratio = 1.01;
+  EXPECT_EQ(cheapest(c, 1.0, 0.05).verdict, Verdict::kUnlikeTruth);
+  for (Candidate& x : c) x.outcome_ratio = 1.0;  // at the bar: alike
+  EXPECT_EQ(cheapest(c, 1.0, 0.05).verdict, Verdict::kMet);
+  for (Candidate& x : c) x.diverged_starts = 3;
+  EXPECT_EQ(cheapest(c, 1.0, 0.05).verdict, Verdict::kNotRobust);
+}
+
 TEST(Verdict, ABudgetBelowTheTruthsFloorIsRefused) {
   EXPECT_EQ(budget_problem(0.01, 0.0048), "");
   EXPECT_NE(budget_problem(0.001, 0.0048).find("below the truth's floor"), std::string::npos);

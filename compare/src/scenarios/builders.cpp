@@ -1,5 +1,6 @@
 #include "builders.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "puppet/model/text.h"
@@ -134,6 +135,25 @@ Scenario held_figure(const Model& model, const ScenarioOptions& options, bool he
     if (start) grab.phase = start->phase;
     s.pins.push_back(grab);
   }
+  return s;
+}
+
+Scenario figure_on_ground(const Model& model, const ScenarioOptions& options, double tilt_deg,
+                          double height) {
+  Scenario s = held_figure(model, options, /*head=*/false, std::nullopt);
+  s.duration = 3.0;
+  s.environment.air_drag = 0.05;
+  s.environment.ground = true;
+  s.environment.friction = 0.8;
+  rotate_about(s.initial, Quaterniond(Eigen::AngleAxisd(tilt_deg * M_PI / 180.0, Vector3d::UnitX())),
+               centre_of_mass(model, s.initial));
+  double lowest = INFINITY;
+  for (int i = 0; i < model.segment_count(); ++i) {
+    double low = 0.0, high = 0.0;
+    vertical_extent(model.segments[i], s.initial[i].q, s.initial[i].x, &low, &high);
+    lowest = std::min(lowest, low);
+  }
+  for (BodyState& body : s.initial) body.x.z() += height - lowest;
   return s;
 }
 

@@ -19,6 +19,9 @@ struct ScenarioRow {
   std::string_view asks;  // what the scenario asks of a solver, and why (testbed list, REPORT.md)
   Scenario (*make)(const Model& model, const ScenarioOptions& options) = nullptr;
   bool headline = false;
+  // a scene on the ground, judged by its violations, its first impact and its outcomes over
+  // random starts rather than by its trajectory (contact_judge.h)
+  bool contact = false;
 };
 
 // a held hand: the segment named (else the one reaching lowest at rest), its point from --grab
@@ -43,6 +46,12 @@ HandPath circling_hand(const ScenarioOptions& options, bool grab);
 // hand whose target follows the path: the grab, or a pin compliant by --grab-compliance.
 Scenario held_figure(const Model& model, const ScenarioOptions& options, bool head,
                      const std::optional<HandPath>& hand);
+
+// The free figure (at rest, or at options.start posed from its root) for a scene on the ground:
+// tilted by `tilt_deg` about world x through its centre of mass, its lowest point `height` above
+// the ground (friction 0.8), in air drag 0.05/s, for 3 s.
+Scenario figure_on_ground(const Model& model, const ScenarioOptions& options, double tilt_deg,
+                          double height);
 
 // the centre of mass of a state
 Vector3d centre_of_mass(const Model& model, const std::vector<BodyState>& bodies);

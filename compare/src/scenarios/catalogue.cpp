@@ -13,6 +13,7 @@ ScenarioRow drag_scenario();
 ScenarioRow shake_scenario();
 ScenarioRow spin_scenario();
 ScenarioRow drop_scenario();
+ScenarioRow collapse_scenario();
 ScenarioRow water_scenario();
 ScenarioRow tremble_scenario();
 ScenarioRow yank_scenario();
@@ -23,7 +24,7 @@ namespace {
 const std::vector<ScenarioRow>& rows() {
   static const std::vector<ScenarioRow> all = {
       hang_scenario(), drag_scenario(),  marionette_scenario(), shake_scenario(), spin_scenario(),
-      drop_scenario(), water_scenario(), tremble_scenario(),    yank_scenario()};
+      drop_scenario(), collapse_scenario(), water_scenario(), tremble_scenario(), yank_scenario()};
   return all;
 }
 
@@ -42,6 +43,12 @@ std::string scenario_asks(const std::string& name) {
   const auto row = std::find_if(rows().begin(), rows().end(),
                                 [&](const ScenarioRow& r) { return r.name == name; });
   return row == rows().end() ? std::string() : std::string(row->asks);
+}
+
+bool judged_by_contact(const std::string& name) {
+  const auto row = std::find_if(rows().begin(), rows().end(),
+                                [&](const ScenarioRow& r) { return r.name == name; });
+  return row != rows().end() && row->contact;
 }
 
 const std::string& headline_scenario() {

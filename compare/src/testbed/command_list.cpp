@@ -40,6 +40,11 @@ int list_json() {
   out["scenarios"] = scenario_names();
   out["headline_scenario"] = headline_scenario();
   for (const std::string& name : scenario_names()) out["scenario_asks"][name] = scenario_asks(name);
+  // the scenes the verdict judges by their violations, first impact and outcomes (contact.csv)
+  out["contact_scenarios"] = nlohmann::ordered_json::array();
+  for (const std::string& name : scenario_names()) {
+    if (judged_by_contact(name)) out["contact_scenarios"].push_back(name);
+  }
   out["frontier_scenario"] = kFrontierScenario;
   auto& engines_out = out["engines"] = nlohmann::ordered_json::array();
   for (const Engine& engine : engines()) {
@@ -108,6 +113,7 @@ int list_json() {
   out["tables"] = {{"frontier.csv", kFrontierHeader},
                    {"candidates.csv", kCandidatesHeader},
                    {"verdict.csv", kVerdictHeader},
+                   {"contact.csv", kContactHeader},
                    {"robustness.csv", kRobustnessHeader},
                    {"robustness_summary.csv", kRobustnessSummaryHeader},
                    {"worst.csv", kWorstHeader},

@@ -80,7 +80,7 @@ int verdict(const Flags& f) {
     options.start = random_start(model, spec.seed, 0);
     make_scenario(name, model, options);
   }
-  OutputFolder folder("--out", f.out, {"candidates.csv", "verdict.csv"});
+  OutputFolder folder("--out", f.out, {"candidates.csv", "verdict.csv", "contact.csv"});
   Progress bar("verdict");
   std::string shown_phase;
   spec.on_progress = [&](const char* phase, size_t done, size_t total) {
@@ -96,9 +96,11 @@ int verdict(const Flags& f) {
                         verdict_candidates_csv(result, context));
   write_file_atomically((folder.staging() / "verdict.csv").string(),
                         verdict_csv(result, spec, context));
+  write_file_atomically((folder.staging() / "contact.csv").string(),
+                        verdict_contact_csv(result, context));
   folder.commit();
   print_verdict_table(spec, result);
-  std::printf("\nwrote %s: candidates.csv, verdict.csv\n", folder.path().c_str());
+  std::printf("\nwrote %s: candidates.csv, verdict.csv, contact.csv\n", folder.path().c_str());
   return 0;
 }
 

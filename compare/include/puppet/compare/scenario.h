@@ -109,6 +109,9 @@ double reach_shortfall(const Model& model, const Scenario& scenario);
 const std::vector<std::string>& scenario_names();
 // what a scenario asks of a solver, and why, in a sentence (empty for an unknown name)
 std::string scenario_asks(const std::string& name);
+// whether a scenario is a scene on the ground that the verdict judges by its violations, its
+// first impact and its outcomes over random starts (contact_judge.h), not by its trajectory
+bool judged_by_contact(const std::string& name);
 // the scenario a table quotes when it quotes one (the README's and the verdict's per-frame
 // figures): drag, a user dragging the puppet by its hand with the grab
 const std::string& headline_scenario();

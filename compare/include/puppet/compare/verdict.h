@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "puppet/compare/contact_judge.h"
 #include "puppet/compare/engines.h"
 #include "puppet/compare/output.h"
 #include "puppet/compare/sweep.h"
@@ -28,6 +29,14 @@ struct Candidate {
   std::string reason;           ///< why it diverged
   int64_t starts = 0;           ///< random starts run (robustness); 0: not run
   int64_t diverged_starts = 0;  ///< of them, diverged (the run stops at the first)
+  // a contact scene's (judged_by_contact): error_m is the largest of the first impact's window
+  // error and the violations, `measure` names which; its outcomes over the starts against the
+  // truth's: the largest statistic over its bar (NaN: not compared; above 1: unlike the truth's)
+  std::string measure;
+  double window_error_m = NAN;
+  ContactViolations violations;
+  double outcome_ratio = NAN;
+  int outcome_worst = 0;
 };
 
 /// what a search found
@@ -36,10 +45,12 @@ enum class Verdict {
   kDiverges,     ///< every measured configuration diverges
   kErrorFloor,   ///< none that holds together comes within the budget
   kNotRobust,    ///< some come within the budget, none with the robustness bar
+  kUnlikeTruth,  ///< (a contact scene) some pass both, none with outcomes like the truth's
   kNotMeasured,  ///< no configuration was both timed and judged
 };
-inline constexpr std::array kAllVerdicts = {Verdict::kMet, Verdict::kDiverges, Verdict::kErrorFloor,
-                                            Verdict::kNotRobust, Verdict::kNotMeasured};
+inline constexpr std::array kAllVerdicts = {Verdict::kMet,         Verdict::kDiverges,
+                                            Verdict::kErrorFloor,  Verdict::kNotRobust,
+                                            Verdict::kUnlikeTruth, Verdict::kNotMeasured};
 const char* verdict_name(Verdict verdict);
 /// verdict.csv's verdict of a row not judged: its budget is finer than the truth's floor
 inline constexpr const char* kRefused = "refused";
@@ -58,9 +69,10 @@ struct Choice {
   double divergence_upper = NAN;  ///< the chosen candidate's 95 % Wilson upper bound
 };
 
-/// The cheapest candidate whose error is within `budget_m` and whose divergence rate over its
+/// The cheapest candidate whose error is within `budget_m`, whose divergence rate over its
 /// random starts has a 95 % Wilson upper bound within `robustness_ceiling` (a candidate without
-/// starts never meets a bar below 1). Ties in cost go to the larger dt.
+/// starts never meets a bar below 1) and whose outcomes, where compared, are like the truth's.
+/// Ties in cost go to the larger dt.
 Choice cheapest(std::span<const Candidate> candidates, double budget_m, double robustness_ceiling);
 
 /// cheapest() among the candidates whose dt takes a frame of 1/hz in whole steps (the frame
@@ -107,6 +119,19 @@ struct TruthFloor {
   double half_difference = NAN, double_difference = NAN, agreement = NAN, floor = NAN;
 };
 
+/// what the truths give in a contact scene (contact_judge.h): the window of its first impact, the
+/// floor there (TruthFloor, of the window error), both truths' violations and their outcomes over
+/// the verdict's random starts
+struct ContactScene {
+  std::string scenario;
+  std::string second_truth;  ///< the second truth's engine; empty: none
+  double first_contact_s = NAN, window_end_s = NAN;
+  ContactViolations truth_violations, second_violations;
+  std::vector<ContactOutcome> truth_outcomes, second_outcomes;
+  std::array<double, kOutcomeCount> truths_statistic{NAN, NAN, NAN};  ///< KS, truth vs second
+  double critical = NAN;  ///< the KS critical value at kOutcomeAlpha for the starts
+};
+
 struct VerdictSpec {
   const Model* model = nullptr;
   std::vector<std::string> scenarios;
@@ -140,6 +165,7 @@ struct VerdictRow {
 struct VerdictResult {
   std::string truth;                  ///< the judging truth's engine
   std::vector<TruthFloor> floors;     ///< per scenario
+  std::vector<ContactScene> contact;  ///< per contact scene
   std::vector<Candidate> candidates;  ///< scenario × solver × setting × dt
   std::vector<VerdictRow> rows;       ///< scenario × solver × view × budget
 };
@@ -150,7 +176,8 @@ struct VerdictResult {
 /// no truth.
 VerdictResult run_verdict(const VerdictSpec& spec);
 
-/// The floors of `scenarios` from a sweep's summary.csv (testbed run, both truths at three
+/// The floors of `scenarios` from a sweep's summary.csv (a contact scene's are measured by the
+/// verdict itself, of its window error) (testbed run, both truths at three
 /// dts): its rows of the truth at h/2 and 2h and of the second truth, each against the truth at
 /// h. Throws std::runtime_error naming the file and what it lacks when the summary is of
 /// another model, truth or commit (`git_sha`), or misses a scenario's rows.
@@ -161,12 +188,18 @@ std::vector<TruthFloor> floors_from_summary(const std::string& text, const std::
 
 inline constexpr const char* kCandidatesHeader =
     "scenario,solver,rule,setting,dt,cost_us_per_s,error_m,status,reason,starts,"
-    "diverged_starts,truth_floor_m,truth,model,git_sha,machine";
+    "diverged_starts,truth_floor_m,measure,window_error_m,penetration_m,joint_gap_m,"
+    "limit_overshoot_m,energy_gain_m,outcome_ratio,truth,model,git_sha,machine";
 inline constexpr const char* kVerdictHeader =
     "scenario,solver,rule,view,frame_hz,budget_m,verdict,setting,dt,steps_per_frame,"
     "cost_us_per_s,us_per_frame,puppets_per_core,error_m,starts,divergence_upper,"
     "best_error_m,truth_floor_m,why,truth,model,git_sha,machine";
 std::string verdict_candidates_csv(const VerdictResult& result, const OutputContext& context);
+/// contact.csv: per contact scene, the truths' window, floor, violations and outcomes, one row
+/// per truth and measure
+inline constexpr const char* kContactHeader =
+    "scenario,truth_role,solver,measure,stat,value,unit,truth,model,git_sha,machine";
+std::string verdict_contact_csv(const VerdictResult& result, const OutputContext& context);
 std::string verdict_csv(const VerdictResult& result, const VerdictSpec& spec,
                         const OutputContext& context);
 
