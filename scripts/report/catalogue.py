@@ -129,6 +129,7 @@ SUMMARY_CSV = Names("summary.csv's columns", TABLES["summary.csv"])
 FRONTIER_CSV = Names("frontier.csv's columns", TABLES["frontier.csv"])
 CANDIDATES_CSV = Names("candidates.csv's columns", TABLES["candidates.csv"])
 VERDICT_CSV = Names("verdict.csv's columns", TABLES["verdict.csv"])
+CONTACT_CSV = Names("contact.csv's columns", TABLES["contact.csv"])
 ROBUSTNESS_CSV = Names("robustness_summary.csv's columns", TABLES["robustness_summary.csv"])
 TRACE_CSV = Names("a trace's columns", TABLES["trace"])
 

@@ -7,11 +7,12 @@ from dataclasses import dataclass, field
 from .catalogue import CONFIGS, SCENARIOS
 from .common import ReportError, label, write_atomically
 from .readers import Summary
-from .sections import (ablation, accuracy, findings, frontier, humanoid, joint_gaps, open_limits,
+from .sections import (ablation, accuracy, contact, findings, frontier, humanoid, joint_gaps,
+                       open_limits,
                        plot_list, robustness, time_per_step, title, truth_floor, truths_agree,
                        verdict, verdict_search, what_was_run)
 
-SECTIONS = [title, what_was_run, verdict, verdict_search, truth_floor, truths_agree, accuracy,
+SECTIONS = [title, what_was_run, verdict, contact, verdict_search, truth_floor, truths_agree, accuracy,
             open_limits, joint_gaps, time_per_step, frontier, humanoid, robustness, ablation,
             findings, plot_list]
 

@@ -138,7 +138,10 @@ def verdict_section(v):
            "configuration), `error floor` (its least error, m), `not robust` (within the "
            "budget only where a random start diverged). The budget is on the pose error: a "
            "solver may meet it with its joints opened (the joint gaps are in \"Joint gaps and "
-           "divergence\"). Why the exact solvers read `not robust` in the two-pin scenarios: "
+           "divergence\"). In the scenes on the ground the error is the contact judge's "
+           "instead: the largest violation or the first impact's error, and the outcomes over "
+           "the starts must be like the truth's (`unlike truth` when none are; \"The scenes on "
+           "the ground\"). Why the exact solvers read `not robust` in the two-pin scenarios: "
            "docs/tried.md, \"The verdict's search and its random starts\".", ""]
     out += ["Where the procedural family wins and where it loses (its cheapest rule against the "
             "cheapest reference, per simulated second):", ""]
