@@ -145,7 +145,8 @@ OutcomeComparison compare_outcomes(std::span<const ContactOutcome> runs,
   const double critical = ks_critical(runs.size(), truth.size(), kOutcomeAlpha);
   out.worst_ratio = -1.0;
   for (int k = 0; k < kOutcomeCount; ++k) {
-    out.bar[k] = std::isnan(truths_statistic[k]) ? critical : std::max(critical, truths_statistic[k]);
+    out.bar[k] =
+        std::isnan(truths_statistic[k]) ? critical : std::max(critical, truths_statistic[k]);
     const double ratio = out.statistic[k] / out.bar[k];
     // a statistic that is not a number (no runs) is never alike
     if (!(ratio <= out.worst_ratio)) {

@@ -342,12 +342,17 @@ VerdictResult run_verdict(const VerdictSpec& spec) {
         f.floor = truth_floor(f.half_difference, f.double_difference, f.agreement);
       }
     }
+    const size_t contact_count = static_cast<size_t>(
+        std::count_if(spec.scenarios.begin(), spec.scenarios.end(), judged_by_contact));
+    const size_t contact_total = contact_count * contact_truth_runs(truths.size(), spec.starts);
+    size_t contact_done = 0;
+    auto contact_tick = progress("contact truths");
     for (size_t s = 0; s < scenario_count; ++s) {
       if (!judged_by_contact(spec.scenarios[s])) continue;
       scene_of[s] = static_cast<int>(out.contact.size());
-      out.contact.push_back(contact_truths(model, truths, spec.scenarios[s], spec.scenario,
-                                           spec.starts, spec.seed, spec.jobs, &out.floors[s],
-                                           &truth_runs[s]));
+      out.contact.push_back(contact_truths(
+          model, truths, spec.scenarios[s], spec.scenario, spec.starts, spec.seed, spec.jobs,
+          &out.floors[s], &truth_runs[s], [&] { contact_tick(++contact_done, contact_total); }));
     }
   }
 
@@ -634,8 +639,9 @@ std::string verdict_candidates_csv(const VerdictResult& result, const OutputCont
           << ',' << csv_number(c.violations.limit_overshoot_m) << ','
           << csv_number(c.violations.energy_gain_m) << ',';
     }
-    out << csv_number(c.outcome_ratio) << ',' << csv_field(result.truth) << ',' << csv_field(context.model) << ','
-        << csv_field(context.git_sha) << ',' << csv_field(context.machine) << '\n';
+    out << csv_number(c.outcome_ratio) << ',' << csv_field(result.truth) << ','
+        << csv_field(context.model) << ',' << csv_field(context.git_sha) << ','
+        << csv_field(context.machine) << '\n';
   }
   return out.str();
 }
@@ -708,7 +714,8 @@ std::string verdict_contact_csv(const VerdictResult& result, const OutputContext
         std::vector<double> v;
         for (const ContactOutcome& o : outcomes) v.push_back(outcome_value(o, k));
         std::sort(v.begin(), v.end());
-        const double mean = std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+        const double mean =
+            std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
         const char* unit = k == 2 ? "s" : "m";
         row(name, role, solver_of(role), kOutcomeNames[k], "mean", mean, unit);
         row(name, role, solver_of(role), kOutcomeNames[k], "min", v.front(), unit);
@@ -717,7 +724,8 @@ std::string verdict_contact_csv(const VerdictResult& result, const OutputContext
       };
       column(scene.truth_outcomes, "truth");
       column(scene.second_outcomes, "second");
-      row(name, "second", scene.second_truth, kOutcomeNames[k], "ks_statistic", scene.truths_statistic[k], "1");
+      row(name, "second", scene.second_truth, kOutcomeNames[k], "ks_statistic",
+          scene.truths_statistic[k], "1");
       row(name, "truth", result.truth, kOutcomeNames[k], "ks_critical", scene.critical, "1");
     }
   }

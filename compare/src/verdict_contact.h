@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include "puppet/compare/sweep.h"
@@ -22,17 +23,20 @@ JudgedRun judged_run(const SolverConfig& config, const Model& model, const std::
 // The truths in a contact scene: the first truth's run (its trajectory into `truth_run`), the
 // window of its first impact, the floor of the window error (the first truth at h/2 and 2h and
 // the second truth against it, into `floor`), both truths' violations, and their outcomes over
-// `starts` random starts, on `jobs` threads. Cancellable (throw_if_cancelled).
+// `starts` random starts, on `jobs` threads, calling `after_each` as each run ends (one call at a
+// time; contact_truth_runs of them). Cancellable (throw_if_cancelled).
 ContactScene contact_truths(const Model& model, const std::vector<Truth>& truths,
-                            const std::string& name, const ScenarioOptions& options,
-                            int64_t starts, uint64_t seed, int jobs, TruthFloor* floor,
-                            Trajectory* truth_run);
+                            const std::string& name, const ScenarioOptions& options, int64_t starts,
+                            uint64_t seed, int jobs, TruthFloor* floor, Trajectory* truth_run,
+                            const std::function<void()>& after_each = {});
+// the runs contact_truths makes, for a progress line
+size_t contact_truth_runs(size_t truth_count, int64_t starts);
 
 // A candidate's measures in a contact scene, from its run of the scenario at `dt`: its window
 // error against the truth's and its violations; error_m is the largest, `measure` names it
-void judge_contact_candidate(const SolverConfig& config, const Model& model, const Scenario& scenario,
-                             const Trajectory& truth_run, const ContactScene& scene, double dt,
-                             Candidate& candidate);
+void judge_contact_candidate(const SolverConfig& config, const Model& model,
+                             const Scenario& scenario, const Trajectory& truth_run,
+                             const ContactScene& scene, double dt, Candidate& candidate);
 
 // the candidate's outcomes over the starts against the truth's: outcome_ratio and outcome_worst
 void compare_candidate_outcomes(const ContactScene& scene,

@@ -145,7 +145,8 @@ Scenario figure_on_ground(const Model& model, const ScenarioOptions& options, do
   s.environment.air_drag = 0.05;
   s.environment.ground = true;
   s.environment.friction = 0.8;
-  rotate_about(s.initial, Quaterniond(Eigen::AngleAxisd(tilt_deg * M_PI / 180.0, Vector3d::UnitX())),
+  rotate_about(s.initial,
+               Quaterniond(Eigen::AngleAxisd(tilt_deg * M_PI / 180.0, Vector3d::UnitX())),
                centre_of_mass(model, s.initial));
   double lowest = INFINITY;
   for (int i = 0; i < model.segment_count(); ++i) {

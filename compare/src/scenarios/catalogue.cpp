@@ -23,8 +23,9 @@ namespace {
 
 const std::vector<ScenarioRow>& rows() {
   static const std::vector<ScenarioRow> all = {
-      hang_scenario(), drag_scenario(),  marionette_scenario(), shake_scenario(), spin_scenario(),
-      drop_scenario(), collapse_scenario(), water_scenario(), tremble_scenario(), yank_scenario()};
+      hang_scenario(),    drag_scenario(), marionette_scenario(), shake_scenario(),
+      spin_scenario(),    drop_scenario(), collapse_scenario(),   water_scenario(),
+      tremble_scenario(), yank_scenario()};
   return all;
 }
 
