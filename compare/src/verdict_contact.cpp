@@ -72,7 +72,8 @@ ContactScene contact_truths(const Model& model, const std::vector<Truth>& truths
       },
       after_each);
   *truth_run = own.run.trajectory;
-  scene.truth_violations = contact_violations(model, make_scenario(name, model, options), own.run);
+  const Scenario scenario = make_scenario(name, model, options);
+  scene.truth_violations = contact_violations(model, scenario, own.run);
   scene.first_contact_s = first_contact_time(own.run);
   const double after = std::isnan(scene.first_contact_s) ? 0.0 : scene.first_contact_s;
   scene.window_end_s = std::ceil((after + kContactWindowAfter) / kAccuracySampleInterval - 1e-9) *
@@ -85,8 +86,7 @@ ContactScene contact_truths(const Model& model, const std::vector<Truth>& truths
   if (second) {
     floor->agreement =
         window_error(others[2].run.trajectory, own.run.trajectory, scene.window_end_s);
-    scene.second_violations =
-        contact_violations(model, make_scenario(name, model, options), others[2].run);
+    scene.second_violations = contact_violations(model, scenario, others[2].run);
   }
   floor->floor = truth_floor(floor->half_difference, floor->double_difference, floor->agreement);
   for (const JudgedRun& r : truth_starts) scene.truth_outcomes.push_back(r.outcome);
