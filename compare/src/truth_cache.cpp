@@ -92,6 +92,9 @@ void add_options(KeyBytes& key, const SolverOptions& o) {
       .add(o.iterations)
       .add(o.substeps)
       .add(o.derive_velocities)
+      .add(o.start_lever_arms)
+      .add(o.limit_velocity_pass)
+      .add(o.limit_restitution)
       .add(o.position_tremble);
   key.add(o.bullet.iterations).add(o.bullet.erp).add(o.bullet.euler_ball_limits);
   key.add(o.mujoco.integrator).add(o.mujoco.constraint_time_constant);

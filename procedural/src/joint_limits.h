@@ -44,6 +44,24 @@ struct BallExcess {
 };
 BallExcess ball_excess(const Joint& joint, const Quaterniond& q_rel);
 
+// A joint's limit rows at q_rel whose excess is above `above` (rad; 0 for the violated ones):
+// each one limit function's gradient with respect to a turn of the child (rows, in the child's
+// frame: Fc g) and its excess. A ball's come from ball_excess (a box, or a swing–twist whose
+// half-angles are both positive; none for a swing forbidden about an axis), a hinge's is its axis
+// signed toward the end it is past or near; a fixed joint has none.
+// whether a ball joint's limits are read as limit functions (ball_excess: a box, or a swing–twist
+// whose half-angles are both positive); a swing forbidden about an axis is a clamp only
+inline bool has_limit_functions(const Joint& joint) {
+  return joint.type == JointType::kBall &&
+         (joint.ball_limit == BallLimit::kEulerBox || (joint.swing_x > 0.0 && joint.swing_y > 0.0));
+}
+struct LimitRows {
+  int count = 0;
+  Matrix3d directions;
+  Vector3d excess;
+};
+LimitRows limit_rows(const Joint& joint, const Quaterniond& q_rel, double above);
+
 // An Euler box's ranges as BoxTest reads them (disabled for any other limit, or a box the test
 // cannot read: a range without 0, a middle range beyond ±85°)
 BoxTest make_box_test(const Joint& joint);

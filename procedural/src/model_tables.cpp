@@ -112,6 +112,7 @@ JointTerms make_joint_terms(const Model& model, const Joint& joint) {
     const Segment& segment = *segments[side];
     const Vector3d& r = *anchors[side];
     terms.point_mass[side] = diagonal_point_mass_matrix(segment.inv_mass, segment.inv_inertia, r);
+    terms.inv_inertia[side] = segment.inv_inertia;
     // what each rule keeps of the joint (its row's prepare_joint)
     for (const RuleRow& rule : rule_rows()) {
       if (rule.prepare_joint) rule.prepare_joint(segment, r, side, terms);

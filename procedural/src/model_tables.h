@@ -76,6 +76,9 @@ struct JointTerms {
   // K = E/m − [r]× D⁻¹ [r]× of the joint point, r its offset from the segment's centre:
   // relaxed's shared corrections add the two sides' K in one frame
   std::array<Matrix3d, 2> point_mass;
+  // each side's inverse inertia (diagonal, its frame): the metric a limit's shared correction is
+  // the smallest in (limit_error)
+  std::array<Vector3d, 2> inv_inertia;
   // the weighted rule's rotation vector of that side per unit gap, both in its frame:
   // D⁻¹ [r]× K⁻¹ (the minimum-energy correction of the gap, made a constant matrix)
   std::array<Matrix3d, 2> rotation_gain;

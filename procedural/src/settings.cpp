@@ -23,6 +23,8 @@ std::string validate(const Settings& settings) {
     return "joint compliance must be in [0, 1e6] m/N";
   if (!(settings.limit_compliance >= 0.0 && settings.limit_compliance <= kMaxCompliance))
     return "limit compliance must be in [0, 1e6] rad/(N m)";
+  if (!(settings.limit_restitution >= 0.0 && settings.limit_restitution <= 1.0))
+    return "limit restitution must be in [0, 1]";
   return {};
 }
 

@@ -15,6 +15,7 @@
 #include <stdexcept>
 
 #include "puppet/model/user_forces.h"
+#include "rules/catalogue.h"
 #include "stages.h"
 
 namespace puppet::procedural {
@@ -27,6 +28,8 @@ Solver::Solver(const Model& model, const Settings& settings, const Environment& 
       tables_(std::move(tables)) {
   const std::string problem = validate(settings);
   if (!problem.empty()) throw std::invalid_argument(problem);
+  limit_pass_ = settings_.limit_velocity_pass && settings_.derive_velocities &&
+                rule_row(settings_.rule).limit_velocities;
   const int n = model.segment_count();
   state_.bodies.resize(n);
   state_.x_prev.resize(n);
@@ -219,6 +222,7 @@ void Solver::run_stage(Stage stage, double h) {
       break;
     case kAdjust: {
       const int anchor = state_.pin_count > 0 ? state_.pins[0].segment : 0;
+      if (limit_pass_) mark_violated_limits(model_, *tables_, state_, ws);
       adjust(model_, settings_, environment_, *tables_, anchor, substep_targets_, state_, ws, h);
       break;
     }
@@ -230,6 +234,7 @@ void Solver::run_stage(Stage stage, double h) {
     case kVelocities:
       if (!settings_.derive_velocities) break;
       derive_velocities(model_, state_, ws.tremble_delta, h);
+      if (limit_pass_) limit_velocity_pass(model_, settings_.limit_restitution, ws, state_);
       if (environment_.ground && needs_ground_velocity_pass(settings_.rule)) {
         ground_velocity_pass(model_, environment_, state_);
       }

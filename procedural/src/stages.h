@@ -72,11 +72,16 @@ inline LinkAnchors link_anchors(const Joint& joint, const AnchorOrder::Link& lin
 // --- two_sided.cpp
 // two-sided corrections of a pin, a joint's point, a joint's limit: α̃ = α/h² is the compliance
 // (0: rigid, and then `lambda` is not read), lambda the multiplier accumulated over the substep
-// (world)
+// (world). `start`, by segment: the inverse inertias (world) at the substep's start, whose
+// orientations then give the lever arms (Settings::start_lever_arms); null: the current pose's
 void share_pin_correction(const Model& model, const Pin& pin, const Vector3d& target,
-                          double alpha_tilde, Vector3d* lambda, State& state);
+                          double alpha_tilde, Vector3d* lambda, const Matrix3d* start,
+                          State& state);
 void share_joint_correction(const Model& model, const JointTerms& terms, const Joint& joint,
-                            double alpha_tilde, Vector3d* lambda, State& state);
+                            double alpha_tilde, Vector3d* lambda, const Matrix3d* start,
+                            State& state);
+// each segment's inverse inertia in world at the substep's start (state.q_prev), for `start`
+void start_inverse_inertias(const Model& model, const State& state, std::span<Matrix3d> out);
 void share_limit_correction(const Model& model, const JointTerms& terms, const Joint& joint,
                             double alpha_tilde, Vector3d* lambda, State& state);
 
@@ -109,5 +114,17 @@ void ground_velocity_pass(const Model& model, const Environment& environment, St
 // --- stage 4, velocities.cpp: velocities from the corrected poses and the previous ones
 void derive_velocities(const Model& model, State& state, const std::vector<Vector3d>& tremble_delta,
                        double h);
+
+// --- limit_velocities.cpp: the limits' velocity pass
+// a limit row within kAtLimit (rad) of its bound after the position pass is still on it
+inline constexpr double kAtLimit = 1e-4;
+// before adjust: which joints the predicted poses take past a limit, and their relative angular
+// velocity then (child's frame), the rate their restitution reads
+void mark_violated_limits(const Model& model, const ModelTables& tables, const State& state,
+                          Workspace& ws);
+// after derive_velocities: each marked joint's rows still at their bound get the rate
+// −restitution × the rate they came in with (limit_velocities.cpp)
+void limit_velocity_pass(const Model& model, double restitution, const Workspace& ws,
+                         State& state);
 
 }  // namespace puppet::procedural

@@ -65,7 +65,7 @@ TEST(TwoSided, AJointCorrectionIsAnEqualAndOppositeImpulsePair) {
     Pair p(rng, 1e-3);
     const std::vector<BodyState> before = p.state.bodies;
     const Vector3d gap = p.gap();
-    share_joint_correction(p.model, p.tables->joints[0], p.joint(), 0.0, nullptr, p.state);
+    share_joint_correction(p.model, p.tables->joints[0], p.joint(), 0.0, nullptr, nullptr, p.state);
     const Segment& ms = p.model.segments[p.joint().parent];
     const Segment& cs = p.model.segments[p.joint().child];
     const BodyState& parent = p.state.bodies[p.joint().parent];
@@ -93,7 +93,7 @@ TEST(TwoSided, ARigidCorrectionClosesTheGapToSecondOrder) {
     for (int k = 0; k < 2; ++k) {
       std::mt19937_64 same(seed);
       Pair p(same, k == 0 ? 1e-2 : 1e-3);
-      share_joint_correction(p.model, p.tables->joints[0], p.joint(), 0.0, nullptr, p.state);
+      share_joint_correction(p.model, p.tables->joints[0], p.joint(), 0.0, nullptr, nullptr, p.state);
       left[k] = p.gap().norm();
     }
     EXPECT_LT(left[0], 1e-2 * 0.05);
@@ -116,7 +116,7 @@ TEST(TwoSided, ACompliantPinLeavesTheSpringsShareOfTheGap) {
     const double alpha_tilde = std::pow(10.0, -2.0 + trial % 5);  // 0.01 … 100 (kg⁻¹)
     Vector3d lambda(0, 0, 0);
     const BodyState before = arm;
-    share_pin_correction(p.model, pin, point + gap, alpha_tilde, &lambda, p.state);
+    share_pin_correction(p.model, pin, point + gap, alpha_tilde, &lambda, nullptr, p.state);
 
     const Segment& segment = p.model.segments[pin.segment];
     const Vector3d r = point - before.x;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "puppet/compare/engines.h"
+#include "puppet/compare/output.h"
 #include "puppet/compare/simulator.h"
 #include "puppet/model/text.h"
 #include "puppet/procedural/solver.h"
@@ -79,6 +80,9 @@ procedural::Settings settings_from(const SolverOptions& options) {
   settings.iterations = options.iterations;
   settings.substeps = options.substeps;
   settings.derive_velocities = options.derive_velocities;
+  settings.start_lever_arms = options.start_lever_arms;
+  settings.limit_velocity_pass = options.limit_velocity_pass;
+  settings.limit_restitution = options.limit_restitution;
   const std::string problem = procedural::validate(settings);
   if (!problem.empty()) throw ScenarioError(problem);
   return procedural::rule_defaults(settings);
@@ -124,6 +128,18 @@ void add_flags(CLI::App& command, SolverOptions& options) {
   command.add_flag_callback(
       "--no-velocities", [&options] { options.derive_velocities = false; },
       "procedural: do not derive velocities from poses");
+  command.add_flag_callback(
+      "--current-lever-arms", [&options] { options.start_lever_arms = false; },
+      "relaxed, xpbd: turn a correction through the lever arms of the pose being corrected "
+      "(position-based dynamics' own), not the substep's start");
+  command.add_flag_callback(
+      "--no-limit-pass", [&options] { options.limit_velocity_pass = false; },
+      "relaxed, xpbd, tree: leave out the limits' velocity pass (the rate a limit's correction "
+      "leaves is kept)");
+  command.add_option("--limit-restitution", options.limit_restitution,
+                     "relaxed, xpbd, tree: the rate a limit gives back over the one it came in "
+                     "with (default 0)")
+      ->check(CLI::Range(0.0, 1.0));
 }
 
 void replay_flags(const SolverOptions& options, std::string& out) {
@@ -135,6 +151,11 @@ void replay_flags(const SolverOptions& options, std::string& out) {
     out += " --substeps " + std::to_string(options.substeps);
   }
   if (!options.derive_velocities) out += " --no-velocities";
+  if (!options.start_lever_arms) out += " --current-lever-arms";
+  if (!options.limit_velocity_pass) out += " --no-limit-pass";
+  if (options.limit_restitution != defaults.limit_restitution) {
+    out += " --limit-restitution " + csv_number(options.limit_restitution);
+  }
 }
 
 // the rule's own search (its row in the rule catalogue): its substeps or its sweeps

@@ -63,6 +63,7 @@ std::unique_ptr<LaneStepper> LaneStepper::make(const Solver& puppet, CrowdLanes 
   const Settings& settings = puppet.settings();
   const Environment& environment = puppet.environment();
   if (!rule_info(settings.rule).lanes || settings.tremble || settings.time_stages ||
+      puppet.limit_pass_ || settings.start_lever_arms ||
       environment.tremble || environment.water || environment.ground ||
       puppet.tables_->orders.empty()) {
     return nullptr;

@@ -90,7 +90,8 @@ const RuleRow kRows[] = {
      .contacts = ContactPolicy::kPushOut,
      .adjust = relaxed_adjust,
      .forced_rotation = weighted_forced_rotation,
-     .prepare_joint = nullptr},
+     .prepare_joint = nullptr,
+     .limit_velocities = true},
     // xpbd: many short substeps of one sweep each (Müller et al. 2020), the count chosen by
     // measurement (docs/solver.md: the substep sweep)
     {.rule = Rule::kXpbd,
@@ -104,7 +105,8 @@ const RuleRow kRows[] = {
      .contacts = ContactPolicy::kInAdjust,
      .adjust = xpbd_adjust,
      .forced_rotation = weighted_forced_rotation,
-     .prepare_joint = nullptr},
+     .prepare_joint = nullptr,
+     .limit_velocities = true},
     // tree: a few substeps of a few Newton iterations of the exact projection
     {.rule = Rule::kTree,
      .info = {.name = "tree",
@@ -117,7 +119,8 @@ const RuleRow kRows[] = {
      .contacts = ContactPolicy::kInAdjust,
      .adjust = tree_adjust,
      .forced_rotation = weighted_forced_rotation,
-     .prepare_joint = nullptr},
+     .prepare_joint = nullptr,
+     .limit_velocities = true},
 };
 static_assert(std::size(kRows) == kAllRules.size(), "one row per rule");
 

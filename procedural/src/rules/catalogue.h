@@ -34,6 +34,9 @@ struct RuleRow {
   AdjustFn adjust;
   ForcedRotationFn forced_rotation;
   PrepareJointFn prepare_joint = nullptr;  // null: the rule keeps nothing per joint
+  // its velocities come from its positions, so a limit's correction leaves a rate that the
+  // limits' velocity pass must set (limit_velocities.cpp); the one-sided rules' clamp leaves none
+  bool limit_velocities = false;
 };
 
 const RuleRow& rule_row(Rule rule);

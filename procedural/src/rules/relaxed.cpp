@@ -15,18 +15,23 @@ void relaxed_sweeps(const Model& model, std::span<const JointTerms> joints,
                     const AnchorOrder& order, const PinTargets& targets, State& state,
                     Workspace& ws, double h) {
   for (int i = 0; i < state.pin_count; ++i) ws.pin_lambda[i].setZero();
+  const Matrix3d* start = nullptr;
+  if (settings.start_lever_arms) {
+    start_inverse_inertias(model, state, ws.start_inverse_inertia);
+    start = ws.start_inverse_inertia.data();
+  }
   for (int iteration = 0; iteration < settings.iterations; ++iteration) {
     for (int i = 0; i < state.pin_count; ++i) {
       const Pin& pin = state.pins[i];
       share_pin_correction(model, pin, targets[i], pin.compliance / (h * h), &ws.pin_lambda[i],
-                           state);
+                           start, state);
     }
     // every joint, then every limit: a limit corrected right after its own joint is partly undone
     // by the next joint's correction, and what a sweep leaves past a limit the final one-sided
     // pass clamps at the cost of the pins (measured: twice as many runs diverged, docs/solver.md)
     for (const AnchorOrder::Link& link : order.links) {
       share_joint_correction(model, joints[link.joint], model.joints[link.joint], 0.0, nullptr,
-                             state);
+                             start, state);
     }
     for (const AnchorOrder::Link& link : order.links) {
       share_limit_correction(model, joints[link.joint], model.joints[link.joint], 0.0, nullptr,

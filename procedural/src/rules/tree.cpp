@@ -126,8 +126,7 @@ void set_joint_rows(const Joint& joint, const JointTerms& terms, const BodyState
     Vector3d targets;     // and how far the child must turn along each
     int count = 0;
     Vector3d error;
-    if (joint.type == JointType::kBall && (joint.ball_limit == BallLimit::kEulerBox ||
-                                           (joint.swing_x > 0.0 && joint.swing_y > 0.0))) {
+    if (has_limit_functions(joint)) {
       // rows built from the limit functions themselves (ball_limit_rows)
       count = ball_limit_rows(joint, joint_relative_rotation(joint, parent.q, child.q), directions,
                               targets);

@@ -34,16 +34,21 @@ void xpbd_adjust(const Model& model, std::span<const JointTerms> joints, const S
   if (limit_alpha != 0.0) {
     for (Vector3d& lambda : ws.limit_lambda) lambda.setZero();
   }
+  const Matrix3d* start = nullptr;
+  if (settings.start_lever_arms) {
+    start_inverse_inertias(model, state, ws.start_inverse_inertia);
+    start = ws.start_inverse_inertia.data();
+  }
   for (int iteration = 0; iteration < settings.iterations; ++iteration) {
     for (int i = 0; i < state.pin_count; ++i) {
       share_pin_correction(model, state.pins[i], targets[i], state.pins[i].compliance * inv_h2,
-                           &ws.pin_lambda[i], state);
+                           &ws.pin_lambda[i], start, state);
     }
     // parent before child from the anchor, then every limit (as relaxed: a limit corrected right
     // after its joint is partly undone by the next joint's correction)
     for (const AnchorOrder::Link& link : order.links) {
       share_joint_correction(model, joints[link.joint], model.joints[link.joint], joint_alpha,
-                             &ws.joint_lambda[link.joint], state);
+                             &ws.joint_lambda[link.joint], start, state);
     }
     for (const AnchorOrder::Link& link : order.links) {
       share_limit_correction(model, joints[link.joint], model.joints[link.joint], limit_alpha,

@@ -33,6 +33,16 @@ struct Settings {
   double joint_compliance = 0.0;
   double limit_compliance = 0.0;
   bool derive_velocities = true;  ///< v, ω from the corrected poses (the seed is silent)
+  /// relaxed, xpbd: a pin's or joint's correction turns each segment through its lever arm and
+  /// inverse inertia at the substep's start (SHAKE's constraint direction), not at the pose being
+  /// corrected (docs/solver.md, "The lever arms")
+  bool start_lever_arms = true;
+  /// relaxed, xpbd, tree: after the velocities are derived, every limit the step ran into gets
+  /// the rate its restitution asks (docs/solver.md, "The limits' velocity pass")
+  bool limit_velocity_pass = true;
+  /// the limits' restitution e in [0, 1]: the rate a limit gives back, over the one it came in
+  /// with (0, as both truths nearly are: they give back 1–2 %)
+  double limit_restitution = 0.0;
   bool tremble = false;           ///< the seed's active response (§3.4)
   bool time_stages = false;       ///< measure each stage's wall time (costs a few clock reads)
   uint64_t tremble_seed = 2001;
