@@ -95,6 +95,9 @@ bool limited_orientation(const Joint& joint, const JointTerms& terms, bool b_is_
 
 namespace {
 
+// how far past its bounds a joint may be for the limit functions' linear correction (rad, 11°)
+constexpr double kRowsReach = 0.2;
+
 // The limit functions' correction: the smallest relative turn d (child's frame) in the metric of
 // the two sides' inverse inertias W = I_c⁻¹ + R I_p⁻¹ Rᵀ that takes every violated function
 // back to its bound at first order, U d = −excess, i.e. d = W Uᵀ (U W Uᵀ)⁻¹ (−excess): the violated
@@ -105,9 +108,11 @@ namespace {
 // turn along a direction the next correction undoes: measured, a shoulder at (108°, 77°, 109°)
 // against a ±80° last angle left 29° past after four sweeps.
 bool limit_functions_error(const JointTerms& terms, const Quaterniond& child_to_parent,
-                           const Quaterniond& q_rel, const Joint& joint, Vector3d* error) {
+                           const Quaterniond& q_rel, const Joint& joint, Vector3d* error,
+                           double* reach) {
   const LimitRows rows = limit_rows(joint, q_rel, 0.0);
   if (rows.count == 0) return false;
+  *reach = rows.excess.head(rows.count).maxCoeff();
   const Matrix3d rotation = child_to_parent.toRotationMatrix();
   Matrix3d w = rotation * terms.inv_inertia[0].asDiagonal() * rotation.transpose();
   w.diagonal() += terms.inv_inertia[1];
@@ -137,13 +142,21 @@ bool limit_error(const Joint& joint, const JointTerms& terms, const Quaterniond&
   const Quaterniond parent_frame = times_frame(child_to_parent, joint.frame_in_parent);
   const Quaterniond q_rel = times_frame(parent_frame.conjugate(), joint.frame_in_child);
   if (terms.box.enabled && surely_inside_box(terms.box, q_rel)) return false;
-  if (has_limit_functions(joint)) {
-    return limit_functions_error(terms, child_to_parent, q_rel, joint, error);
+  Vector3d rows_error = Vector3d::Zero();
+  double rows_reach = 0.0;  // the largest excess
+  const bool functions = has_limit_functions(joint);
+  if (functions &&
+      !limit_functions_error(terms, child_to_parent, q_rel, joint, &rows_error, &rows_reach)) {
+    return false;
   }
   const Quaterniond clamped = clamp_to_limits(joint, q_rel);
-  if (clamped.coeffs() == q_rel.coeffs()) return false;
+  if (!functions && clamped.coeffs() == q_rel.coeffs()) return false;
   // the limited child is q_p Fp clamped Fc⁻¹, and q_c⁻¹ times it is q_c⁻¹ q_p Fp clamped Fc⁻¹
   *error = quat_log(times_frame(parent_frame * clamped, joint.frame_in_child.conjugate()));
+  // the functions' first-order turn within kRowsReach of the bounds; beyond it (a cone left tens
+  // of degrees behind, a random pose) the linearisation can turn the wrong way, and the clamp's
+  // turn, bounded by the violation, is kept
+  if (functions && rows_reach <= kRowsReach) *error = rows_error;
   return true;
 }
 

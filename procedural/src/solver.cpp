@@ -222,7 +222,7 @@ void Solver::run_stage(Stage stage, double h) {
       break;
     case kAdjust: {
       const int anchor = state_.pin_count > 0 ? state_.pins[0].segment : 0;
-      if (limit_pass_) mark_violated_limits(model_, *tables_, state_, ws);
+      if (limit_pass_) begin_limit_marks(state_, ws);
       adjust(model_, settings_, environment_, *tables_, anchor, substep_targets_, state_, ws, h);
       break;
     }

@@ -82,7 +82,8 @@ void share_joint_correction(const Model& model, const JointTerms& terms, const J
                             State& state);
 // each segment's inverse inertia in world at the substep's start (state.q_prev), for `start`
 void start_inverse_inertias(const Model& model, const State& state, std::span<Matrix3d> out);
-void share_limit_correction(const Model& model, const JointTerms& terms, const Joint& joint,
+// the limit's: true when a limit function was past its bound (the velocity pass's mark)
+bool share_limit_correction(const Model& model, const JointTerms& terms, const Joint& joint,
                             double alpha_tilde, Vector3d* lambda, State& state);
 
 // --- stage 3, contacts.cpp
@@ -118,12 +119,15 @@ void derive_velocities(const Model& model, State& state, const std::vector<Vecto
 // --- limit_velocities.cpp: the limits' velocity pass
 // a limit row within kAtLimit (rad) of its bound after the position pass is still on it
 inline constexpr double kAtLimit = 1e-4;
-// before adjust: which joints the predicted poses take past a limit, and their relative angular
-// velocity then (child's frame), the rate their restitution reads
-void mark_violated_limits(const Model& model, const ModelTables& tables, const State& state,
-                          Workspace& ws);
-// after derive_velocities: each marked joint's rows still at their bound get the rate
-// −restitution × the rate they came in with (limit_velocities.cpp)
+// one joint's part of the pass: its rows still at their bound get the rate −restitution × the
+// rate they came in with (rate_before, the child's frame), by opposite angular impulses
+void hold_limit_rates(const Model& model, const Joint& joint, double restitution,
+                      const Vector3d& rate_before, BodyState& parent, BodyState& child);
+// before adjust: no joint marked, and every segment's angular velocity kept (the update's: the
+// rates the limits come in with); the rules mark a joint whose limit they corrected past a bound
+void begin_limit_marks(const State& state, Workspace& ws);
+inline void mark_limit(Workspace& ws, int joint) { ws.limit_violated[joint] = 1; }
+// after derive_velocities: every marked joint's rows still at their bound (limit_velocities.cpp)
 void limit_velocity_pass(const Model& model, double restitution, const Workspace& ws,
                          State& state);
 

@@ -69,10 +69,10 @@ struct Workspace {
   std::array<Vector3d, kMaxPins> pin_lambda{};
   // each segment's inverse inertia (world) at the substep's start: the lever arms' (two_sided.cpp)
   std::vector<Matrix3d> start_inverse_inertia;
-  // the limits' velocity pass (limit_velocities.cpp): by joint, whether the update's predicted
-  // pose violated its limit, and its relative angular velocity then (child's frame)
+  // the limits' velocity pass (limit_velocities.cpp): by joint, whether the substep's position
+  // pass corrected it past a limit; by segment, its angular velocity before that pass
   std::vector<char> limit_violated;
-  std::vector<Vector3d> limit_rate_before;
+  std::vector<Vector3d> w_before;
   // tree: segments, joints and the first pin as the nodes of one factorisation (2n), the
   // solution per node, one more right side (a column of H⁻¹Gᵀ), every node's index, the loops'
   // nodes with their ancestors (and their marks), and the loops

@@ -61,6 +61,7 @@ struct JointPlan {
   double mass_parent[9], mass_child[9];      // JointTerms::point_mass, row-major
   double frame_shift[4];                     // w, x, y, z: JointTerms::frame_shift
   double limit_free_w;                       // JointTerms::limit_free_w
+  bool limit_functions;                      // joint_limits.h's has_limit_functions
 };
 
 // A joint's limit error for one lane, computed by the scalar solver's own limit_error(): false
@@ -68,6 +69,12 @@ struct JointPlan {
 // child_to_parent is q_c⁻¹ q_p (w, x, y, z).
 using LimitError = bool (*)(const void* context, int joint, const double child_to_parent[4],
                             double error[3]);
+
+// The limits' velocity pass, lane by lane with the scalar solver's own function
+// (limit_velocities.cpp): one joint's part of the pass on its two segments, each given as its
+// orientation (w, x, y, z) then v and ω (world); v and ω are changed in place
+using HoldLimitRates = void (*)(const void* context, int joint, double parent[10],
+                                double child[10]);
 
 // everything one step of a batch reads besides its state
 struct Plan {
@@ -80,19 +87,23 @@ struct Plan {
   int pins = 0;
   const int* pin_segment = nullptr;  // shared by every lane of the batch
   int pin_offset = 0, lambda_offset = 0;
+  int mark_offset = 0;  // a slot per joint: the limits' velocity pass's marks (1 or 0 per lane)
   double gravity[3] = {0, 0, 0};
   double air_rate = 0.0;  // step_drag_rate(air drag, h)
   int substeps = 1, iterations = 1;
   double h = 0.0;
   double joint_compliance = 0.0, limit_compliance = 0.0;
   bool derive_velocities = true;
+  bool start_lever_arms = true;  // Settings::start_lever_arms
+  bool limit_pass = true;  // the limits' velocity pass (restitution 0: the lanes' only one)
   LimitError limit_error = nullptr;
+  HoldLimitRates hold_limit_rates = nullptr;
   const void* limit_context = nullptr;
 };
 
 // slots of a batch of this plan's model
 inline int slot_count(int segments, int joints, int pins) {
-  return segments * kBodyFields + pins * kPinFields + 6 * joints + 3 * pins;
+  return segments * kBodyFields + pins * kPinFields + 6 * joints + 3 * pins + joints;
 }
 
 // one step of h·substeps on every lane of `slots` (32-byte aligned); returns a bit per lane that

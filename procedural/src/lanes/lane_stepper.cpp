@@ -10,6 +10,7 @@
 
 #include "../joint_limits.h"
 #include "../model_tables.h"
+#include "../stages.h"
 #include "../workspace.h"
 
 namespace puppet::procedural::lanes {
@@ -28,6 +29,31 @@ bool lane_limit_error(const void* context, int joint, const double child_to_pare
   }
   for (int k = 0; k < 3; ++k) error[k] = lane_error[k];
   return true;
+}
+
+const std::pair<const Model*, const ModelTables*>& lane_tables(const void* context) {
+  return *static_cast<const std::pair<const Model*, const ModelTables*>*>(context);
+}
+
+Quaterniond lane_quaternion(const double q[4]) { return Quaterniond(q[0], q[1], q[2], q[3]); }
+
+void lane_hold_limit_rates(const void* context, int joint, double parent[10], double child[10]) {
+  const auto& [model, tables] = lane_tables(context);
+  const auto body = [](const double* in) {
+    BodyState b;
+    b.q = lane_quaternion(in);
+    b.v = Vector3d(in[4], in[5], in[6]);
+    b.w = Vector3d(in[7], in[8], in[9]);
+    return b;
+  };
+  BodyState p = body(parent), c = body(child);
+  hold_limit_rates(*model, model->joints[joint], 0.0, Vector3d::Zero(), p, c);
+  for (int k = 0; k < 3; ++k) {
+    parent[4 + k] = p.v[k];
+    parent[7 + k] = p.w[k];
+    child[4 + k] = c.v[k];
+    child[7 + k] = c.w[k];
+  }
 }
 
 // the widest lanes this processor has, up to `most`
@@ -62,8 +88,9 @@ std::unique_ptr<LaneStepper> LaneStepper::make(const Solver& puppet, CrowdLanes 
   if (lanes == CrowdLanes::kNone) return nullptr;
   const Settings& settings = puppet.settings();
   const Environment& environment = puppet.environment();
+  // the lanes' limit pass keeps no rate from before the adjust: restitution 0 only
   if (!rule_info(settings.rule).lanes || settings.tremble || settings.time_stages ||
-      puppet.limit_pass_ || settings.start_lever_arms ||
+      (puppet.limit_pass_ && settings.limit_restitution != 0.0) ||
       environment.tremble || environment.water || environment.ground ||
       puppet.tables_->orders.empty()) {
     return nullptr;
@@ -107,6 +134,7 @@ LaneStepper::LaneStepper(const Solver& puppet, int width) : width_(width) {
     plan.frame_shift[2] = terms.frame_shift.y();
     plan.frame_shift[3] = terms.frame_shift.z();
     plan.limit_free_w = terms.limit_free_w;
+    plan.limit_functions = has_limit_functions(joint);
     const auto put_quaternion = [](const Quaterniond& q, double* out) {
       out[0] = q.w();
       out[1] = q.x();
@@ -162,7 +190,10 @@ LaneStepper::LaneStepper(const Solver& puppet, int width) : width_(width) {
   base_.joint_compliance = settings.joint_compliance;
   base_.limit_compliance = settings.limit_compliance;
   base_.derive_velocities = settings.derive_velocities;
+  base_.start_lever_arms = settings.start_lever_arms;
+  base_.limit_pass = puppet.limit_pass_;
   base_.limit_error = lane_limit_error;
+  base_.hold_limit_rates = lane_hold_limit_rates;
   base_.limit_context = &limit_context_;
 }
 
@@ -237,6 +268,7 @@ void LaneStepper::step_batch(std::span<Solver* const> batch, double dt, Scratch&
   plan.pin_segment = pin_segment.data();
   plan.pin_offset = segments_ * kBodyFields;
   plan.lambda_offset = plan.pin_offset + plan.pins * kPinFields;
+  plan.mark_offset = plan.lambda_offset + 6 * joints_ + 3 * plan.pins;
 
   // into lanes; a batch short of the width repeats its first puppet in the rest (not read back)
   double* slots = scratch.slots();

@@ -34,8 +34,10 @@ void relaxed_sweeps(const Model& model, std::span<const JointTerms> joints,
                              start, state);
     }
     for (const AnchorOrder::Link& link : order.links) {
-      share_limit_correction(model, joints[link.joint], model.joints[link.joint], 0.0, nullptr,
-                             state);
+      if (share_limit_correction(model, joints[link.joint], model.joints[link.joint], 0.0,
+                                 nullptr, state)) {
+        mark_limit(ws, link.joint);
+      }
     }
     // the shared corrections compose unit quaternions and leave them unnormalised (off by a
     // few ulps): one renormalisation per segment and sweep instead of one per correction

@@ -103,8 +103,9 @@ int ball_limit_rows(const Joint& joint, const Quaterniond& q_rel, Matrix3d& dire
 }
 
 // a joint's rows (its point, then its active limit rows) and its two Jacobian blocks, parent's
-// and child's, in those segments' (Δx, Δθ) coordinates
-void set_joint_rows(const Joint& joint, const JointTerms& terms, const BodyState& parent,
+// and child's, in those segments' (Δx, Δθ) coordinates; true when a limit function is past its
+// bound (a ball's limit rows, a hinge's row along its axis: the velocity pass's mark)
+bool set_joint_rows(const Joint& joint, const JointTerms& terms, const BodyState& parent,
                     const BodyState& child, const Matrix3d& r_parent, const Matrix3d& r_child,
                     double point_alpha, double limit_alpha, TreeNode& node, Matrix6d& j_parent,
                     Matrix6d& j_child) {
@@ -121,6 +122,7 @@ void set_joint_rows(const Joint& joint, const JointTerms& terms, const BodyState
   // δc (child's frame) and δp (parent's) turns it by δc − R δp, R the parent's frame seen from
   // the child's, so a row u asks uᵀ(δc − R δp) = uᵀ e, i.e. C = −uᵀ e
   const Quaterniond child_to_parent = child.q.conjugate() * parent.q;
+  bool past = false;
   if (may_reach_limit(terms, child_to_parent)) {
     Matrix3d directions;  // rows: the constrained directions in the child's frame
     Vector3d targets;     // and how far the child must turn along each
@@ -130,6 +132,7 @@ void set_joint_rows(const Joint& joint, const JointTerms& terms, const BodyState
       // rows built from the limit functions themselves (ball_limit_rows)
       count = ball_limit_rows(joint, joint_relative_rotation(joint, parent.q, child.q), directions,
                               targets);
+      past = count > 0;
     } else if (limit_error(joint, terms, child_to_parent, &error)) {
       switch (joint.type) {
         case JointType::kBall: {
@@ -157,6 +160,7 @@ void set_joint_rows(const Joint& joint, const JointTerms& terms, const BodyState
             directions.row(2) = axis.transpose();
             targets(2) = axis.dot(error);
             count = 3;
+            past = true;
           }
           break;
         }
@@ -179,6 +183,7 @@ void set_joint_rows(const Joint& joint, const JointTerms& terms, const BodyState
   node.alpha.head<3>().setConstant(point_alpha);
   node.alpha.tail<3>().setConstant(limit_alpha);
   set_constraint_node(rows, c, node);
+  return past;
 }
 
 // the loops' nodes and all their ancestors, ascending, into ws.tree_path
@@ -269,9 +274,12 @@ void linearise(const Model& model, std::span<const JointTerms> joints, const Set
       case TreeNode::kJoint: {
         const Joint& joint = model.joints[node.index];
         Matrix6d j_parent, j_child;
-        set_joint_rows(joint, joints[node.index], state.bodies[joint.parent],
-                       state.bodies[joint.child], rotations[joint.parent], rotations[joint.child],
-                       point_alpha, limit_alpha, node, j_parent, j_child);
+        if (set_joint_rows(joint, joints[node.index], state.bodies[joint.parent],
+                           state.bodies[joint.child], rotations[joint.parent],
+                           rotations[joint.child], point_alpha, limit_alpha, node, j_parent,
+                           j_child)) {
+          mark_limit(ws, node.index);
+        }
         // the tree's parent of a joint node is the segment nearer the anchor, which is the
         // model's parent unless the anchor order walks the edge backwards
         const bool parent_is_nearer = nodes[node.parent].index == joint.parent;

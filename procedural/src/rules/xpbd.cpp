@@ -44,15 +44,17 @@ void xpbd_adjust(const Model& model, std::span<const JointTerms> joints, const S
       share_pin_correction(model, state.pins[i], targets[i], state.pins[i].compliance * inv_h2,
                            &ws.pin_lambda[i], start, state);
     }
-    // parent before child from the anchor, then every limit (as relaxed: a limit corrected right
-    // after its joint is partly undone by the next joint's correction)
+    // every limit, then every joint's point parent before child from the anchor (a limit's turn
+    // about its sides' centres opens the joint, which the joints' pass then closes)
+    for (const AnchorOrder::Link& link : order.links) {
+      if (share_limit_correction(model, joints[link.joint], model.joints[link.joint], limit_alpha,
+                                 &ws.limit_lambda[link.joint], state)) {
+        mark_limit(ws, link.joint);
+      }
+    }
     for (const AnchorOrder::Link& link : order.links) {
       share_joint_correction(model, joints[link.joint], model.joints[link.joint], joint_alpha,
                              &ws.joint_lambda[link.joint], start, state);
-    }
-    for (const AnchorOrder::Link& link : order.links) {
-      share_limit_correction(model, joints[link.joint], model.joints[link.joint], limit_alpha,
-                             &ws.limit_lambda[link.joint], state);
     }
     for (BodyState& body : state.bodies) body.q = renormalized(body.q);
     // the ground is static (infinite mass): its correction is the segment's alone
