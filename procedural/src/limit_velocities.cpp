@@ -17,10 +17,12 @@
 // still parent came back at 0.37 of its speed with torques alone, 0 with the point's rows).
 // Joints one after another by index (Gauss–Seidel, one sweep).
 //
-// Energy: with e = 0 each joint's impulse takes out exactly the kinetic energy of the rates it
-// stops, ½ Δuᵀ A⁻¹ Δu ≥ 0 with A = J M⁻¹ Jᵀ of its rows, so the pass never adds energy; with
-// e > 0 it gives back at most e² of what came in. Joint gaps: the pass moves no pose, and leaves
-// each joint point's relative velocity as the positions gave it.
+// Energy: with the joint point's relative velocity at zero (the joint held), the impulses do no
+// work on it, and the rows' part takes out ½ (u² − u'²) in the metric of A = J M⁻¹ Jᵀ: at e = 0
+// (the default) or on a single row with e ≤ 1 the pass never adds kinetic energy
+// (limit_velocities_test.cpp); at a corner with e > 0 it can (one row sent back, another
+// stopped: measured up to 3%). Joint gaps: the pass moves no pose, and leaves each joint point's
+// relative velocity as the positions gave it.
 #include "puppet/model/rotation.h"
 #include <algorithm>
 
@@ -73,7 +75,7 @@ void hold_limit_rates(const Model& model, const Joint& joint, double restitution
   Matrix6d a = jacobian * scaled;
   for (int i = 3 + rows.count; i < 6; ++i) a(i, i) = 1.0;  // unused rows: their impulse is 0
   // a box's first and last faces at gimbal lock: nearly parallel rows (as limit_error)
-  a.diagonal().array() += 1e-9 * a.trace();
+  a.diagonal().array() += 1e-12 * a.trace();
   const Vector12d change = scaled * a.ldlt().solve(target);
   child.v += change.segment<3>(0);
   child.w += change.segment<3>(3);
