@@ -142,21 +142,18 @@ bool limit_error(const Joint& joint, const JointTerms& terms, const Quaterniond&
   const Quaterniond parent_frame = times_frame(child_to_parent, joint.frame_in_parent);
   const Quaterniond q_rel = times_frame(parent_frame.conjugate(), joint.frame_in_child);
   if (terms.box.enabled && surely_inside_box(terms.box, q_rel)) return false;
-  Vector3d rows_error = Vector3d::Zero();
-  double rows_reach = 0.0;  // the largest excess
-  const bool functions = has_limit_functions(joint);
-  if (functions &&
-      !limit_functions_error(terms, child_to_parent, q_rel, joint, &rows_error, &rows_reach)) {
-    return false;
+  if (has_limit_functions(joint)) {
+    // the functions' first-order turn within kRowsReach of the bounds; beyond it (a cone left
+    // tens of degrees behind, a random pose) the linearisation can turn the wrong way, and the
+    // clamp's turn, bounded by the violation, is taken
+    double reach = 0.0;  // the largest excess
+    if (!limit_functions_error(terms, child_to_parent, q_rel, joint, error, &reach)) return false;
+    if (reach <= kRowsReach) return true;
   }
   const Quaterniond clamped = clamp_to_limits(joint, q_rel);
-  if (!functions && clamped.coeffs() == q_rel.coeffs()) return false;
+  if (clamped.coeffs() == q_rel.coeffs()) return false;
   // the limited child is q_p Fp clamped Fc⁻¹, and q_c⁻¹ times it is q_c⁻¹ q_p Fp clamped Fc⁻¹
   *error = quat_log(times_frame(parent_frame * clamped, joint.frame_in_child.conjugate()));
-  // the functions' first-order turn within kRowsReach of the bounds; beyond it (a cone left tens
-  // of degrees behind, a random pose) the linearisation can turn the wrong way, and the clamp's
-  // turn, bounded by the violation, is kept
-  if (functions && rows_reach <= kRowsReach) *error = rows_error;
   return true;
 }
 

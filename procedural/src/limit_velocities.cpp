@@ -42,45 +42,53 @@ void hold_limit_rates(const Model& model, const Joint& joint, double restitution
   if (rows.count == 0) return;  // the pass left it inside: nothing holds it there
   const Segment& ps = model.segments[joint.parent];
   const Segment& cs = model.segments[joint.child];
-  // generalised velocities (v_c, ω_c, v_p, ω_p), world; rows: the joint point's relative
-  // velocity (3), then each limit row's rate
-  using Matrix6x12 = Eigen::Matrix<double, 6, 12>;
-  using Vector12d = Eigen::Matrix<double, 12, 1>;
-  const Vector3d r_child = child.q * joint.anchor_in_child;
-  const Vector3d r_parent = parent.q * joint.anchor_in_parent;
-  Matrix6x12 jacobian = Matrix6x12::Zero();
-  jacobian.block<3, 3>(0, 0).setIdentity();
-  jacobian.block<3, 3>(0, 3) = -cross_matrix(r_child);
-  jacobian.block<3, 3>(0, 6) = -Matrix3d::Identity();
-  jacobian.block<3, 3>(0, 9) = cross_matrix(r_parent);
-  Vector6d target = Vector6d::Zero();  // the point's relative velocity left as it is
-  const Vector3d w_rel = child.w - parent.w;
-  const Vector3d came_in = child.q * rate_before;
-  for (int k = 0; k < rows.count; ++k) {
-    const Vector3d n = child.q * Vector3d(rows.directions.row(k).transpose());
-    jacobian.block<1, 3>(3 + k, 3) = n.transpose();
-    jacobian.block<1, 3>(3 + k, 9) = -n.transpose();
-    target(3 + k) = -restitution * std::max(0.0, n.dot(came_in)) - n.dot(w_rel);
-  }
-  // M⁻¹ Jᵀ, block by block (the inverse inertias in world at the current orientations)
+  // Unknowns: the impulse P at the joint point (on the child, world) and one torque λₖ along each
+  // row's world direction nₖ; the parent takes their opposites. Rows: the joint point's relative
+  // velocity (to stay as it is) and each row's rate. With W each side's inverse inertia (world)
+  // and r its arm, A = [[K, B], [Bᵀ, L]]:
+  //   K = (1/m_c + 1/m_p) E − [r_c]× W_c [r_c]× − [r_p]× W_p [r_p]×,
+  //   B eₖ = (W_c nₖ) × r_c + (W_p nₖ) × r_p,   Lₖₗ = nₖᵀ (W_c + W_p) nₗ,
+  // solved through the Schur complement of K: (L − Bᵀ K⁻¹ B) λ = Δu, then P = −K⁻¹ B λ.
   const auto inverse_inertia = [](const Quaterniond& q, const Vector3d& inv) {
     const Matrix3d r = q.toRotationMatrix();
     return Matrix3d(r * inv.asDiagonal() * r.transpose());
   };
-  Eigen::Matrix<double, 12, 6> scaled = jacobian.transpose();
-  scaled.middleRows<3>(0) *= cs.inv_mass;
-  scaled.middleRows<3>(3) = inverse_inertia(child.q, cs.inv_inertia) * scaled.middleRows<3>(3);
-  scaled.middleRows<3>(6) *= ps.inv_mass;
-  scaled.middleRows<3>(9) = inverse_inertia(parent.q, ps.inv_inertia) * scaled.middleRows<3>(9);
-  Matrix6d a = jacobian * scaled;
-  for (int i = 3 + rows.count; i < 6; ++i) a(i, i) = 1.0;  // unused rows: their impulse is 0
+  const Matrix3d w_child = inverse_inertia(child.q, cs.inv_inertia);
+  const Matrix3d w_parent = inverse_inertia(parent.q, ps.inv_inertia);
+  const Vector3d r_child = child.q * joint.anchor_in_child;
+  const Vector3d r_parent = parent.q * joint.anchor_in_parent;
+  Matrix3d k = -cross_matrix(r_child) * w_child * cross_matrix(r_child) -
+               cross_matrix(r_parent) * w_parent * cross_matrix(r_parent);
+  k.diagonal().array() += cs.inv_mass + ps.inv_mass;
+  const Vector3d w_rel = child.w - parent.w;
+  const Vector3d came_in = child.q * rate_before;
+  Matrix3d n = Matrix3d::Zero();       // columns: the rows' world directions
+  Matrix3d k_inv_b = Matrix3d::Zero();  // K⁻¹ B
+  Matrix3d schur = Matrix3d::Identity();  // unused rows padded (their λ is 0)
+  Vector3d du = Vector3d::Zero();
+  for (int i = 0; i < rows.count; ++i) {
+    n.col(i) = child.q * Vector3d(rows.directions.row(i).transpose());
+    k_inv_b.col(i) = solve3(k, (w_child * n.col(i)).cross(r_child) +
+                                   (w_parent * n.col(i)).cross(r_parent));
+    du(i) = -restitution * std::max(0.0, n.col(i).dot(came_in)) - n.col(i).dot(w_rel);
+  }
+  const Matrix3d w_sum = w_child + w_parent;
+  for (int i = 0; i < rows.count; ++i) {
+    const Vector3d b_i = (w_child * n.col(i)).cross(r_child) + (w_parent * n.col(i)).cross(r_parent);
+    for (int l = 0; l < rows.count; ++l) {
+      schur(i, l) = n.col(i).dot(w_sum * n.col(l)) - b_i.dot(k_inv_b.col(l));
+    }
+  }
   // a box's first and last faces at gimbal lock: nearly parallel rows (as limit_error)
-  a.diagonal().array() += 1e-12 * a.trace();
-  const Vector12d change = scaled * a.ldlt().solve(target);
-  child.v += change.segment<3>(0);
-  child.w += change.segment<3>(3);
-  parent.v += change.segment<3>(6);
-  parent.w += change.segment<3>(9);
+  schur.diagonal().array() += 1e-12 * schur.trace();
+  const Vector3d lambda = solve3(schur, du);
+  Vector3d torque = Vector3d::Zero();
+  for (int i = 0; i < rows.count; ++i) torque += lambda(i) * n.col(i);
+  const Vector3d impulse = -(k_inv_b * lambda);
+  child.v += cs.inv_mass * impulse;
+  child.w += w_child * (r_child.cross(impulse) + torque);
+  parent.v -= ps.inv_mass * impulse;
+  parent.w -= w_parent * (r_parent.cross(impulse) + torque);
 }
 
 void limit_velocity_pass(const Model& model, double restitution, const Workspace& ws,

@@ -57,7 +57,12 @@ Vector3d world_compliant_solve(Matrix3d k, Vector3d gap, double alpha_tilde, Vec
 // a segment's response to an impulse at its point r (world, current) with its lever arm r₀ and
 // inverse inertia W₀ at the substep's start: −[r]× W₀ [r₀]×, the turn's part of K
 Matrix3d start_arm_response(const Vector3d& r, const Matrix3d& w0, const Vector3d& r0) {
-  return -cross_matrix(r) * w0 * cross_matrix(r0);
+  // column j: −r × (W₀ (r₀ × eⱼ)) = (W₀ (r₀ × eⱼ)) × r
+  Matrix3d k;
+  k.col(0) = (w0 * Vector3d(0.0, r0.z(), -r0.y())).cross(r);
+  k.col(1) = (w0 * Vector3d(-r0.z(), 0.0, r0.x())).cross(r);
+  k.col(2) = (w0 * Vector3d(r0.y(), -r0.x(), 0.0)).cross(r);
+  return k;
 }
 
 }  // namespace
