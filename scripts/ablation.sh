@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # What each ingredient of the position-based rules costs or buys, at dt = 1/240 on Pinocchio:
 # the one-sided closure (relaxed), Gauss–Seidel sweeps against the exact projection (xpbd,
-# tree), substeps against iterations, and a hard grab against a compliant one (every solver).
+# tree), substeps against iterations, the lever arms of the substep's start against the corrected
+# pose's (xpbd), the limits' velocity pass (xpbd, tree), and a hard grab against a compliant one
+# (every solver).
 # Each configuration is one `testbed run` into FOLDER/<name>; FOLDER/configs.csv names them, and
 # scripts/plot.py turns them into REPORT.md's ablation tables. Further arguments go to every
 # `testbed run` (main.sh passes its --truth-cache: the configurations on Pinocchio's default
@@ -24,9 +26,12 @@ configs=(
   "relaxed-64|64 sweeps, then the one-sided closure|relaxed|--solver procedural --rule relaxed --iterations 64"
   "xpbd|8 substeps x 1 sweep||--solver procedural --rule xpbd"
   "xpbd-iterations|1 substep x 8 sweeps|xpbd|--solver procedural --rule xpbd --substeps 1 --iterations 8"
+  "xpbd-current-arms|lever arms of the pose being corrected (PBD's own)|xpbd|--solver procedural --rule xpbd --current-lever-arms"
+  "xpbd-no-limit-pass|no limits' velocity pass|xpbd|--solver procedural --rule xpbd --no-limit-pass"
   "tree|8 substeps x 1 exact solve|xpbd|--solver procedural --rule tree"
   "tree-iterations|1 substep x 8 Newton iterations|tree|--solver procedural --rule tree --substeps 1 --iterations 8"
   "tree-2x2|2 substeps x 2 Newton iterations|tree|--solver procedural --rule tree --substeps 2 --iterations 2"
+  "tree-no-limit-pass|no limits' velocity pass|tree|--solver procedural --rule tree --no-limit-pass"
   "hard|hard grab (C = 0)||--solver procedural,bullet-multibody,bullet-rigid --rule relaxed,xpbd,tree --scenario marionette,yank"
   "open-limits|every joint free (models/pinocchio-open-limits.json), dt 1/60 to 1/480||--model models/pinocchio-open-limits.json --solver procedural --rule xpbd,tree --scenario hang,drag,spin --dt 1/60,1/120,1/240,1/480"
   "compliant|compliant grab (C = 1e-4 m/N)|hard|--solver procedural,bullet-multibody,bullet-rigid --rule relaxed,xpbd,tree --scenario marionette,yank --grab-compliance 1e-4"

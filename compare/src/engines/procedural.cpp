@@ -130,7 +130,7 @@ void add_flags(CLI::App& command, SolverOptions& options) {
       "procedural: do not derive velocities from poses");
   command.add_flag_callback(
       "--current-lever-arms", [&options] { options.start_lever_arms = false; },
-      "relaxed, xpbd: turn a correction through the lever arms of the pose being corrected "
+      "xpbd: turn a correction through the lever arms of the pose being corrected "
       "(position-based dynamics' own), not the substep's start");
   command.add_flag_callback(
       "--no-limit-pass", [&options] { options.limit_velocity_pass = false; },

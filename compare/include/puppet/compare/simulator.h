@@ -69,7 +69,7 @@ struct SolverOptions {
   int iterations = procedural::kRuleDefault;  // relaxed, xpbd: sweeps per substep; tree: Newton
   int substeps = procedural::kRuleDefault;    // procedural: substeps per step
   bool derive_velocities = true;
-  bool start_lever_arms = true;     // procedural: relaxed's and xpbd's lever arms (Settings)
+  bool start_lever_arms = true;     // procedural: xpbd's lever arms (Settings)
   bool limit_velocity_pass = true;  // procedural: the limits' velocity pass (Settings)
   double limit_restitution = 0.0;   // and the restitution it gives the limits
   // procedural: the seed's tremble read as position noise in the update (Settings::tremble), in

@@ -33,7 +33,7 @@ struct Settings {
   double joint_compliance = 0.0;
   double limit_compliance = 0.0;
   bool derive_velocities = true;  ///< v, ω from the corrected poses (the seed is silent)
-  /// relaxed, xpbd: a pin's or joint's correction turns each segment through its lever arm and
+  /// xpbd: a pin's or joint's correction turns each segment through its lever arm and
   /// inverse inertia at the substep's start (SHAKE's constraint direction), not at the pose being
   /// corrected (docs/solver.md, "The lever arms")
   bool start_lever_arms = true;
