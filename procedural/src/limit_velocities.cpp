@@ -35,71 +35,71 @@ void begin_limit_marks(const State& state, Workspace& ws) {
   for (size_t i = 0; i < state.bodies.size(); ++i) ws.w_before[i] = state.bodies[i].w;
 }
 
-void hold_limit_rates(const Model& model, const Joint& joint, double restitution,
-                      const Vector3d& rate_before, BodyState& parent, BodyState& child) {
+void hold_limit_rates(const Model& model, const JointTerms& terms, const Joint& joint,
+                      double restitution, const Vector3d& rate_before, BodyState& parent,
+                      BodyState& child) {
+  const Quaterniond child_to_parent = child.q.conjugate() * parent.q;
+  if (!may_reach_limit(terms, child_to_parent)) return;
   const LimitRows rows =
       limit_rows(joint, joint_relative_rotation(joint, parent.q, child.q), -kAtLimit);
   if (rows.count == 0) return;  // the pass left it inside: nothing holds it there
   const Segment& ps = model.segments[joint.parent];
   const Segment& cs = model.segments[joint.child];
-  // Unknowns: the impulse P at the joint point (on the child, world) and one torque λₖ along each
-  // row's world direction nₖ; the parent takes their opposites. Rows: the joint point's relative
-  // velocity (to stay as it is) and each row's rate. With W each side's inverse inertia (world)
-  // and r its arm, A = [[K, B], [Bᵀ, L]]:
-  //   K = (1/m_c + 1/m_p) E − [r_c]× W_c [r_c]× − [r_p]× W_p [r_p]×,
-  //   B eₖ = (W_c nₖ) × r_c + (W_p nₖ) × r_p,   Lₖₗ = nₖᵀ (W_c + W_p) nₗ,
+  // Everything in the child's frame, where its inertia is diagonal, R the parent's frame seen
+  // from it. Unknowns: the impulse P at the joint point (on the child) and a torque λₖ along each
+  // row uₖ; the parent takes their opposites. Rows: the joint point's relative velocity (to stay
+  // as it is) and each row's rate. With W each side's inverse inertia and a its arm,
+  // A = [[K, B], [Bᵀ, L]]:
+  //   K = K_c + R K_p Rᵀ (each side's point mass matrix, JointTerms::point_mass),
+  //   B eₖ = (W_c uₖ) × a_c + (W_p uₖ) × a_p,   Lₖₗ = uₖᵀ (W_c + W_p) uₗ,
   // solved through the Schur complement of K: (L − Bᵀ K⁻¹ B) λ = Δu, then P = −K⁻¹ B λ.
-  const auto inverse_inertia = [](const Quaterniond& q, const Vector3d& inv) {
-    const Matrix3d r = q.toRotationMatrix();
-    return Matrix3d(r * inv.asDiagonal() * r.transpose());
-  };
-  const Matrix3d w_child = inverse_inertia(child.q, cs.inv_inertia);
-  const Matrix3d w_parent = inverse_inertia(parent.q, ps.inv_inertia);
-  const Vector3d r_child = child.q * joint.anchor_in_child;
-  const Vector3d r_parent = parent.q * joint.anchor_in_parent;
-  Matrix3d k = -cross_matrix(r_child) * w_child * cross_matrix(r_child) -
-               cross_matrix(r_parent) * w_parent * cross_matrix(r_parent);
-  k.diagonal().array() += cs.inv_mass + ps.inv_mass;
-  const Vector3d w_rel = child.w - parent.w;
-  const Vector3d came_in = child.q * rate_before;
-  Matrix3d n = Matrix3d::Zero();       // columns: the rows' world directions
+  const Matrix3d rotation = child_to_parent.toRotationMatrix();
+  const Matrix3d k = terms.point_mass[1] + rotation * terms.point_mass[0] * rotation.transpose();
+  const Matrix3d w_parent = rotation * ps.inv_inertia.asDiagonal() * rotation.transpose();
+  const Vector3d& a_child = joint.anchor_in_child;
+  const Vector3d a_parent = rotation * joint.anchor_in_parent;
+  const Vector3d w_rel = child.q.conjugate() * (child.w - parent.w);
+  Matrix3d b = Matrix3d::Zero();        // columns: B eₖ
   Matrix3d k_inv_b = Matrix3d::Zero();  // K⁻¹ B
   Matrix3d schur = Matrix3d::Identity();  // unused rows padded (their λ is 0)
   Vector3d du = Vector3d::Zero();
   for (int i = 0; i < rows.count; ++i) {
-    n.col(i) = child.q * Vector3d(rows.directions.row(i).transpose());
-    k_inv_b.col(i) = solve3(k, (w_child * n.col(i)).cross(r_child) +
-                                   (w_parent * n.col(i)).cross(r_parent));
-    du(i) = -restitution * std::max(0.0, n.col(i).dot(came_in)) - n.col(i).dot(w_rel);
+    const Vector3d u = rows.directions.row(i).transpose();
+    b.col(i) = cs.inv_inertia.cwiseProduct(u).cross(a_child) + (w_parent * u).cross(a_parent);
+    k_inv_b.col(i) = solve3(k, b.col(i));
+    du(i) = -restitution * std::max(0.0, u.dot(rate_before)) - u.dot(w_rel);
   }
-  const Matrix3d w_sum = w_child + w_parent;
   for (int i = 0; i < rows.count; ++i) {
-    const Vector3d b_i = (w_child * n.col(i)).cross(r_child) + (w_parent * n.col(i)).cross(r_parent);
+    const Vector3d u = rows.directions.row(i).transpose();
+    const Vector3d w_sum_u = cs.inv_inertia.cwiseProduct(u) + w_parent * u;
     for (int l = 0; l < rows.count; ++l) {
-      schur(i, l) = n.col(i).dot(w_sum * n.col(l)) - b_i.dot(k_inv_b.col(l));
+      schur(l, i) = rows.directions.row(l).dot(w_sum_u) - b.col(l).dot(k_inv_b.col(i));
     }
   }
   // a box's first and last faces at gimbal lock: nearly parallel rows (as limit_error)
   schur.diagonal().array() += 1e-12 * schur.trace();
   const Vector3d lambda = solve3(schur, du);
   Vector3d torque = Vector3d::Zero();
-  for (int i = 0; i < rows.count; ++i) torque += lambda(i) * n.col(i);
-  const Vector3d impulse = -(k_inv_b * lambda);
-  child.v += cs.inv_mass * impulse;
-  child.w += w_child * (r_child.cross(impulse) + torque);
-  parent.v -= ps.inv_mass * impulse;
-  parent.w -= w_parent * (r_parent.cross(impulse) + torque);
+  for (int i = 0; i < rows.count; ++i) torque += lambda(i) * rows.directions.row(i).transpose();
+  const Vector3d impulse = -(k_inv_b * lambda);  // on the child, its frame
+  const Vector3d impulse_world = child.q * impulse;
+  child.v += cs.inv_mass * impulse_world;
+  child.w += child.q * cs.inv_inertia.cwiseProduct(a_child.cross(impulse) + torque);
+  parent.v -= ps.inv_mass * impulse_world;
+  // the parent's angular impulse a_p × P + τ, carried into its frame by Rᵀ
+  parent.w -= parent.q * ps.inv_inertia.cwiseProduct(
+                             rotation.transpose() * (a_parent.cross(impulse) + torque));
 }
 
-void limit_velocity_pass(const Model& model, double restitution, const Workspace& ws,
-                         State& state) {
+void limit_velocity_pass(const Model& model, const ModelTables& tables, double restitution,
+                         const Workspace& ws, State& state) {
   for (int j = 0; j < model.joint_count(); ++j) {
     if (!ws.limit_violated[j]) continue;
     const Joint& joint = model.joints[j];
     BodyState& parent = state.bodies[joint.parent];
     BodyState& child = state.bodies[joint.child];
     const Vector3d rate_before = child.q.conjugate() * (ws.w_before[joint.child] - ws.w_before[joint.parent]);
-    hold_limit_rates(model, joint, restitution, rate_before, parent, child);
+    hold_limit_rates(model, tables.joints[j], joint, restitution, rate_before, parent, child);
   }
 }
 

@@ -121,14 +121,15 @@ void derive_velocities(const Model& model, State& state, const std::vector<Vecto
 inline constexpr double kAtLimit = 1e-4;
 // one joint's part of the pass: its rows still at their bound get the rate −restitution × the
 // rate they came in with (rate_before, the child's frame), by opposite angular impulses
-void hold_limit_rates(const Model& model, const Joint& joint, double restitution,
-                      const Vector3d& rate_before, BodyState& parent, BodyState& child);
+void hold_limit_rates(const Model& model, const JointTerms& terms, const Joint& joint,
+                      double restitution, const Vector3d& rate_before, BodyState& parent,
+                      BodyState& child);
 // before adjust: no joint marked, and every segment's angular velocity kept (the update's: the
 // rates the limits come in with); the rules mark a joint whose limit they corrected past a bound
 void begin_limit_marks(const State& state, Workspace& ws);
 inline void mark_limit(Workspace& ws, int joint) { ws.limit_violated[joint] = 1; }
 // after derive_velocities: every marked joint's rows still at their bound (limit_velocities.cpp)
-void limit_velocity_pass(const Model& model, double restitution, const Workspace& ws,
-                         State& state);
+void limit_velocity_pass(const Model& model, const ModelTables& tables, double restitution,
+                         const Workspace& ws, State& state);
 
 }  // namespace puppet::procedural

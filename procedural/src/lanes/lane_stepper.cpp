@@ -47,7 +47,8 @@ void lane_hold_limit_rates(const void* context, int joint, double parent[10], do
     return b;
   };
   BodyState p = body(parent), c = body(child);
-  hold_limit_rates(*model, model->joints[joint], 0.0, Vector3d::Zero(), p, c);
+  hold_limit_rates(*model, tables->joints[joint], model->joints[joint], 0.0, Vector3d::Zero(), p,
+                   c);
   for (int k = 0; k < 3; ++k) {
     parent[4 + k] = p.v[k];
     parent[7 + k] = p.w[k];
