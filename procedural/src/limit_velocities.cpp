@@ -1,5 +1,6 @@
 // The limits' velocity pass (stage 4, after the velocities are derived from the poses), for the
-// rules whose velocities come from their positions (relaxed, xpbd, tree).
+// rules whose velocities come from positions their last correction of a limit leaves (xpbd,
+// tree; relaxed's final one-sided pass clamps, and gives nothing back).
 //
 // Why: the position pass puts a joint that went past its limit back on it, and v = Δx/h then
 // holds whatever the pass did. A limit closed in one correction leaves the joint's rate at about

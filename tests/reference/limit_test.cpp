@@ -272,10 +272,10 @@ procedural::Solver procedural_solver(const Model& model, procedural::Rule rule,
 // and Bullet's hinge at its default relaxation factor, which is its restitution, 30%). So the
 // truths and the solvers they judge share one impact law. A hinge, not a box: past a box's face the
 // rod slides along it into the next face, whose impact turns the first angle too (the box's face
-// below). The procedural rules give back at most 3%: the ones that clamp nothing at all; those that
-// derive velocities from positions (relaxed, xpbd, tree) hold it with the limits' velocity pass,
-// which sets a corrected limit's rate to its restitution's (0). Without the pass they gave back
-// 0.42 (relaxed, xpbd) of the speed, and tree 0.
+// below). The procedural rules give back at most 3%: the ones that clamp (and relaxed, whose last
+// pass clamps) nothing at all; xpbd and tree, whose velocities come from their own corrections,
+// hold it with the limits' velocity pass, which sets a corrected limit's rate to its
+// restitution's (0). Without the pass xpbd gave back 0.42 of the speed (next test).
 TEST(LimitImpact, EveryEngineIsNearInelastic) {
   const Model model = hinge_model();
   const Joint& joint = model.joints[0];

@@ -134,10 +134,10 @@ void add_flags(CLI::App& command, SolverOptions& options) {
       "(position-based dynamics' own), not the substep's start");
   command.add_flag_callback(
       "--no-limit-pass", [&options] { options.limit_velocity_pass = false; },
-      "relaxed, xpbd, tree: leave out the limits' velocity pass (the rate a limit's correction "
+      "xpbd, tree: leave out the limits' velocity pass (the rate a limit's correction "
       "leaves is kept)");
   command.add_option("--limit-restitution", options.limit_restitution,
-                     "relaxed, xpbd, tree: the rate a limit gives back over the one it came in "
+                     "xpbd, tree: the rate a limit gives back over the one it came in "
                      "with (default 0)")
       ->check(CLI::Range(0.0, 1.0));
 }

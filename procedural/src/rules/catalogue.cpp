@@ -91,7 +91,7 @@ const RuleRow kRows[] = {
      .adjust = relaxed_adjust,
      .forced_rotation = weighted_forced_rotation,
      .prepare_joint = nullptr,
-     .limit_velocities = true},
+     .limit_velocities = false},
     // xpbd: many short substeps of one sweep each (Müller et al. 2020), the count chosen by
     // measurement (docs/solver.md: the substep sweep)
     {.rule = Rule::kXpbd,

@@ -37,7 +37,7 @@ struct Settings {
   /// inverse inertia at the substep's start (SHAKE's constraint direction), not at the pose being
   /// corrected (docs/solver.md, "The lever arms")
   bool start_lever_arms = true;
-  /// relaxed, xpbd, tree: after the velocities are derived, every limit the step ran into gets
+  /// xpbd, tree: after the velocities are derived, every limit the step ran into gets
   /// the rate its restitution asks (docs/solver.md, "The limits' velocity pass")
   bool limit_velocity_pass = true;
   /// the limits' restitution e in [0, 1]: the rate a limit gives back, over the one it came in
