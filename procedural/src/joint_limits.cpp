@@ -109,8 +109,8 @@ constexpr double kRowsReach = 0.2;
 // against a ±80° last angle left 29° past after four sweeps.
 bool limit_functions_error(const JointTerms& terms, const Quaterniond& child_to_parent,
                            const Quaterniond& q_rel, const Joint& joint, Vector3d* error,
-                           double* reach) {
-  const LimitRows rows = limit_rows(joint, q_rel, 0.0);
+                           double* reach, LimitRows& rows) {
+  rows = limit_rows(joint, q_rel, 0.0);
   if (rows.count == 0) return false;
   *reach = rows.excess.head(rows.count).maxCoeff();
   const Matrix3d rotation = child_to_parent.toRotationMatrix();
@@ -136,18 +136,22 @@ bool limit_functions_error(const JointTerms& terms, const Quaterniond& child_to_
 }  // namespace
 
 bool limit_error(const Joint& joint, const JointTerms& terms, const Quaterniond& child_to_parent,
-                 Vector3d* error) {
+                 Vector3d* error, LimitRows* rows, bool functions) {
   if (!may_reach_limit(terms, child_to_parent)) return false;
   // q_rel = Fp⁻¹ q_p⁻¹ q_c Fc = (q_c⁻¹ q_p Fp)⁻¹ Fc
   const Quaterniond parent_frame = times_frame(child_to_parent, joint.frame_in_parent);
   const Quaterniond q_rel = times_frame(parent_frame.conjugate(), joint.frame_in_child);
   if (terms.box.enabled && surely_inside_box(terms.box, q_rel)) return false;
-  if (has_limit_functions(joint)) {
+  if (functions && has_limit_functions(joint)) {
     // the functions' first-order turn within kRowsReach of the bounds; beyond it (a cone left
     // tens of degrees behind, a random pose) the linearisation can turn the wrong way, and the
     // clamp's turn, bounded by the violation, is taken
     double reach = 0.0;  // the largest excess
-    if (!limit_functions_error(terms, child_to_parent, q_rel, joint, error, &reach)) return false;
+    LimitRows past;
+    if (!limit_functions_error(terms, child_to_parent, q_rel, joint, error, &reach, past)) {
+      return false;
+    }
+    if (rows) *rows = past;
     if (reach <= kRowsReach) return true;
   }
   const Quaterniond clamped = clamp_to_limits(joint, q_rel);

@@ -27,11 +27,26 @@ inline bool may_reach_limit(const JointTerms& terms, const Quaterniond& child_to
   // |w(q_rel)| = |w(frame_shift ⊗ (q_c⁻¹ q_p)⁻¹)| = |frame_shift · (q_c⁻¹ q_p)|
   return std::abs(terms.frame_shift.coeffs().dot(child_to_parent.coeffs())) <= terms.limit_free_w;
 }
+// whether a ball joint's limits are read as limit functions (ball_excess: a box, or a swing–twist
+// whose half-angles are both positive); a swing forbidden about an axis is a clamp only
+inline bool has_limit_functions(const Joint& joint) {
+  return joint.type == JointType::kBall &&
+         (joint.ball_limit == BallLimit::kEulerBox || (joint.swing_x > 0.0 && joint.swing_y > 0.0));
+}
+struct LimitRows {
+  int count = 0;
+  Matrix3d directions;
+  Vector3d excess;
+};
+LimitRows limit_rows(const Joint& joint, const Quaterniond& q_rel, double above);
+
 // the same for rule relaxed's shared correction, seen from the child: the rotation vector (child's
 // frame) that turns the child inside the limits with the parent fixed, from
 // child_to_parent = q_c⁻¹ q_p (the parent's frame seen from the child's); false when inside
+// `rows` (optional): a ball's violated limit functions, when it has them (has_limit_functions);
+// `functions` false: the clamp's rotation always (relaxed's sweeps)
 bool limit_error(const Joint& joint, const JointTerms& terms, const Quaterniond& child_to_parent,
-                 Vector3d* error);
+                 Vector3d* error, LimitRows* rows = nullptr, bool functions = true);
 // A ball joint's limit functions at q_rel (rad, > 0 outside) and their gradients with respect to
 // a turn δ of q_rel's frame, q_rel exp(δ) (row k: ∂excessₖ/∂δ), for rule tree's limit rows.
 // A box's: each Euler angle's excess over its range. Swing–twist's: the twist's excess over its
@@ -49,18 +64,6 @@ BallExcess ball_excess(const Joint& joint, const Quaterniond& q_rel);
 // frame: Fc g) and its excess. A ball's come from ball_excess (a box, or a swing–twist whose
 // half-angles are both positive; none for a swing forbidden about an axis), a hinge's is its axis
 // signed toward the end it is past or near; a fixed joint has none.
-// whether a ball joint's limits are read as limit functions (ball_excess: a box, or a swing–twist
-// whose half-angles are both positive); a swing forbidden about an axis is a clamp only
-inline bool has_limit_functions(const Joint& joint) {
-  return joint.type == JointType::kBall &&
-         (joint.ball_limit == BallLimit::kEulerBox || (joint.swing_x > 0.0 && joint.swing_y > 0.0));
-}
-struct LimitRows {
-  int count = 0;
-  Matrix3d directions;
-  Vector3d excess;
-};
-LimitRows limit_rows(const Joint& joint, const Quaterniond& q_rel, double above);
 
 // An Euler box's ranges as BoxTest reads them (disabled for any other limit, or a box the test
 // cannot read: a range without 0, a middle range beyond ±85°)

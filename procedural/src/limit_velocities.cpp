@@ -37,13 +37,14 @@ void begin_limit_marks(const State& state, Workspace& ws) {
 }
 
 void hold_limit_rates(const Model& model, const JointTerms& terms, const Joint& joint,
-                      double restitution, const Vector3d& rate_before, BodyState& parent,
-                      BodyState& child) {
-  const Quaterniond child_to_parent = child.q.conjugate() * parent.q;
-  if (!may_reach_limit(terms, child_to_parent)) return;
+                      const LimitRows& marked, double restitution, const Vector3d& rate_before,
+                      BodyState& parent, BodyState& child) {
   const LimitRows rows =
-      limit_rows(joint, joint_relative_rotation(joint, parent.q, child.q), -kAtLimit);
-  if (rows.count == 0) return;  // the pass left it inside: nothing holds it there
+      marked.count == kRowsAtPose
+          ? limit_rows(joint, joint_relative_rotation(joint, parent.q, child.q), -kAtLimit)
+          : marked;
+  if (rows.count == 0) return;
+  const Quaterniond child_to_parent = child.q.conjugate() * parent.q;
   const Segment& ps = model.segments[joint.parent];
   const Segment& cs = model.segments[joint.child];
   // Everything in the child's frame, where its inertia is diagonal, R the parent's frame seen
@@ -100,7 +101,8 @@ void limit_velocity_pass(const Model& model, const ModelTables& tables, double r
     BodyState& parent = state.bodies[joint.parent];
     BodyState& child = state.bodies[joint.child];
     const Vector3d rate_before = child.q.conjugate() * (ws.w_before[joint.child] - ws.w_before[joint.parent]);
-    hold_limit_rates(model, tables.joints[j], joint, restitution, rate_before, parent, child);
+    hold_limit_rates(model, tables.joints[j], joint, ws.limit_rows[j], restitution, rate_before,
+                     parent, child);
   }
 }
 

@@ -82,9 +82,12 @@ void share_joint_correction(const Model& model, const JointTerms& terms, const J
                             State& state);
 // each segment's inverse inertia in world at the substep's start (state.q_prev), for `start`
 void start_inverse_inertias(const Model& model, const State& state, std::span<Matrix3d> out);
-// the limit's: true when a limit function was past its bound (the velocity pass's mark)
+// the limit's, by the limit functions (xpbd) or the clamp (`functions` false: relaxed); true
+// when a limit function was past its bound (the velocity pass's mark), whose rows are then in
+// `rows` (their directions in the child's frame)
 bool share_limit_correction(const Model& model, const JointTerms& terms, const Joint& joint,
-                            double alpha_tilde, Vector3d* lambda, State& state);
+                            double alpha_tilde, Vector3d* lambda, LimitRows* rows,
+                            bool functions, State& state);
 
 // --- stage 3, contacts.cpp
 // What the contact stage does after a rule's adjust (the rule's contact policy):
@@ -117,17 +120,23 @@ void derive_velocities(const Model& model, State& state, const std::vector<Vecto
                        double h);
 
 // --- limit_velocities.cpp: the limits' velocity pass
-// a limit row within kAtLimit (rad) of its bound after the position pass is still on it
-inline constexpr double kAtLimit = 1e-4;
-// one joint's part of the pass: its rows still at their bound get the rate −restitution × the
-// rate they came in with (rate_before, the child's frame), by opposite angular impulses
+// one joint's part of the pass: its rows (the limit functions its position pass found past their
+// bounds) get the rate −restitution × the rate they came in with (rate_before, the child's
+// frame), by opposite angular impulses and an impulse at the joint point
 void hold_limit_rates(const Model& model, const JointTerms& terms, const Joint& joint,
-                      double restitution, const Vector3d& rate_before, BodyState& parent,
-                      BodyState& child);
+                      const LimitRows& rows, double restitution, const Vector3d& rate_before,
+                      BodyState& parent, BodyState& child);
 // before adjust: no joint marked, and every segment's angular velocity kept (the update's: the
 // rates the limits come in with); the rules mark a joint whose limit they corrected past a bound
 void begin_limit_marks(const State& state, Workspace& ws);
-inline void mark_limit(Workspace& ws, int joint) { ws.limit_violated[joint] = 1; }
+// a mark's row count that asks the pass for the rows at the pose it finds, those within
+// kAtLimit (rad) of their bounds (tree's); else the rows the mark carries (xpbd's)
+inline constexpr int kRowsAtPose = -1;
+inline constexpr double kAtLimit = 1e-4;
+inline void mark_limit(Workspace& ws, int joint, const LimitRows& rows) {
+  ws.limit_violated[joint] = 1;
+  ws.limit_rows[joint] = rows;
+}
 // after derive_velocities: every marked joint's rows still at their bound (limit_velocities.cpp)
 void limit_velocity_pass(const Model& model, const ModelTables& tables, double restitution,
                          const Workspace& ws, State& state);

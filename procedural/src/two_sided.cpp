@@ -158,15 +158,20 @@ void share_joint_correction(const Model& model, const JointTerms& terms, const J
 }
 
 bool share_limit_correction(const Model& model, const JointTerms& terms, const Joint& joint,
-                            double alpha_tilde, Vector3d* lambda, State& state) {
+                            double alpha_tilde, Vector3d* lambda, LimitRows* rows,
+                            bool functions, State& state) {
   BodyState& parent = state.bodies[joint.parent];
   BodyState& child = state.bodies[joint.child];
   const Quaterniond child_to_parent = child.q.conjugate() * parent.q;
   Vector3d error;  // the rotation the child needs, parent fixed, in the child's frame
-  if (!limit_error(joint, terms, child_to_parent, &error)) return false;
-  // a hinge's error also removes its swing, which is no limit the velocity pass holds
-  const bool past = joint.type != JointType::kHinge ||
-                    limit_rows(joint, joint_relative_rotation(joint, parent.q, child.q), 0.0).count > 0;
+  rows->count = 0;
+  if (!limit_error(joint, terms, child_to_parent, &error, rows, functions)) return false;
+  // a hinge's error also removes its swing, which is no limit the velocity pass holds: its row is
+  // its angle's, when past an end
+  if (joint.type == JointType::kHinge) {
+    *rows = limit_rows(joint, joint_relative_rotation(joint, parent.q, child.q), 0.0);
+  }
+  const bool past = rows->count > 0;
   const Vector3d& inv_parent = model.segments[joint.parent].inv_inertia;
   const Vector3d& inv_child = model.segments[joint.child].inv_inertia;
   const Matrix3d rotation = child_to_parent.toRotationMatrix();

@@ -18,6 +18,7 @@ Workspace::Workspace(const Model& model, const ModelTables& tables) {
   limit_lambda.assign(model.joint_count(), Vector3d::Zero());
   start_inverse_inertia.assign(n, Matrix3d::Identity());
   limit_violated.assign(model.joint_count(), 0);
+  limit_rows.assign(model.joint_count(), LimitRows{});
   w_before.assign(n, Vector3d::Zero());
   tree_nodes.resize(n + model.joint_count() + 1);
   tree_solution.resize(tree_nodes.size());

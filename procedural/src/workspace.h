@@ -8,6 +8,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
+#include "joint_limits.h"
 #include "model_tables.h"
 #include "puppet/procedural/solver.h"
 
@@ -72,6 +73,7 @@ struct Workspace {
   // the limits' velocity pass (limit_velocities.cpp): by joint, whether the substep's position
   // pass corrected it past a limit; by segment, its angular velocity before that pass
   std::vector<char> limit_violated;
+  std::vector<LimitRows> limit_rows;  // by joint: the rows found past their bounds
   std::vector<Vector3d> w_before;
   // tree: segments, joints and the first pin as the nodes of one factorisation (2n), the
   // solution per node, one more right side (a column of H⁻¹Gᵀ), every node's index, the loops'

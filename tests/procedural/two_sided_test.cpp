@@ -146,7 +146,9 @@ TEST(TwoSided, ALimitCorrectionIsAnAngularImpulsePairThatBringsTheJointBack) {
     };
     const double before_violation = violation();
     const std::vector<BodyState> before = p.state.bodies;
-    share_limit_correction(p.model, p.tables->joints[0], joint, 0.0, nullptr, p.state);
+    LimitRows rows;
+    share_limit_correction(p.model, p.tables->joints[0], joint, 0.0, nullptr, &rows, false,
+                           p.state);
     if (before_violation == 0.0) {
       EXPECT_EQ(p.state.bodies[joint.child].q.coeffs(), before[joint.child].q.coeffs());
       continue;

@@ -61,20 +61,24 @@ struct JointPlan {
   double mass_parent[9], mass_child[9];      // JointTerms::point_mass, row-major
   double frame_shift[4];                     // w, x, y, z: JointTerms::frame_shift
   double limit_free_w;                       // JointTerms::limit_free_w
-  bool limit_functions;                      // joint_limits.h's has_limit_functions
+  double hinge_row[3];                       // kHinge: its axis in the child's frame (Fc a)
 };
 
+// A joint's limit rows as the lanes keep them: their count, then up to three directions in the
+// child's frame, row by row (joint_limits.h's LimitRows without the excess)
+inline constexpr int kRowFields = 10;
 // A joint's limit error for one lane, computed by the scalar solver's own limit_error(): false
-// when the joint is inside its limits, else the child's rotation vector in `error`.
+// when the joint is inside its limits, else the child's rotation vector in `error` and the limit
+// functions past their bounds in `rows` (count 0 for a limit that has none).
 // child_to_parent is q_c⁻¹ q_p (w, x, y, z).
 using LimitError = bool (*)(const void* context, int joint, const double child_to_parent[4],
-                            double error[3]);
+                            double error[3], double rows[kRowFields]);
 
 // The limits' velocity pass, lane by lane with the scalar solver's own function
-// (limit_velocities.cpp): one joint's part of the pass on its two segments, each given as its
-// orientation (w, x, y, z) then v and ω (world); v and ω are changed in place
-using HoldLimitRates = void (*)(const void* context, int joint, double parent[10],
-                                double child[10]);
+// (limit_velocities.cpp): one joint's part of the pass, for its rows, on its two segments, each
+// given as its orientation (w, x, y, z) then v and ω (world); v and ω are changed in place
+using HoldLimitRates = void (*)(const void* context, int joint, const double rows[kRowFields],
+                                double parent[10], double child[10]);
 
 // everything one step of a batch reads besides its state
 struct Plan {
@@ -87,7 +91,8 @@ struct Plan {
   int pins = 0;
   const int* pin_segment = nullptr;  // shared by every lane of the batch
   int pin_offset = 0, lambda_offset = 0;
-  int mark_offset = 0;  // a slot per joint: the limits' velocity pass's marks (1 or 0 per lane)
+  int mark_offset = 0;  // kRowFields slots per joint: the rows its limit correction last found past
+                        // their bounds in this substep (count 0: none), for the velocity pass
   double gravity[3] = {0, 0, 0};
   double air_rate = 0.0;  // step_drag_rate(air drag, h)
   int substeps = 1, iterations = 1;
@@ -103,7 +108,7 @@ struct Plan {
 
 // slots of a batch of this plan's model
 inline int slot_count(int segments, int joints, int pins) {
-  return segments * kBodyFields + pins * kPinFields + 6 * joints + 3 * pins + joints;
+  return segments * kBodyFields + pins * kPinFields + 6 * joints + 3 * pins + kRowFields * joints;
 }
 
 // one step of h·substeps on every lane of `slots` (32-byte aligned); returns a bit per lane that

@@ -19,15 +19,21 @@ namespace {
 constexpr std::align_val_t kAlignment{64};
 
 bool lane_limit_error(const void* context, int joint, const double child_to_parent[4],
-                      double error[3]) {
+                      double error[3], double rows[kRowFields]) {
   const auto& tables = *static_cast<const std::pair<const Model*, const ModelTables*>*>(context);
   Vector3d lane_error;
+  LimitRows limit_rows;
   const Quaterniond q(child_to_parent[0], child_to_parent[1], child_to_parent[2],
                       child_to_parent[3]);
-  if (!limit_error(tables.first->joints[joint], tables.second->joints[joint], q, &lane_error)) {
+  if (!limit_error(tables.first->joints[joint], tables.second->joints[joint], q, &lane_error,
+                   &limit_rows)) {
     return false;
   }
   for (int k = 0; k < 3; ++k) error[k] = lane_error[k];
+  rows[0] = limit_rows.count;
+  for (int r = 0; r < limit_rows.count; ++r) {
+    for (int k = 0; k < 3; ++k) rows[1 + 3 * r + k] = limit_rows.directions(r, k);
+  }
   return true;
 }
 
@@ -37,7 +43,8 @@ const std::pair<const Model*, const ModelTables*>& lane_tables(const void* conte
 
 Quaterniond lane_quaternion(const double q[4]) { return Quaterniond(q[0], q[1], q[2], q[3]); }
 
-void lane_hold_limit_rates(const void* context, int joint, double parent[10], double child[10]) {
+void lane_hold_limit_rates(const void* context, int joint, const double rows[kRowFields],
+                           double parent[10], double child[10]) {
   const auto& [model, tables] = lane_tables(context);
   const auto body = [](const double* in) {
     BodyState b;
@@ -46,9 +53,14 @@ void lane_hold_limit_rates(const void* context, int joint, double parent[10], do
     b.w = Vector3d(in[7], in[8], in[9]);
     return b;
   };
+  LimitRows limit_rows;
+  limit_rows.count = static_cast<int>(rows[0]);
+  for (int r = 0; r < limit_rows.count; ++r) {
+    for (int k = 0; k < 3; ++k) limit_rows.directions(r, k) = rows[1 + 3 * r + k];
+  }
   BodyState p = body(parent), c = body(child);
-  hold_limit_rates(*model, tables->joints[joint], model->joints[joint], 0.0, Vector3d::Zero(), p,
-                   c);
+  hold_limit_rates(*model, tables->joints[joint], model->joints[joint], limit_rows, 0.0,
+                   Vector3d::Zero(), p, c);
   for (int k = 0; k < 3; ++k) {
     parent[4 + k] = p.v[k];
     parent[7 + k] = p.w[k];
@@ -135,7 +147,8 @@ LaneStepper::LaneStepper(const Solver& puppet, int width) : width_(width) {
     plan.frame_shift[2] = terms.frame_shift.y();
     plan.frame_shift[3] = terms.frame_shift.z();
     plan.limit_free_w = terms.limit_free_w;
-    plan.limit_functions = has_limit_functions(joint);
+    const Vector3d hinge_row = joint.frame_in_child * joint.hinge_axis;
+    for (int k = 0; k < 3; ++k) plan.hinge_row[k] = hinge_row[k];
     const auto put_quaternion = [](const Quaterniond& q, double* out) {
       out[0] = q.w();
       out[1] = q.x();

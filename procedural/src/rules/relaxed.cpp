@@ -33,9 +33,10 @@ void relaxed_sweeps(const Model& model, std::span<const JointTerms> joints,
                              start, state);
     }
     for (const AnchorOrder::Link& link : order.links) {
+      LimitRows rows;
       if (share_limit_correction(model, joints[link.joint], model.joints[link.joint], 0.0,
-                                 nullptr, state)) {
-        mark_limit(ws, link.joint);
+                                 nullptr, &rows, false, state)) {
+        mark_limit(ws, link.joint, rows);
       }
     }
     // the shared corrections compose unit quaternions and leave them unnormalised (off by a

@@ -47,9 +47,10 @@ void xpbd_adjust(const Model& model, std::span<const JointTerms> joints, const S
     // every limit, then every joint's point parent before child from the anchor (a limit's turn
     // about its sides' centres opens the joint, which the joints' pass then closes)
     for (const AnchorOrder::Link& link : order.links) {
+      LimitRows rows;
       if (share_limit_correction(model, joints[link.joint], model.joints[link.joint], limit_alpha,
-                                 &ws.limit_lambda[link.joint], state)) {
-        mark_limit(ws, link.joint);
+                                 &ws.limit_lambda[link.joint], &rows, true, state)) {
+        mark_limit(ws, link.joint, rows);
       }
     }
     for (const AnchorOrder::Link& link : order.links) {
