@@ -501,6 +501,10 @@ TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
   expect_bad("run --frobnicate" + o, "--frobnicate");
   expect_bad("run --bullet-iterations 0" + o, "--bullet-iterations");
   expect_bad("run --bullet-iterations 2.5" + o, "--bullet-iterations");
+  expect_bad("run --limit-restitution 1.5" + o, "--limit-restitution");
+  expect_bad("run --limit-restitution -0.1" + o, "--limit-restitution");
+  expect_bad("run --limit-restitution nan" + o, "--limit-restitution");
+  expect_bad("run --limit-restitution soft" + o, "--limit-restitution");
   expect_bad("run --dt 1/60,abc" + o, "--dt");
   expect_bad("run --jobs 0" + o, "--jobs");
   expect_bad("run --truth-cache /etc/passwd" + o, "--truth-cache");

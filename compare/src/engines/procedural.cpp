@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "puppet/compare/engines.h"
+#include "puppet/compare/number.h"
 #include "puppet/compare/output.h"
 #include "puppet/compare/simulator.h"
 #include "puppet/model/text.h"
@@ -139,6 +140,12 @@ void add_flags(CLI::App& command, SolverOptions& options) {
   command.add_option("--limit-restitution", options.limit_restitution,
                      "xpbd, tree: the rate a limit gives back over the one it came in "
                      "with (default 0)")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            double value = 0.0;
+            return parse_finite(text, &value) ? std::string() : "must be a finite number";
+          },
+          "NUMBER"))
       ->check(CLI::Range(0.0, 1.0));
 }
 
