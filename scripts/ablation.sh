@@ -2,8 +2,9 @@
 # What each ingredient of the position-based rules costs or buys, at dt = 1/240 on Pinocchio:
 # the one-sided closure (relaxed), Gauss–Seidel sweeps against the exact projection (xpbd,
 # tree), substeps against iterations, the lever arms of the substep's start against the corrected
-# pose's (xpbd), the limits' velocity pass (xpbd, tree), and a hard grab against a compliant one
-# (every solver).
+# pose's (xpbd), the limits as functions against the clamp and their place in the sweep (xpbd),
+# the limits' velocity pass (xpbd, tree), and a hard grab against a compliant one (every
+# solver).
 # Each configuration is one `testbed run` into FOLDER/<name>; FOLDER/configs.csv names them, and
 # scripts/plot.py turns them into REPORT.md's ablation tables. Further arguments go to every
 # `testbed run` (main.sh passes its --truth-cache: the configurations on Pinocchio's default
@@ -28,6 +29,8 @@ configs=(
   "xpbd-iterations|1 substep x 8 sweeps|xpbd|--solver procedural --rule xpbd --substeps 1 --iterations 8"
   "xpbd-current-arms|lever arms of the pose being corrected (PBD's own)|xpbd|--solver procedural --rule xpbd --current-lever-arms"
   "xpbd-no-limit-pass|no limits' velocity pass|xpbd|--solver procedural --rule xpbd --no-limit-pass"
+  "xpbd-limit-clamp|ball limits by the clamp, not their functions|xpbd|--solver procedural --rule xpbd --limit-clamp"
+  "xpbd-joints-first|joints before limits in a sweep|xpbd|--solver procedural --rule xpbd --joints-before-limits"
   "tree|8 substeps x 1 exact solve|xpbd|--solver procedural --rule tree"
   "tree-iterations|1 substep x 8 Newton iterations|tree|--solver procedural --rule tree --substeps 1 --iterations 8"
   "tree-2x2|2 substeps x 2 Newton iterations|tree|--solver procedural --rule tree --substeps 2 --iterations 2"

@@ -56,10 +56,12 @@ STEP_SCENARIOS = list(ONE_PASS_FLOORS)  # those bench_step times (benchmarks/ben
 
 
 # benchmarks whose code changed after the older machines' last full runs (see the docstring):
-# tree's solve (explicit block inverses, a loop's columns on its path, analytic limit gradients);
-# drag, whose hand is now the grab (a force) instead of a hard pin; and the verdict's choices,
-# chosen anew on the scenarios the grab and the tremble force changed
-CHANGED = [re.compile(r"^step/[^/]+/tree$"), re.compile(r"^(step|stage|floor)/drag/"),
+# tree's solve (explicit block inverses, a loop's columns on its path, analytic limit gradients,
+# then the limits' velocity pass); drag, whose hand is now the grab (a force) instead of a hard
+# pin; xpbd's step (the start's lever arms, the limit functions, the limits' velocity pass), its
+# stages and its crowd in lanes; and the verdict's choices, chosen anew
+CHANGED = [re.compile(r"^step/[^/]+/(tree|xpbd)$"), re.compile(r"^(step|stage|floor)/drag/"),
+           re.compile(r"^stage/[^/]+/(tree|xpbd)/"), re.compile(r"^crowd/xpbd/"),
            re.compile(r"^verdict/")]
 
 

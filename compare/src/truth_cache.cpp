@@ -93,6 +93,8 @@ void add_options(KeyBytes& key, const SolverOptions& o) {
       .add(o.substeps)
       .add(o.derive_velocities)
       .add(o.start_lever_arms)
+      .add(o.limit_functions)
+      .add(o.limits_before_joints)
       .add(o.limit_velocity_pass)
       .add(o.limit_restitution)
       .add(o.position_tremble);

@@ -24,8 +24,8 @@
 // (limit_velocities_test.cpp); at a corner with e > 0 it can (one row sent back, another
 // stopped: measured up to 3%). Joint gaps: the pass moves no pose, and leaves each joint point's
 // relative velocity as the positions gave it.
-#include "puppet/model/rotation.h"
 #include <algorithm>
+#include "puppet/model/rotation.h"
 
 #include "stages.h"
 
@@ -61,8 +61,8 @@ void hold_limit_rates(const Model& model, const JointTerms& terms, const Joint& 
   const Vector3d& a_child = joint.anchor_in_child;
   const Vector3d a_parent = rotation * joint.anchor_in_parent;
   const Vector3d w_rel = child.q.conjugate() * (child.w - parent.w);
-  Matrix3d b = Matrix3d::Zero();        // columns: B eₖ
-  Matrix3d k_inv_b = Matrix3d::Zero();  // K⁻¹ B
+  Matrix3d b = Matrix3d::Zero();          // columns: B eₖ
+  Matrix3d k_inv_b = Matrix3d::Zero();    // K⁻¹ B
   Matrix3d schur = Matrix3d::Identity();  // unused rows padded (their λ is 0)
   Vector3d du = Vector3d::Zero();
   for (int i = 0; i < rows.count; ++i) {
@@ -89,8 +89,8 @@ void hold_limit_rates(const Model& model, const JointTerms& terms, const Joint& 
   child.w += child.q * cs.inv_inertia.cwiseProduct(a_child.cross(impulse) + torque);
   parent.v -= ps.inv_mass * impulse_world;
   // the parent's angular impulse a_p × P + τ, carried into its frame by Rᵀ
-  parent.w -= parent.q * ps.inv_inertia.cwiseProduct(
-                             rotation.transpose() * (a_parent.cross(impulse) + torque));
+  parent.w -= parent.q * ps.inv_inertia.cwiseProduct(rotation.transpose() *
+                                                     (a_parent.cross(impulse) + torque));
 }
 
 void limit_velocity_pass(const Model& model, const ModelTables& tables, double restitution,
@@ -100,7 +100,8 @@ void limit_velocity_pass(const Model& model, const ModelTables& tables, double r
     const Joint& joint = model.joints[j];
     BodyState& parent = state.bodies[joint.parent];
     BodyState& child = state.bodies[joint.child];
-    const Vector3d rate_before = child.q.conjugate() * (ws.w_before[joint.child] - ws.w_before[joint.parent]);
+    const Vector3d rate_before =
+        child.q.conjugate() * (ws.w_before[joint.child] - ws.w_before[joint.parent]);
     hold_limit_rates(model, tables.joints[j], joint, ws.limit_rows[j], restitution, rate_before,
                      parent, child);
   }

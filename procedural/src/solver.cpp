@@ -234,7 +234,8 @@ void Solver::run_stage(Stage stage, double h) {
     case kVelocities:
       if (!settings_.derive_velocities) break;
       derive_velocities(model_, state_, ws.tremble_delta, h);
-      if (limit_pass_) limit_velocity_pass(model_, *tables_, settings_.limit_restitution, ws, state_);
+      if (limit_pass_)
+        limit_velocity_pass(model_, *tables_, settings_.limit_restitution, ws, state_);
       if (environment_.ground && needs_ground_velocity_pass(settings_.rule)) {
         ground_velocity_pass(model_, environment_, state_);
       }

@@ -86,8 +86,8 @@ void start_inverse_inertias(const Model& model, const State& state, std::span<Ma
 // when a limit function was past its bound (the velocity pass's mark), whose rows are then in
 // `rows` (their directions in the child's frame)
 bool share_limit_correction(const Model& model, const JointTerms& terms, const Joint& joint,
-                            double alpha_tilde, Vector3d* lambda, LimitRows* rows,
-                            bool functions, State& state);
+                            double alpha_tilde, Vector3d* lambda, LimitRows* rows, bool functions,
+                            State& state);
 
 // --- stage 3, contacts.cpp
 // What the contact stage does after a rule's adjust (the rule's contact policy):

@@ -70,8 +70,7 @@ Matrix3d start_arm_response(const Vector3d& r, const Matrix3d& w0, const Vector3
 void start_inverse_inertias(const Model& model, const State& state, std::span<Matrix3d> out) {
   for (int i = 0; i < model.segment_count(); ++i) {
     const Matrix3d rotation = state.q_prev[i].toRotationMatrix();
-    out[i].noalias() =
-        rotation * model.segments[i].inv_inertia.asDiagonal() * rotation.transpose();
+    out[i].noalias() = rotation * model.segments[i].inv_inertia.asDiagonal() * rotation.transpose();
   }
 }
 
@@ -86,8 +85,7 @@ void share_pin_correction(const Model& model, const Pin& pin, const Vector3d& ta
     const Vector3d r0 = state.q_prev[pin.segment] * pin.local_point;
     Matrix3d k = start_arm_response(r, w0, r0);
     k.diagonal().array() += segment.inv_mass;
-    const Vector3d impulse =
-        world_compliant_solve(k, target - body.x - r, alpha_tilde, lambda);
+    const Vector3d impulse = world_compliant_solve(k, target - body.x - r, alpha_tilde, lambda);
     body.x += segment.inv_mass * impulse;
     body.q = quat_exp(w0 * r0.cross(impulse)) * body.q;
     return;
@@ -124,8 +122,8 @@ void share_joint_correction(const Model& model, const JointTerms& terms, const J
                  start_arm_response(r_parent, w0_parent, r0_parent);
     k.diagonal().array() += inv_mass_parent + inv_mass_child;
     // the impulse on the child (world); the parent takes its opposite
-    const Vector3d impulse = world_compliant_solve(
-        k, (parent.x + r_parent) - (child.x + r_child), alpha_tilde, lambda);
+    const Vector3d impulse =
+        world_compliant_solve(k, (parent.x + r_parent) - (child.x + r_child), alpha_tilde, lambda);
     child.x += inv_mass_child * impulse;
     child.q = quat_exp(w0_child * r0_child.cross(impulse)) * child.q;
     parent.x -= inv_mass_parent * impulse;
@@ -158,8 +156,8 @@ void share_joint_correction(const Model& model, const JointTerms& terms, const J
 }
 
 bool share_limit_correction(const Model& model, const JointTerms& terms, const Joint& joint,
-                            double alpha_tilde, Vector3d* lambda, LimitRows* rows,
-                            bool functions, State& state) {
+                            double alpha_tilde, Vector3d* lambda, LimitRows* rows, bool functions,
+                            State& state) {
   BodyState& parent = state.bodies[joint.parent];
   BodyState& child = state.bodies[joint.child];
   const Quaterniond child_to_parent = child.q.conjugate() * parent.q;

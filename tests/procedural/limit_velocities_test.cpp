@@ -36,7 +36,8 @@ Model pair(const std::string& joint_json) {
       "pair");
 }
 Model box_pair() {
-  return pair(R"("type":"ball","box_deg":{"order":"zxy","lower":[-50,-30,-20],"upper":[70,40,25]})");
+  return pair(
+      R"("type":"ball","box_deg":{"order":"zxy","lower":[-50,-30,-20],"upper":[70,40,25]})");
 }
 Model hinge_pair() { return pair(R"("type":"hinge","axis":[0,1,0],"range_deg":[-30,45])"); }
 
@@ -45,8 +46,8 @@ double kinetic_energy(const Model& model, const std::vector<BodyState>& bodies) 
   for (int i = 0; i < model.segment_count(); ++i) {
     const Segment& s = model.segments[i];
     const Vector3d w_body = bodies[i].q.conjugate() * bodies[i].w;
-    energy += 0.5 * s.mass * bodies[i].v.squaredNorm() +
-              0.5 * w_body.dot(s.inertia.cwiseProduct(w_body));
+    energy +=
+        0.5 * s.mass * bodies[i].v.squaredNorm() + 0.5 * w_body.dot(s.inertia.cwiseProduct(w_body));
   }
   return energy;
 }
@@ -55,7 +56,8 @@ double kinetic_energy(const Model& model, const std::vector<BodyState>& bodies) 
 Vector3d point_velocity(const Joint& joint, const std::vector<BodyState>& b) {
   const BodyState& p = b[joint.parent];
   const BodyState& c = b[joint.child];
-  return c.v + c.w.cross(c.q * joint.anchor_in_child) - p.v - p.w.cross(p.q * joint.anchor_in_parent);
+  return c.v + c.w.cross(c.q * joint.anchor_in_child) - p.v -
+         p.w.cross(p.q * joint.anchor_in_parent);
 }
 
 // the arm turned so that the joint's relative rotation is q_rel, its joint point on the base's
@@ -65,7 +67,8 @@ std::vector<BodyState> posed(const Model& model, const Quaterniond& base_q,
   std::vector<BodyState> bodies = rest_pose(model);
   bodies[0].q = base_q;
   bodies[1].q = base_q * joint.frame_in_parent * q_rel * joint.frame_in_child.conjugate();
-  bodies[1].x = world_point(bodies[0], joint.anchor_in_parent) - bodies[1].q * joint.anchor_in_child;
+  bodies[1].x =
+      world_point(bodies[0], joint.anchor_in_parent) - bodies[1].q * joint.anchor_in_child;
   return bodies;
 }
 
@@ -110,7 +113,8 @@ void check_pass(const Model& model, std::mt19937_64& rng) {
       if (restitution > 0.0 && rows.count > 1) continue;
       std::vector<BodyState> after = bodies;
       const Vector3d rate_before =
-          after[1].q.conjugate() * (after[1].w - after[0].w);  // the rows' rates now (child's frame)
+          after[1].q.conjugate() *
+          (after[1].w - after[0].w);  // the rows' rates now (child's frame)
       hold_limit_rates(model, tables->joints[0], joint, rows, restitution, rate_before, after[0],
                        after[1]);
       const double energy = kinetic_energy(model, bodies);
@@ -146,8 +150,8 @@ TEST(LimitVelocities, AHingesEndGetsItsRestitutionsRateWithoutEnergyOrAGap) {
 // correction undid it: measured with the clamp, a shoulder in drop was left 29° past its box after
 // four sweeps; with the limit functions' rows 2.5°, and at the default single sweep 0.06° in drag.
 TEST(LimitVelocities, ABoxNearGimbalLockIsHeldToATenthOfADegree) {
-  Model model = pair(
-      R"("type":"ball","box_deg":{"order":"zxy","lower":[-110,-80,-80],"upper":[110,80,80]})");
+  Model model =
+      pair(R"("type":"ball","box_deg":{"order":"zxy","lower":[-110,-80,-80],"upper":[110,80,80]})");
   Segment& base = model.segments[0];
   base.mass *= 1e6;
   base.inv_mass /= 1e6;

@@ -93,7 +93,8 @@ TEST(TwoSided, ARigidCorrectionClosesTheGapToSecondOrder) {
     for (int k = 0; k < 2; ++k) {
       std::mt19937_64 same(seed);
       Pair p(same, k == 0 ? 1e-2 : 1e-3);
-      share_joint_correction(p.model, p.tables->joints[0], p.joint(), 0.0, nullptr, nullptr, p.state);
+      share_joint_correction(p.model, p.tables->joints[0], p.joint(), 0.0, nullptr, nullptr,
+                             p.state);
       left[k] = p.gap().norm();
     }
     EXPECT_LT(left[0], 1e-2 * 0.05);

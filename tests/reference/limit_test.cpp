@@ -241,8 +241,9 @@ double rebound_of(Angle&& angle_of, double upper, Advance&& advance, double wind
 }
 template <typename Advance>
 double rebound(const Model& model, double upper, Advance&& advance) {
-  return rebound_of([&](const std::vector<BodyState>& bodies) { return limited_angle(model, bodies); },
-                    upper, advance);
+  return rebound_of(
+      [&](const std::vector<BodyState>& bodies) { return limited_angle(model, bodies); }, upper,
+      advance);
 }
 
 // the model with its upper rod 10⁶ times heavier: a procedural solver's still parent (the
@@ -354,11 +355,14 @@ TEST(LimitImpact, ABoxFaceIsNearInelasticInEveryEngine) {
     auto solver = held(engine, model);
     solver->set_state(start);
     std::vector<BodyState> bodies(2);
-    const double back = rebound_of(first_angle, joint.box_upper[0], [&](int step) {
-      if (step > 0) solver->step(kImpactDt);
-      solver->read_state(bodies);
-      return bodies;
-    }, kFaceWindow);
+    const double back = rebound_of(
+        first_angle, joint.box_upper[0],
+        [&](int step) {
+          if (step > 0) solver->step(kImpactDt);
+          solver->read_state(bodies);
+          return bodies;
+        },
+        kFaceWindow);
     std::printf("[ rebound  ] %-16s %.3f of the impact speed (box face)\n", engine.name.c_str(),
                 back);
     EXPECT_LT(back, 0.1);
@@ -369,10 +373,13 @@ TEST(LimitImpact, ABoxFaceIsNearInelasticInEveryEngine) {
     SCOPED_TRACE(name);
     procedural::Solver solver = procedural_solver(still, rule);
     solver.reset(start);
-    const double back = rebound_of(first_angle, joint.box_upper[0], [&](int step) {
-      if (step > 0) solver.step(kImpactDt);
-      return solver.state().bodies;
-    }, kFaceWindow);
+    const double back = rebound_of(
+        first_angle, joint.box_upper[0],
+        [&](int step) {
+          if (step > 0) solver.step(kImpactDt);
+          return solver.state().bodies;
+        },
+        kFaceWindow);
     std::printf("[ rebound  ] %-16s %.3f of the impact speed (box face)\n", name.c_str(), back);
     EXPECT_LT(back, 0.03);
   }

@@ -82,6 +82,8 @@ procedural::Settings settings_from(const SolverOptions& options) {
   settings.substeps = options.substeps;
   settings.derive_velocities = options.derive_velocities;
   settings.start_lever_arms = options.start_lever_arms;
+  settings.limit_functions = options.limit_functions;
+  settings.limits_before_joints = options.limits_before_joints;
   settings.limit_velocity_pass = options.limit_velocity_pass;
   settings.limit_restitution = options.limit_restitution;
   const std::string problem = procedural::validate(settings);
@@ -134,12 +136,20 @@ void add_flags(CLI::App& command, SolverOptions& options) {
       "xpbd: turn a correction through the lever arms of the pose being corrected "
       "(position-based dynamics' own), not the substep's start");
   command.add_flag_callback(
+      "--limit-clamp", [&options] { options.limit_functions = false; },
+      "xpbd: correct a ball's limits by the clamp's rotation (a box's per-angle clamp), not by "
+      "its limit functions");
+  command.add_flag_callback(
+      "--joints-before-limits", [&options] { options.limits_before_joints = false; },
+      "xpbd: correct every joint's point before every limit in a sweep");
+  command.add_flag_callback(
       "--no-limit-pass", [&options] { options.limit_velocity_pass = false; },
       "xpbd, tree: leave out the limits' velocity pass (the rate a limit's correction "
       "leaves is kept)");
-  command.add_option("--limit-restitution", options.limit_restitution,
-                     "xpbd, tree: the rate a limit gives back over the one it came in "
-                     "with (default 0)")
+  command
+      .add_option("--limit-restitution", options.limit_restitution,
+                  "xpbd, tree: the rate a limit gives back over the one it came in "
+                  "with (default 0)")
       ->check(CLI::Validator(
           [](std::string& text) {
             double value = 0.0;
@@ -159,6 +169,8 @@ void replay_flags(const SolverOptions& options, std::string& out) {
   }
   if (!options.derive_velocities) out += " --no-velocities";
   if (!options.start_lever_arms) out += " --current-lever-arms";
+  if (!options.limit_functions) out += " --limit-clamp";
+  if (!options.limits_before_joints) out += " --joints-before-limits";
   if (!options.limit_velocity_pass) out += " --no-limit-pass";
   if (options.limit_restitution != defaults.limit_restitution) {
     out += " --limit-restitution " + csv_number(options.limit_restitution);

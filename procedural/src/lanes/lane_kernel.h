@@ -100,7 +100,7 @@ struct Plan {
   double joint_compliance = 0.0, limit_compliance = 0.0;
   bool derive_velocities = true;
   bool start_lever_arms = true;  // Settings::start_lever_arms
-  bool limit_pass = true;  // the limits' velocity pass (restitution 0: the lanes' only one)
+  bool limit_pass = true;        // the limits' velocity pass (restitution 0: the lanes' only one)
   LimitError limit_error = nullptr;
   HoldLimitRates hold_limit_rates = nullptr;
   const void* limit_context = nullptr;

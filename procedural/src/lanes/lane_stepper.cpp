@@ -102,10 +102,11 @@ std::unique_ptr<LaneStepper> LaneStepper::make(const Solver& puppet, CrowdLanes 
   const Settings& settings = puppet.settings();
   const Environment& environment = puppet.environment();
   // the lanes' limit pass keeps no rate from before the adjust: restitution 0 only
+  // and they do xpbd's default sweep alone (the limit functions, the limits first)
   if (!rule_info(settings.rule).lanes || settings.tremble || settings.time_stages ||
-      (puppet.limit_pass_ && settings.limit_restitution != 0.0) ||
-      environment.tremble || environment.water || environment.ground ||
-      puppet.tables_->orders.empty()) {
+      !settings.limit_functions || !settings.limits_before_joints ||
+      (puppet.limit_pass_ && settings.limit_restitution != 0.0) || environment.tremble ||
+      environment.water || environment.ground || puppet.tables_->orders.empty()) {
     return nullptr;
   }
   const int width = widest_lanes(lanes == CrowdLanes::kWidest ? 8

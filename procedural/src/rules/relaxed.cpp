@@ -34,8 +34,8 @@ void relaxed_sweeps(const Model& model, std::span<const JointTerms> joints,
     }
     for (const AnchorOrder::Link& link : order.links) {
       LimitRows rows;
-      if (share_limit_correction(model, joints[link.joint], model.joints[link.joint], 0.0,
-                                 nullptr, &rows, false, state)) {
+      if (share_limit_correction(model, joints[link.joint], model.joints[link.joint], 0.0, nullptr,
+                                 &rows, false, state)) {
         mark_limit(ws, link.joint, rows);
       }
     }

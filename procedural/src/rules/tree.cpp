@@ -165,7 +165,8 @@ bool set_joint_rows(const Joint& joint, const JointTerms& terms, const BodyState
             count = 3;
             past = true;
             past_rows.count = 1;
-            past_rows.directions.row(0) = (angle > joint.upper ? axis : Vector3d(-axis)).transpose();
+            past_rows.directions.row(0) =
+                (angle > joint.upper ? axis : Vector3d(-axis)).transpose();
             past_rows.excess(0) = std::max(angle - joint.upper, joint.lower - angle);
           }
           break;

@@ -19,6 +19,18 @@
 #include "rules.h"
 
 namespace puppet::procedural {
+namespace {
+
+// every joint's point, parent before child from the anchor
+void joint_sweep(const Model& model, std::span<const JointTerms> joints, const AnchorOrder& order,
+                 double joint_alpha, const Matrix3d* start, State& state, Workspace& ws) {
+  for (const AnchorOrder::Link& link : order.links) {
+    share_joint_correction(model, joints[link.joint], model.joints[link.joint], joint_alpha,
+                           &ws.joint_lambda[link.joint], start, state);
+  }
+}
+
+}  // namespace
 
 void xpbd_adjust(const Model& model, std::span<const JointTerms> joints, const Settings& settings,
                  const Environment& environment, const AnchorOrder& order,
@@ -45,18 +57,20 @@ void xpbd_adjust(const Model& model, std::span<const JointTerms> joints, const S
                            &ws.pin_lambda[i], start, state);
     }
     // every limit, then every joint's point parent before child from the anchor (a limit's turn
-    // about its sides' centres opens the joint, which the joints' pass then closes)
+    // about its sides' centres opens the joint, which the joints' pass then closes); or the
+    // joints first (Settings::limits_before_joints)
+    if (!settings.limits_before_joints)
+      joint_sweep(model, joints, order, joint_alpha, start, state, ws);
     for (const AnchorOrder::Link& link : order.links) {
       LimitRows rows;
       if (share_limit_correction(model, joints[link.joint], model.joints[link.joint], limit_alpha,
-                                 &ws.limit_lambda[link.joint], &rows, true, state)) {
+                                 &ws.limit_lambda[link.joint], &rows, settings.limit_functions,
+                                 state)) {
         mark_limit(ws, link.joint, rows);
       }
     }
-    for (const AnchorOrder::Link& link : order.links) {
-      share_joint_correction(model, joints[link.joint], model.joints[link.joint], joint_alpha,
-                             &ws.joint_lambda[link.joint], start, state);
-    }
+    if (settings.limits_before_joints)
+      joint_sweep(model, joints, order, joint_alpha, start, state, ws);
     for (BodyState& body : state.bodies) body.q = renormalized(body.q);
     // the ground is static (infinite mass): its correction is the segment's alone
     if (environment.ground) {

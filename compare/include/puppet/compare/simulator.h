@@ -69,9 +69,11 @@ struct SolverOptions {
   int iterations = procedural::kRuleDefault;  // relaxed, xpbd: sweeps per substep; tree: Newton
   int substeps = procedural::kRuleDefault;    // procedural: substeps per step
   bool derive_velocities = true;
-  bool start_lever_arms = true;     // procedural: xpbd's lever arms (Settings)
-  bool limit_velocity_pass = true;  // procedural: the limits' velocity pass (Settings)
-  double limit_restitution = 0.0;   // and the restitution it gives the limits
+  bool start_lever_arms = true;      // procedural: xpbd's lever arms (Settings)
+  bool limit_functions = true;       // procedural: xpbd's limits as functions (Settings)
+  bool limits_before_joints = true;  // procedural: xpbd's sweep order (Settings)
+  bool limit_velocity_pass = true;   // procedural: the limits' velocity pass (Settings)
+  double limit_restitution = 0.0;    // and the restitution it gives the limits
   // procedural: the seed's tremble read as position noise in the update (Settings::tremble), in
   // any scenario; the tremble scenario's is a force every engine feels (environment.tremble)
   bool position_tremble = false;

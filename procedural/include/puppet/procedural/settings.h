@@ -37,6 +37,11 @@ struct Settings {
   /// inverse inertia at the substep's start (SHAKE's constraint direction), not at the pose being
   /// corrected (docs/solver.md, "The lever arms")
   bool start_lever_arms = true;
+  /// xpbd: a ball's limits corrected as its limit functions, together along their gradients
+  /// (false: the clamp's rotation, a box's per-angle clamp; docs/solver.md, "the limits")
+  bool limit_functions = true;
+  /// xpbd: in a sweep every limit before every joint's point (false: the joints first)
+  bool limits_before_joints = true;
   /// xpbd, tree: after the velocities are derived, every limit the step ran into gets
   /// the rate its restitution asks (docs/solver.md, "The limits' velocity pass")
   bool limit_velocity_pass = true;
@@ -44,8 +49,8 @@ struct Settings {
   /// with (0, as both truths nearly are: they give back 1–2 %). Above 0 a crowd steps its
   /// puppets one by one (the lanes keep no rate from before the position pass)
   double limit_restitution = 0.0;
-  bool tremble = false;           ///< the seed's active response (§3.4)
-  bool time_stages = false;       ///< measure each stage's wall time (costs a few clock reads)
+  bool tremble = false;      ///< the seed's active response (§3.4)
+  bool time_stages = false;  ///< measure each stage's wall time (costs a few clock reads)
   uint64_t tremble_seed = 2001;
 };
 
