@@ -9,6 +9,7 @@
 
 #include "joint_limits.h"
 #include "model_tables.h"
+#include "puppet/compare/metrics.h"
 #include "puppet/model/euler_box.h"
 #include "puppet/model/model.h"
 #include "puppet/model/rotation.h"
@@ -40,17 +41,6 @@ Model box_pair() {
       R"("type":"ball","box_deg":{"order":"zxy","lower":[-50,-30,-20],"upper":[70,40,25]})");
 }
 Model hinge_pair() { return pair(R"("type":"hinge","axis":[0,1,0],"range_deg":[-30,45])"); }
-
-double kinetic_energy(const Model& model, const std::vector<BodyState>& bodies) {
-  double energy = 0.0;
-  for (int i = 0; i < model.segment_count(); ++i) {
-    const Segment& s = model.segments[i];
-    const Vector3d w_body = bodies[i].q.conjugate() * bodies[i].w;
-    energy +=
-        0.5 * s.mass * bodies[i].v.squaredNorm() + 0.5 * w_body.dot(s.inertia.cwiseProduct(w_body));
-  }
-  return energy;
-}
 
 // the joint point's velocity on the child less on the parent (world)
 Vector3d point_velocity(const Joint& joint, const std::vector<BodyState>& b) {
@@ -117,8 +107,8 @@ void check_pass(const Model& model, std::mt19937_64& rng) {
           (after[1].w - after[0].w);  // the rows' rates now (child's frame)
       hold_limit_rates(model, tables->joints[0], joint, rows, restitution, rate_before, after[0],
                        after[1]);
-      const double energy = kinetic_energy(model, bodies);
-      EXPECT_LE(kinetic_energy(model, after), energy * (1.0 + 1e-12));
+      const double energy = compare::kinetic_energy(model, bodies);
+      EXPECT_LE(compare::kinetic_energy(model, after), energy * (1.0 + 1e-12));
       EXPECT_LT(point_velocity(joint, after).norm(), 1e-8);
       const Vector3d rate_after = after[1].q.conjugate() * (after[1].w - after[0].w);
       for (int k = 0; k < rows.count; ++k) {
