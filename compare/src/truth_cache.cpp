@@ -55,7 +55,17 @@ void add_model(KeyBytes& key, const Model& model) {
   key.add(model.segment_count());
   for (const Segment& s : model.segments) {
     key.add(s.name).add(s.mass).add(s.inertia).add(s.inv_mass).add(s.inv_inertia);
-    key.add(s.shape.type).add(s.shape.radius).add(s.shape.half_length).add(s.shape.half_extents);
+    // a lone shape at the segment's origin adds what one shape always added (keys of such
+    // models are unchanged); more shapes, or one placed elsewhere, add their count and places
+    for (const Shape& shape : s.shapes) {
+      key.add(shape.type).add(shape.radius).add(shape.half_length).add(shape.half_extents);
+    }
+    const Shape& first = s.shapes.front();
+    if (s.shapes.size() > 1 || !first.position.isZero() ||
+        first.orientation.coeffs() != Quaterniond::Identity().coeffs()) {
+      key.add(static_cast<int>(s.shapes.size()));
+      for (const Shape& shape : s.shapes) key.add(shape.position).add(shape.orientation);
+    }
     key.add(s.rest_position).add(s.rest_orientation).add(s.parent_joint).add(s.parent);
   }
   key.add(model.joint_count());

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace puppet {
 
@@ -25,15 +26,31 @@ double half_height(const Shape& shape, const Vector3d& up) {
     case ShapeType::kCylinder:
       return std::abs(up.z()) * shape.half_length +
              shape.radius * std::sqrt(std::max(0.0, 1.0 - up.z() * up.z()));
+    case ShapeType::kEllipsoid:
+      return shape.half_extents.cwiseProduct(up).norm();
   }
   return 0.0;
 }
 
+void shape_reach(const Shape& shape, const Vector3d& up, double* below, double* above) {
+  const double centre = shape.position.dot(up);
+  const double half = half_height(shape, shape.orientation.conjugate() * up);
+  *below = half - centre;
+  *above = half + centre;
+}
+
 void vertical_extent(const Segment& segment, const Quaterniond& q, const Vector3d& x, double* low,
                      double* high) {
-  const double half = half_height(segment.shape, up_in_frame(q));
-  *low = x.z() - half;
-  *high = x.z() + half;
+  const Vector3d up = up_in_frame(q);
+  double below = -std::numeric_limits<double>::infinity(), above = below;
+  for (const Shape& shape : segment.shapes) {
+    double b = 0.0, a = 0.0;
+    shape_reach(shape, up, &b, &a);
+    below = std::max(below, b);
+    above = std::max(above, a);
+  }
+  *low = x.z() - below;
+  *high = x.z() + above;
 }
 
 double submerged_fraction(const Segment& segment, const Environment& environment,
@@ -55,7 +72,7 @@ EnvironmentForce environment_force(const Segment& segment, const Environment& en
   out.drag = step_drag_rate(environment.air_drag + environment.water_drag * f, h);
   out.force = segment.mass * environment.gravity - out.drag * segment.mass * body.v;
   // buoyancy ρ·V·f·|g| against gravity
-  out.force -= environment.water_density * shape_volume(segment.shape) * f * environment.gravity;
+  out.force -= environment.water_density * segment_volume(segment) * f * environment.gravity;
   return out;
 }
 

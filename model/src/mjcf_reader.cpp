@@ -44,10 +44,11 @@ constexpr int kMaxElements = 1000000;
 // name and class.
 using Names = std::initializer_list<const char*>;
 constexpr Names kGeomAttributes = {
-    "name",      "class",  "type",    "size",        "fromto",   "pos",      "quat",
-    "axisangle", "euler",  "xyaxes",  "zaxis",       "mass",     "density",  "rgba",
-    "material",  "group",  "contype", "conaffinity", "condim",   "friction", "solref",
-    "solimp",    "solmix", "margin",  "gap",         "priority", "user"};
+    "name",      "class",    "type",       "size",        "fromto",      "pos",      "quat",
+    "axisangle", "euler",    "xyaxes",     "zaxis",       "mass",        "density",  "rgba",
+    "material",  "group",    "contype",    "conaffinity", "condim",      "friction", "solref",
+    "solimp",    "solmix",   "margin",     "gap",         "priority",    "user",     "mesh",
+    "hfield",    "fitscale", "fluidshape", "fluidcoef",   "shellinertia"};
 constexpr Names kJointAttributes = {
     "name",         "class", "type",      "pos",         "axis",        "range",
     "limited",      "ref",   "stiffness", "springref",   "damping",     "armature",
@@ -241,8 +242,7 @@ class Reader {
     }
     check_attributes(root, {"model"});
     root_line_ = root->GetLineNum();
-    name_ = attribute(root, "model").value_or("mjcf");
-    if (std::string problem = detail::name_problem(name_); !problem.empty()) fail(root, problem);
+    name_ = model_name(attribute(root, "model").value_or(""));
 
     // the sections, in any order; the compiler's settings first since everything reads them
     for (const XMLElement* e = root->FirstChildElement("compiler"); e;
@@ -303,6 +303,20 @@ class Reader {
   }
 
  private:
+  // MuJoCo takes any text as the model's name ("planar walker"); the model's names are within
+  // a charset (detail::name_problem), so every other byte becomes '_' and the name is cut to
+  // its longest (an empty name is "mjcf")
+  static std::string model_name(const std::string& text) {
+    std::string name = text.substr(0, detail::kMaxNameLength);
+    for (char& c : name) {
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.' &&
+          c != ':') {
+        c = '_';
+      }
+    }
+    return name.empty() ? "mjcf" : name;
+  }
+
   [[noreturn]] void fail(const XMLElement* e, const std::string& problem) const {
     std::string what = "<" + one_line(e->Name());
     if (const char* n = e->Attribute("name")) what += " name=\"" + one_line(n) + "\"";
@@ -622,16 +636,30 @@ class Reader {
       }
     }
     if (!root) fail(world, "has no body");
+    collect_body_names(world);
     read_body(root, -1, Vector3d::Zero(), Quaterniond::Identity(), "main");
+  }
+
+  // every name a body of the tree gives itself: the names generated for the others avoid them
+  void collect_body_names(const XMLElement* e) {
+    for (const XMLElement* c = e->FirstChildElement("body"); c; c = c->NextSiblingElement("body")) {
+      if (const char* n = c->Attribute("name")) body_names_.insert(n);
+      collect_body_names(c);
+    }
   }
 
   void read_body(const XMLElement* e, int parent, const Vector3d& parent_x,
                  const Quaterniond& parent_q, const std::string& inherited_class) {
     check_attributes(e, {"name", "pos", "quat", "axisangle", "euler", "xyaxes", "zaxis",
                          "childclass", "user", "mocap"});
-    const auto name = attribute(e, "name");
-    if (!name || name->empty()) fail(e, "a body needs a name (it names the segment)");
-    if (std::string problem = detail::name_problem(*name); !problem.empty()) fail(e, problem);
+    // an unnamed body is named by its MuJoCo id ("body3": the world is 0, the bodies count in
+    // document order), with '_' appended while a named body has that name
+    const int index = static_cast<int>(segments_.size());
+    const auto given = attribute(e, "name");
+    const bool generated = !given || given->empty();
+    std::string name = generated ? "body" + std::to_string(index + 1) : *given;
+    while (generated && body_names_.count(name)) name += '_';
+    if (std::string problem = detail::name_problem(name); !problem.empty()) fail(e, problem);
     if (boolean(e, "mocap").value_or(false)) fail(e, "mocap bodies are not supported");
     std::string child_class = inherited_class;
     if (auto c = attribute(e, "childclass")) {
@@ -661,25 +689,20 @@ class Reader {
         fail(c, "is not supported in a body");
       }
     }
-    if (geoms.size() != 1) {
-      fail(e, "has " + std::to_string(geoms.size()) +
-                  " geoms (a segment is one shape: exactly one geom per body)");
-    }
-    const int index = static_cast<int>(segments_.size());
-    segments_.push_back(read_segment(e, geoms[0], inertial, x, q, child_class));
-    segments_.back().name = *name;
+    segments_.push_back(read_segment(e, geoms, inertial, x, q, child_class));
+    segments_.back().name = name;
     segment_lines_.push_back(e->GetLineNum());
 
     if (parent < 0) {
       if (joints.size() != 1 || !is_free(joints[0], child_class)) {
         fail(e, "the root body needs exactly one free joint (the scenarios hold it or let it go)");
       }
-      check_free(joints[0]);
+      check_free(joints[0], child_class);
     } else {
       if (joints.size() == 3) {
         joints_.push_back(read_box(joints, index, parent, x, q, child_class));
       } else if (joints.size() > 1) {
-        fail(joints[1], "a second joint in body \"" + *name +
+        fail(joints[1], "a second joint in body \"" + name +
                             "\" (one joint per body, or three hinges at one point for a box)");
       } else {
         joints_.push_back(
@@ -694,44 +717,77 @@ class Reader {
     return value(joint, "type", class_of(joint, class_name)).value_or("hinge") == "free";
   }
 
-  void check_free(const XMLElement* joint) const {
+  // A free root: whatever MuJoCo reads on it that leaves its six degrees of freedom free.
+  // <freejoint> takes no class; a <joint type="free"> takes its class's values, and its damping,
+  // armature, stiffness and friction loss must be zero, and it must not be limited (its range and
+  // margin mean nothing to MuJoCo on a free joint)
+  void check_free(const XMLElement* joint, const std::string& class_name) const {
     if (std::string(joint->Name()) == "freejoint") {
       check_attributes(joint, {"name", "group"});
-    } else {
-      check_attributes(joint, {"name", "type", "class", "group", "user", "pos"});
+      return;
+    }
+    check_attributes(joint, kJointAttributes);
+    const std::string cls = class_of(joint, class_name);
+    for (const char* physics : {"damping", "armature", "stiffness", "frictionloss"}) {
+      const auto v = value(joint, physics, cls);
+      if (v && single(joint, physics, *v) != 0.0) {
+        fail(joint, std::string(physics) + " on the free root is not supported");
+      }
+    }
+    if (value(joint, "limited", cls).value_or("false") == "true") {
+      fail(joint, "a limited free joint (MuJoCo refuses it too)");
     }
   }
 
-  Segment read_segment(const XMLElement* body, const XMLElement* geom, const XMLElement* inertial,
-                       const Vector3d& x, const Quaterniond& q, const std::string& class_name) {
+  // A geom as a solid of its body: its shape placed in the body frame, and its mass (its own,
+  // or its density times its volume, as MuJoCo's compiler takes it)
+  struct Solid {
+    Shape shape;
+    double mass = 0.0;
+  };
+
+  Solid read_geom(const XMLElement* geom, const std::string& class_name) const {
     const std::string cls = class_of(geom, class_name);
     check_attributes(geom, kGeomAttributes);
-    Segment s;
-    const std::string type = value(geom, "type", cls).value_or("sphere");
-    const auto size_text = value(geom, "size", cls);
-    if (!size_text) fail(geom, "needs a size");
-    const std::vector<double> size = numbers(geom, "size", *size_text);
-    for (double v : size) {
-      if (!(v > 0.0)) fail(geom, "attribute \"size\" must be positive");
+    Solid solid;
+    Shape& shape = solid.shape;
+    if (value(geom, "shellinertia", cls).value_or("false") != "false") {
+      fail(geom, "shellinertia is not supported (a segment's shapes are solid)");
     }
+    const std::string type = value(geom, "type", cls).value_or("sphere");
+    if (type == "mesh" || type == "hfield" || type == "plane" || type == "sdf") {
+      fail(geom, "a " + type +
+                     " geom on a body is not supported (a segment's shapes are "
+                     "spheres, capsules, cylinders, boxes and ellipsoids)");
+    }
+    if (type != "sphere" && type != "capsule" && type != "cylinder" && type != "box" &&
+        type != "ellipsoid") {
+      fail(geom, "type \"" + one_line(type) + "\" is not a geom type");
+    }
+    const auto size_text = value(geom, "size", cls);
+    const std::vector<double> size =
+        size_text ? numbers(geom, "size", *size_text) : std::vector<double>{};
     Vector3d centre = vector3(geom, "pos", cls, {0, 0, 0});
     Quaterniond frame = orientation(geom, cls);
     // a class's fromto too; it sets the centre, so MuJoCo refuses a pos beside it
     const auto fromto = value(geom, "fromto", cls);
-    if (fromto && !centre.isZero()) fail(geom, "gives both pos and fromto");
+    if (fromto && attribute(geom, "pos")) fail(geom, "gives both pos and fromto");
     auto need = [&](size_t n) {
       if (size.size() < n) {
         fail(geom, "a " + type + " needs " + std::to_string(n) + " size numbers");
       }
+      for (size_t k = 0; k < n; ++k) {
+        if (!(size[k] > 0.0)) fail(geom, "attribute \"size\" must be positive");
+      }
     };
     if (type == "sphere") {
       need(1);
-      s.shape.type = ShapeType::kSphere;
-      s.shape.radius = size[0];
+      shape.type = ShapeType::kSphere;
+      shape.radius = size[0];
     } else if (type == "capsule" || type == "cylinder") {
-      s.shape.type = type == "capsule" ? ShapeType::kCapsule : ShapeType::kCylinder;
+      shape.type = type == "capsule" ? ShapeType::kCapsule : ShapeType::kCylinder;
       need(1);
-      s.shape.radius = size[0];
+      shape.radius = size[0];
       if (fromto) {
         const auto v = numbers(geom, "fromto", *fromto);
         if (v.size() != 6) fail(geom, "attribute \"fromto\" must have 6 numbers");
@@ -739,26 +795,70 @@ class Reader {
         if ((to - from).norm() < 1e-9) fail(geom, "fromto's ends coincide");
         centre = 0.5 * (from + to);
         frame = Quaterniond::FromTwoVectors(Vector3d::UnitZ(), (to - from).normalized());
-        s.shape.half_length = 0.5 * (to - from).norm();
+        shape.half_length = 0.5 * (to - from).norm();
       } else {
         need(2);
-        s.shape.half_length = size[1];
+        shape.half_length = size[1];
       }
-    } else if (type == "box") {
-      need(3);
-      s.shape.type = ShapeType::kBox;
-      s.shape.half_extents = {size[0], size[1], size[2]};
     } else {
-      fail(geom, "type \"" + one_line(type) +
-                     "\" is not supported (a segment is a sphere, capsule, cylinder or box)");
+      need(3);
+      shape.type = type == "box" ? ShapeType::kBox : ShapeType::kEllipsoid;
+      shape.half_extents = {size[0], size[1], size[2]};
     }
     if (fromto && type != "capsule" && type != "cylinder") {
       fail(geom, "fromto is read for capsules and cylinders only");
     }
+    shape.position = centre;
+    shape.orientation = frame;
+    if (auto m = value(geom, "mass", cls)) {
+      solid.mass = single(geom, "mass", *m);
+    } else {
+      const double density = value(geom, "density", cls)
+                                 ? single(geom, "density", *value(geom, "density", cls))
+                                 : 1000.0;  // MuJoCo's default, water's
+      solid.mass = density * shape_volume(shape);
+    }
+    if (!(solid.mass >= 0.0)) fail(geom, "its mass must not be negative");
+    return solid;
+  }
 
-    // the segment frame: the geom's, at its centre
-    s.rest_position = x + q * centre;
-    s.rest_orientation = (q * frame).normalized();
+  // The segment of a body in world (x, q): its shapes, and its mass and inertia from its
+  // <inertial>, else composed from its geoms as MuJoCo composes them (detail::place_solids: one
+  // geom gives its own frame, several their principal frame at their centre of mass)
+  Segment read_segment(const XMLElement* body, const std::vector<const XMLElement*>& geoms,
+                       const XMLElement* inertial, const Vector3d& x, const Quaterniond& q,
+                       const std::string& class_name) {
+    if (geoms.empty()) fail(body, "has no geom (a segment needs a shape)");
+    std::vector<Shape> shapes;
+    std::vector<double> masses;
+    for (const XMLElement* geom : geoms) {
+      const Solid solid = read_geom(geom, class_name);
+      shapes.push_back(solid.shape);
+      masses.push_back(solid.mass);
+    }
+    const bool use_inertial = inertial && inertia_from_geom_ != "true";
+    if (!use_inertial && inertia_from_geom_ == "false") {
+      fail(body, "inertiafromgeom is false and the body has no <inertial>");
+    }
+    Segment s;
+    if (use_inertial) {
+      // the inertial's frame is the segment's; the shapes are placed in it
+      Quaterniond frame;
+      Vector3d centre;
+      read_inertial(inertial, s, &centre, &frame);
+      s.rest_position = x + q * centre;
+      s.rest_orientation = (q * frame).normalized();
+      for (Shape& shape : shapes) {
+        shape.position = frame.conjugate() * (shape.position - centre);
+        shape.orientation = (frame.conjugate() * shape.orientation).normalized();
+      }
+      s.shapes = shapes;
+    } else {
+      double total = 0.0;
+      for (double m : masses) total += m;
+      if (!(total > 0.0)) fail(geoms[0], "its body's mass must be positive");
+      detail::place_solids(shapes, masses, x, q, s);
+    }
     if (auto user = user_data(body, user_body_, kBodyUserSize)) {
       // write_mjcf's exact rest pose, if it still matches the body
       const Vector3d ux((*user)[0], (*user)[1], (*user)[2]);
@@ -770,82 +870,41 @@ class Reader {
       s.rest_position = ux;
       s.rest_orientation = uq.normalized();
     }
-
-    // mass and inertia: the inertial's, or the geom's solid
-    const bool use_inertial = inertial && inertia_from_geom_ != "true";
-    if (!use_inertial && inertia_from_geom_ == "false") {
-      fail(body, "inertiafromgeom is false and the body has no <inertial>");
-    }
-    if (use_inertial) {
-      read_inertial(inertial, centre, frame, s);
-    } else {
-      double mass = 0.0;
-      if (auto m = value(geom, "mass", cls)) {
-        mass = single(geom, "mass", *m);
-      } else {
-        const double density = value(geom, "density", cls)
-                                   ? single(geom, "density", *value(geom, "density", cls))
-                                   : 1000.0;  // MuJoCo's default, water's
-        mass = density * shape_volume(s.shape);
-      }
-      if (!(mass > 0.0)) fail(geom, "its mass must be positive");
-      s.mass = mass;
-      s.inertia = solid_inertia(s.shape, mass);
-    }
     derive_mass_terms(s);
     return s;
   }
 
-  // the inertial's mass and its inertia in the segment (geom) frame; the geom's centre and
-  // orientation are in the body frame
-  void read_inertial(const XMLElement* e, const Vector3d& geom_centre, const Quaterniond& geom_q,
-                     Segment& s) const {
+  // the inertial's mass, its frame in the body (centre and axes) and its principal moments: a
+  // diaginertia is about its own axes, a fullinertia (in the body's axes) is diagonalised
+  void read_inertial(const XMLElement* e, Segment& s, Vector3d* centre, Quaterniond* frame) const {
     check_attributes(e, {"pos", "quat", "axisangle", "euler", "xyaxes", "zaxis", "mass",
                          "diaginertia", "fullinertia"});
     const auto mass = attribute(e, "mass");
     if (!mass) fail(e, "needs a mass");
     s.mass = single(e, "mass", *mass);
     if (!(s.mass > 0.0)) fail(e, "mass must be positive");
-    const auto pos = attribute(e, "pos");
-    if (!pos) fail(e, "needs a pos");
-    if ((vector3(e, "pos", "", Vector3d::Zero()) - geom_centre).norm() > 1e-9) {
-      fail(e,
-           "its pos is not the geom's centre (a segment's shape is centred on its centre of "
-           "mass)");
-    }
+    if (!attribute(e, "pos")) fail(e, "needs a pos");
+    *centre = vector3(e, "pos", "", Vector3d::Zero());
     if (attribute(e, "diaginertia") && attribute(e, "fullinertia")) {
       fail(e, "gives both diaginertia and fullinertia");
     }
-    Matrix3d in_segment;
     if (auto d = attribute(e, "diaginertia")) {
       const auto v = numbers(e, "diaginertia", *d);
       if (v.size() != 3) fail(e, "diaginertia must have 3 numbers");
-      const Quaterniond inertial_q = orientation(e, "");
-      if (inertial_q.coeffs() == geom_q.coeffs()) {
-        // the same axes (both unturned, as write_mjcf writes them): exact
-        in_segment = Vector3d(v[0], v[1], v[2]).asDiagonal();
-      } else {
-        const Matrix3d r = (geom_q.conjugate() * inertial_q).toRotationMatrix();
-        in_segment = r * Vector3d(v[0], v[1], v[2]).asDiagonal() * r.transpose();
-      }
+      *frame = orientation(e, "");
+      s.inertia = Vector3d(v[0], v[1], v[2]);
     } else if (auto f = attribute(e, "fullinertia")) {
+      for (const char* key : kOrientationAttributes) {
+        if (attribute(e, key)) fail(e, "gives an orientation beside fullinertia");
+      }
       const auto v = numbers(e, "fullinertia", *f);
       if (v.size() != 6) fail(e, "fullinertia must have 6 numbers");
       Matrix3d in_body;
       in_body << v[0], v[3], v[4], v[3], v[1], v[5], v[4], v[5], v[2];
-      const Matrix3d r = geom_q.toRotationMatrix();
-      in_segment = r.transpose() * in_body * r;
+      detail::principal_frame(in_body, Quaterniond::Identity(), frame, &s.inertia);
     } else {
       fail(e, "needs diaginertia or fullinertia");
     }
-    // diagonal in the segment (geom) frame: the model's inertia is
-    const Matrix3d off = in_segment - Matrix3d(in_segment.diagonal().asDiagonal());
-    if (off.cwiseAbs().maxCoeff() > 1e-9 * in_segment.diagonal().cwiseAbs().maxCoeff()) {
-      fail(e,
-           "its principal axes are not the geom's (the model's inertia is diagonal in the "
-           "shape's frame)");
-    }
-    s.inertia = in_segment.diagonal();
     if ((s.inertia.array() <= 0.0).any()) fail(e, "its moments of inertia must be positive");
   }
 
@@ -1029,7 +1088,7 @@ class Reader {
       auto facing = [](const Segment& from, const Vector3d& towards) {
         const Vector3d d = from.rest_orientation.conjugate() * (towards - from.rest_position);
         if (d.norm() < 1e-12) return from.rest_position;
-        return Vector3d(from.rest_position + from.rest_orientation * support_point(from.shape, d));
+        return Vector3d(from.rest_position + from.rest_orientation * support_point(from, d));
       };
       j.anchor_world = 0.5 * (facing(p, c.rest_position) + facing(c, p.rest_position));
       derive_limit_terms(j);
@@ -1091,6 +1150,7 @@ class Reader {
   std::vector<DefaultClass> classes_;
   std::map<std::string, int> class_index_;
   std::vector<Segment> segments_;
+  std::set<std::string> body_names_;
   std::vector<detail::RawJoint> joints_;
   std::vector<int> segment_lines_, joint_lines_;
 };

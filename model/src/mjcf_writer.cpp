@@ -88,6 +88,8 @@ std::string geom_attributes(const Shape& shape) {
       return "type=\"box\" size=\"" + vec(shape.half_extents) + "\"";
     case ShapeType::kCylinder:
       return "type=\"cylinder\" size=\"" + nums({shape.radius, shape.half_length}) + "\"";
+    case ShapeType::kEllipsoid:
+      return "type=\"ellipsoid\" size=\"" + vec(shape.half_extents) + "\"";
   }
   return {};
 }
@@ -220,8 +222,22 @@ class Writer {
     }
     out_ << pad << "  <inertial pos=\"0 0 0\" mass=\"" << num(seg.mass) << "\" diaginertia=\""
          << vec(seg.inertia) << "\"/>\n";
-    out_ << pad << "  <geom name=\"" << (options_.model_names ? escaped(seg.name) : indexed("g", s))
-         << "\" " << geom_attributes(seg.shape) << "/>\n";
+    // a segment's shapes in its frame: the first one named as the segment, the next ones
+    // unnamed (no name they could take is sure not to clash); a shape at the origin with the
+    // segment's axes gives no pos or quat
+    for (size_t k = 0; k < seg.shapes.size(); ++k) {
+      const Shape& shape = seg.shapes[k];
+      out_ << pad << "  <geom ";
+      if (k == 0) {
+        out_ << "name=\"" << (options_.model_names ? escaped(seg.name) : indexed("g", s)) << "\" ";
+      }
+      out_ << geom_attributes(shape);
+      if (!shape.position.isZero()) out_ << " pos=\"" << vec(shape.position) << "\"";
+      if (shape.orientation.coeffs() != Quaterniond::Identity().coeffs()) {
+        out_ << " quat=\"" << quat(shape.orientation) << "\"";
+      }
+      out_ << "/>\n";
+    }
     for (int j : joints_of_[s]) {
       if (j == via_joint) continue;
       const Joint& joint = model_.joints[j];

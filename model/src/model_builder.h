@@ -46,6 +46,35 @@ V normalized(const V& v) {
   return std::isfinite(squared) && squared > 0.0 ? V(v.normalized()) : V(v / v.stableNorm());
 }
 
+// A body's solids composed as MuJoCo's compiler composes a body's geoms (mjCBody::GeomFrame):
+// the masses add, the centre of mass is their mean weighted by mass, each solid's inertia is
+// turned into the frame and carried to that centre (parallel axes) and the tensors add.
+struct Composite {
+  double mass = 0.0;
+  Vector3d weighted_sum{0, 0, 0};                 // Σ mᵢ cᵢ
+  Matrix3d inertia_at_origin = Matrix3d::Zero();  // Σ about the frame's origin
+  // a solid of the frame: `shape` placed in it (position, orientation), with its mass
+  void add(const Shape& shape, double mass);
+  Vector3d centre() const { return weighted_sum / mass; }
+  // the tensor about the centre of mass, in the frame's axes
+  Matrix3d inertia() const;
+};
+
+// The principal frame of an inertia tensor (in some frame F): the rotation, in F, whose axes are
+// principal, and the moments about them. Of the 24 such right-handed frames where the moments
+// differ, the one nearest `near` (its axes best aligned with near's); `near` itself when it is
+// principal already (a symmetric body keeps its axes)
+void principal_frame(const Matrix3d& inertia, const Quaterniond& near, Quaterniond* frame,
+                     Vector3d* moments);
+
+// Places a segment from solids given in a frame (x, q in world): one solid keeps its own frame
+// (the segment is centred on it, with its axes, as MuJoCo copies a single geom's frame); several
+// are composed (Composite) and the segment frame is their principal frame at their centre of
+// mass, nearest the first solid's axes. Sets the segment's mass, inertia, rest pose and shapes
+// (each placed in the segment frame) and derives its mass terms.
+void place_solids(const std::vector<Shape>& solids, const std::vector<double>& masses,
+                  const Vector3d& x, const Quaterniond& q, Segment& segment);
+
 // a joint as read: the Joint's own fields (type, limits, anchor_world, frame_world) set, its
 // segments still by name, a hinge's axis in world
 struct RawJoint {

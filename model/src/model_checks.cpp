@@ -139,17 +139,29 @@ std::string shape_problem(const Shape& shape) {
       if (problem.empty()) problem = length_problem("the half length", shape.half_length);
       break;
     case ShapeType::kBox:
+    case ShapeType::kEllipsoid:
       for (int i = 0; i < 3 && problem.empty(); ++i) {
         problem = length_problem("a half extent", shape.half_extents[i]);
       }
       break;
+  }
+  if (problem.empty()) {
+    for (int i = 0; i < 3 && problem.empty(); ++i) {
+      if (!(std::abs(shape.position[i]) <= kMaxLength)) {
+        problem = "a shape's centre is " + number(shape.position[i]) +
+                  " m from its segment's (at most " + number(kMaxLength) + " m)";
+      }
+    }
   }
   return problem;
 }
 
 std::string segment_problem(const Segment& s) {
   if (std::string p = name_problem(s.name); !p.empty()) return p;
-  if (std::string p = shape_problem(s.shape); !p.empty()) return p;
+  if (s.shapes.empty()) return "the segment has no shape";
+  for (const Shape& shape : s.shapes) {
+    if (std::string p = shape_problem(shape); !p.empty()) return p;
+  }
   if (!within(s.mass, kMinMass, kMaxMass)) {
     return "the mass is " + number(s.mass) + " kg (from " + number(kMinMass) + " to " +
            number(kMaxMass) + " kg)";

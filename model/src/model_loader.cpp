@@ -38,11 +38,14 @@ class Element {
     if (!value_.is_object()) fail("must be a JSON object");
   }
 
-  void reject_unknown(std::initializer_list<const char*> known) const {
+  void reject_unknown(std::initializer_list<const char*> known,
+                      std::initializer_list<const char*> also = {}) const {
     for (const auto& item : value_.items()) {
       // a named copy: C++20 lambdas may not capture structured bindings (clang refuses)
       const std::string& key = item.key();
-      if (std::none_of(known.begin(), known.end(), [&](const char* k) { return key == k; })) {
+      const auto is_key = [&](const char* k) { return key == k; };
+      if (std::none_of(known.begin(), known.end(), is_key) &&
+          std::none_of(also.begin(), also.end(), is_key)) {
         fail("unknown field " + detail::shown(key));
       }
     }
@@ -144,51 +147,96 @@ class Element {
   std::string where_;
 };
 
-Shape read_shape(const Element& e) {
+// a shape's type and size; `placed`: one of a segment's "shapes", which also gives its centre
+// ("position") and axes ("orientation") in world at rest
+Shape read_shape(const Element& e, bool placed) {
   e.require_object();
   Shape shape;
   const std::string type = e.string("type");
-  if (type == "capsule") {
-    e.reject_unknown({"type", "radius", "half_length"});
-    shape.type = ShapeType::kCapsule;
-    shape.radius = e.positive("radius");
-    shape.half_length = e.positive("half_length");
-  } else if (type == "cylinder") {
-    e.reject_unknown({"type", "radius", "half_length"});
-    shape.type = ShapeType::kCylinder;
+  const std::initializer_list<const char*> pose =
+      placed ? std::initializer_list<const char*>{"position", "orientation"}
+             : std::initializer_list<const char*>{};
+  if (type == "capsule" || type == "cylinder") {
+    e.reject_unknown({"type", "radius", "half_length"}, pose);
+    shape.type = type == "capsule" ? ShapeType::kCapsule : ShapeType::kCylinder;
     shape.radius = e.positive("radius");
     shape.half_length = e.positive("half_length");
   } else if (type == "sphere") {
-    e.reject_unknown({"type", "radius"});
+    e.reject_unknown({"type", "radius"}, pose);
     shape.type = ShapeType::kSphere;
     shape.radius = e.positive("radius");
-  } else if (type == "box") {
-    e.reject_unknown({"type", "half_extents"});
-    shape.type = ShapeType::kBox;
+  } else if (type == "box" || type == "ellipsoid") {
+    e.reject_unknown({"type", "half_extents"}, pose);
+    shape.type = type == "box" ? ShapeType::kBox : ShapeType::kEllipsoid;
     shape.half_extents = e.vector<3>("half_extents");
     if ((shape.half_extents.array() <= 0.0).any()) {
       e.fail("field \"half_extents\" must be positive");
     }
   } else {
     e.fail("unknown shape type " + detail::shown(type) +
-           " (expected capsule, box, cylinder or sphere)");
+           " (expected capsule, box, cylinder, sphere or ellipsoid)");
+  }
+  if (placed) {
+    shape.position = e.vector<3>("position");
+    if (e.has("orientation")) shape.orientation = e.quaternion("orientation");
   }
   return shape;
 }
 
+constexpr size_t kMaxShapes = 64;  // per segment (MuJoCo's humanoid100 has 22 on one body)
+
+// A segment: its mass, and either one "shape" centred on its "position" (its centre of mass)
+// with its "orientation", or several "shapes" placed in world, whose composition (uniform
+// density, MuJoCo's reading of a body's geoms) gives the centre of mass and principal frame. An
+// "inertia" (principal moments) replaces the solid's; with "shapes" it needs the segment's
+// "position" and "orientation", the frame it is diagonal in.
 Segment read_segment(const Element& e) {
   e.require_object();
-  e.reject_unknown({"name", "mass", "position", "orientation", "shape", "inertia"});
+  e.reject_unknown({"name", "mass", "position", "orientation", "shape", "shapes", "inertia"});
   Segment s;
   s.mass = e.positive("mass");
-  s.rest_position = e.vector<3>("position");
-  if (e.has("orientation")) s.rest_orientation = e.quaternion("orientation");
-  s.shape = read_shape(e.child("shape", "shape"));
+  if (e.has("shape") == e.has("shapes")) e.fail("give either \"shape\" or \"shapes\"");
+  if (e.has("shape")) {
+    s.rest_position = e.vector<3>("position");
+    if (e.has("orientation")) s.rest_orientation = e.quaternion("orientation");
+    s.shapes.push_back(read_shape(e.child("shape", "shape"), false));
+    s.inertia = solid_inertia(s.shapes[0], s.mass);
+  } else {
+    const json& list = e.field("shapes");
+    if (!list.is_array() || list.empty() || list.size() > kMaxShapes) {
+      e.fail("field \"shapes\" must be an array of 1 to " + std::to_string(kMaxShapes) + " shapes");
+    }
+    std::vector<Shape> solids;
+    double volume = 0.0;
+    for (size_t k = 0; k < list.size(); ++k) {
+      solids.push_back(
+          read_shape(Element(list[k], e.source(), "shape #" + std::to_string(k)), true));
+      volume += shape_volume(solids.back());
+    }
+    std::vector<double> masses;
+    for (const Shape& solid : solids) masses.push_back(s.mass * shape_volume(solid) / volume);
+    if (e.has("inertia")) {
+      // the shapes stay where they are; the segment frame is the one given
+      s.rest_position = e.vector<3>("position");
+      if (!e.has("orientation")) e.fail("\"shapes\" with \"inertia\" need \"orientation\"");
+      s.rest_orientation = e.quaternion("orientation");
+      for (Shape& solid : solids) {
+        solid.position = s.rest_orientation.conjugate() * (solid.position - s.rest_position);
+        solid.orientation = (s.rest_orientation.conjugate() * solid.orientation).normalized();
+      }
+      s.shapes = solids;
+    } else {
+      if (e.has("position") || e.has("orientation")) {
+        e.fail(
+            "with \"shapes\" the position and orientation come from the shapes (give them "
+            "only with \"inertia\")");
+      }
+      detail::place_solids(solids, masses, Vector3d::Zero(), Quaterniond::Identity(), s);
+    }
+  }
   if (e.has("inertia")) {
     s.inertia = e.vector<3>("inertia");
     if ((s.inertia.array() <= 0.0).any()) e.fail("field \"inertia\" must be positive");
-  } else {
-    s.inertia = solid_inertia(s.shape, s.mass);
   }
   derive_mass_terms(s);
   return s;
@@ -475,7 +523,7 @@ Model assemble(const std::string& name, std::vector<Segment> segments,
     j.anchor_in_child = child.rest_orientation.conjugate() * (j.anchor_world - child.rest_position);
     for (const auto* seg : {&parent, &child}) {
       const Vector3d local = seg == &parent ? j.anchor_in_parent : j.anchor_in_child;
-      const double distance = signed_distance(seg->shape, local);
+      const double distance = signed_distance(*seg, local);
       if (distance > kAnchorTolerance) {
         fail(Part::kJoint, ji,
              "anchor is " + Element::fmt(std::round(distance * 1000.0) / 10.0) +
@@ -500,9 +548,8 @@ Model assemble(const std::string& name, std::vector<Segment> segments,
   for (const Segment& s : model.segments) {
     model.total_mass += s.mass;
     const Vector3d up = s.rest_orientation.conjugate() * Vector3d::UnitZ();
-    top = std::max(top, (s.rest_position + s.rest_orientation * support_point(s.shape, up)).z());
-    bottom =
-        std::min(bottom, (s.rest_position + s.rest_orientation * support_point(s.shape, -up)).z());
+    top = std::max(top, (s.rest_position + s.rest_orientation * support_point(s, up)).z());
+    bottom = std::min(bottom, (s.rest_position + s.rest_orientation * support_point(s, -up)).z());
   }
   model.rest_height = top - bottom;
   return model;

@@ -1,11 +1,13 @@
 // Stage 3, contacts: the ground z = 0 as a position-level constraint. Each shape's candidate
-// points (capsule: the bottom of each cap; sphere: its bottom; box: its corners) found below
+// points (capsule: the bottom of each cap; sphere and ellipsoid: the lowest point; box: its
+// corners; cylinder: eight rim points), on every shape of a segment, found below
 // the plane are moved onto it by the same minimum-energy point correction as a joint (rule
 // `weighted`), with Coulomb friction on the tangential displacement of that material point over
 // the step: it sticks while the slide is within μ·depth, else slides by the excess. No
 // restitution. The seed's repulsion force in update() is the soft part of the same contact.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "rules/catalogue.h"
 #include "stages.h"
@@ -30,6 +32,8 @@ int candidate_count(const Shape& shape) {
       return 8;
     case ShapeType::kCylinder:
       return 8;  // four rim points on each end cap
+    case ShapeType::kEllipsoid:
+      return 1;
   }
   return 0;
 }
@@ -57,8 +61,26 @@ Vector3d contact_candidate(const Shape& shape, const Vector3d& up, int c) {
       return {shape.radius * turned.x(), shape.radius * turned.y(),
               c & 4 ? shape.half_length : -shape.half_length};
     }
+    case ShapeType::kEllipsoid:
+      return support_point(shape, -up);
   }
   return Vector3d::Zero();
+}
+
+// the same in the segment frame, where `up` is the world's up in that frame
+Vector3d segment_candidate(const Shape& shape, const Vector3d& up, int c) {
+  return from_shape(shape, contact_candidate(shape, shape.orientation.conjugate() * up, c));
+}
+
+// a segment's lowest reach below its origin along the world's up (segment frame)
+double reach_below(const Segment& segment, const Vector3d& up) {
+  double below = -std::numeric_limits<double>::infinity();
+  for (const Shape& shape : segment.shapes) {
+    double b = 0.0, a = 0.0;
+    shape_reach(shape, up, &b, &a);
+    below = std::max(below, b);
+  }
+  return below;
 }
 
 }  // namespace
@@ -71,29 +93,30 @@ double push_out_of_ground(const Model& model, const Environment& environment, in
   // only a point found below the plane is carried to world
   Vector3d up = up_in_frame(body.q);
   // a segment clear of the ground by more than rounding has no candidate below it
-  if (body.x.z() - half_height(seg.shape, up) > kClearance) return 0.0;
-  const int count = candidate_count(seg.shape);
+  if (body.x.z() - reach_below(seg, up) > kClearance) return 0.0;
   double deepest = 0.0;
   for (int pass = 0; pass < kContactPasses; ++pass) {
-    for (int c = 0; c < count; ++c) {
-      // every correction moves the segment: each candidate is read from the current pose
-      const Vector3d local = contact_candidate(seg.shape, up, c);
-      const double depth = -(body.x.z() + up.dot(local));
-      if (depth <= 0.0) continue;
-      deepest = std::max(deepest, depth);
+    for (const Shape& shape : seg.shapes) {
+      for (int c = 0; c < candidate_count(shape); ++c) {
+        // every correction moves the segment: each candidate is read from the current pose
+        const Vector3d local = segment_candidate(shape, up, c);
+        const double depth = -(body.x.z() + up.dot(local));
+        if (depth <= 0.0) continue;
+        deepest = std::max(deepest, depth);
 
-      // the same material point at the start of the step, and its slide along the ground
-      const Vector3d p = world_point(body, local);
-      const Vector3d p_prev = state.x_prev[segment] + state.q_prev[segment] * local;
-      Vector3d slide = p - p_prev;
-      slide.z() = 0.0;
-      Vector3d target(p.x(), p.y(), 0.0);
-      const double slide_norm = slide.norm();
-      const double stick = environment.friction * depth;
-      target -= slide_norm <= stick ? slide : (stick / slide_norm) * slide;
+        // the same material point at the start of the step, and its slide along the ground
+        const Vector3d p = world_point(body, local);
+        const Vector3d p_prev = state.x_prev[segment] + state.q_prev[segment] * local;
+        Vector3d slide = p - p_prev;
+        slide.z() = 0.0;
+        Vector3d target(p.x(), p.y(), 0.0);
+        const double slide_norm = slide.norm();
+        const double stick = environment.friction * depth;
+        target -= slide_norm <= stick ? slide : (stick / slide_norm) * slide;
 
-      close_segment_point(seg, local, target, body);
-      up = up_in_frame(body.q);
+        close_segment_point(seg, local, target, body);
+        up = up_in_frame(body.q);
+      }
     }
   }
   return deepest;
@@ -145,35 +168,36 @@ void ground_velocity_pass(const Model& model, const Environment& environment, St
     BodyState& body = state.bodies[s];
     const Vector3d up = up_in_frame(body.q);
     // a point touches when the position solve left it on the plane (to within kTouching)
-    if (body.x.z() - half_height(seg.shape, up) > kTouching) continue;
-    const int count = candidate_count(seg.shape);
-    for (int c = 0; c < count; ++c) {
-      const Vector3d local = contact_candidate(seg.shape, up, c);
-      if (body.x.z() + up.dot(local) > kTouching) continue;
-      const Vector3d r = body.q * local;  // world, from the centre
-      const Vector3d velocity = body.v + body.w.cross(r);
-      const double approach = velocity.z();
-      if (approach >= 0.0) continue;  // separating or resting: the position solve holds it
-      // the impulse along each direction that cancels the point's velocity there, through the
-      // segment's generalised inverse mass w = 1/m + (r × n)ᵀ I⁻¹ (r × n) (world)
-      const auto inverse_mass_along = [&](const Vector3d& n) {
-        const Vector3d arm = body.q.conjugate() * r.cross(n);
-        return seg.inv_mass + arm.cwiseAbs2().dot(seg.inv_inertia);
-      };
-      const auto apply = [&](const Vector3d& impulse) {
-        body.v += seg.inv_mass * impulse;
-        body.w += body.q * seg.inv_inertia.cwiseProduct(body.q.conjugate() * r.cross(impulse));
-      };
-      const double normal = -approach / inverse_mass_along(Vector3d::UnitZ());
-      apply(normal * Vector3d::UnitZ());
-      // Coulomb: the tangential velocity taken out, by at most μ times the normal impulse
-      const Vector3d after = body.v + body.w.cross(r);
-      const Vector3d tangential(after.x(), after.y(), 0.0);
-      const double speed = tangential.norm();
-      if (speed <= 0.0) continue;
-      const Vector3d direction = tangential / speed;
-      const double stop = speed / inverse_mass_along(direction);
-      apply(-std::min(stop, environment.friction * normal) * direction);
+    if (body.x.z() - reach_below(seg, up) > kTouching) continue;
+    for (const Shape& shape : seg.shapes) {
+      for (int c = 0; c < candidate_count(shape); ++c) {
+        const Vector3d local = segment_candidate(shape, up, c);
+        if (body.x.z() + up.dot(local) > kTouching) continue;
+        const Vector3d r = body.q * local;  // world, from the centre
+        const Vector3d velocity = body.v + body.w.cross(r);
+        const double approach = velocity.z();
+        if (approach >= 0.0) continue;  // separating or resting: the position solve holds it
+        // the impulse along each direction that cancels the point's velocity there, through the
+        // segment's generalised inverse mass w = 1/m + (r × n)ᵀ I⁻¹ (r × n) (world)
+        const auto inverse_mass_along = [&](const Vector3d& n) {
+          const Vector3d arm = body.q.conjugate() * r.cross(n);
+          return seg.inv_mass + arm.cwiseAbs2().dot(seg.inv_inertia);
+        };
+        const auto apply = [&](const Vector3d& impulse) {
+          body.v += seg.inv_mass * impulse;
+          body.w += body.q * seg.inv_inertia.cwiseProduct(body.q.conjugate() * r.cross(impulse));
+        };
+        const double normal = -approach / inverse_mass_along(Vector3d::UnitZ());
+        apply(normal * Vector3d::UnitZ());
+        // Coulomb: the tangential velocity taken out, by at most μ times the normal impulse
+        const Vector3d after = body.v + body.w.cross(r);
+        const Vector3d tangential(after.x(), after.y(), 0.0);
+        const double speed = tangential.norm();
+        if (speed <= 0.0) continue;
+        const Vector3d direction = tangential / speed;
+        const double stop = speed / inverse_mass_along(direction);
+        apply(-std::min(stop, environment.friction * normal) * direction);
+      }
     }
   }
 }

@@ -28,8 +28,35 @@ std::unique_ptr<btCollisionShape> make_shape(const Shape& shape) {
     case ShapeType::kCylinder:
       return std::make_unique<btCylinderShapeZ>(
           btVector3(shape.radius, shape.radius, shape.half_length));
+    case ShapeType::kEllipsoid: {
+      // a unit sphere scaled by the semi-axes: Bullet's sphere takes no scaling per axis, its
+      // one-sphere multi-sphere shape does
+      const btVector3 centre(0, 0, 0);
+      const btScalar unit = 1.0;
+      auto ellipsoid = std::make_unique<btMultiSphereShape>(&centre, &unit, 1);
+      ellipsoid->setLocalScaling(to_bt(shape.half_extents));
+      return ellipsoid;
+    }
   }
   return nullptr;
+}
+
+btCollisionShape* make_segment_shape(const Segment& segment,
+                                     std::vector<std::unique_ptr<btCollisionShape>>& owned) {
+  const Shape& first = segment.shapes.front();
+  if (segment.shapes.size() == 1 && first.position.isZero() &&
+      first.orientation.coeffs() == Quaterniond::Identity().coeffs()) {
+    owned.push_back(make_shape(first));
+    return owned.back().get();
+  }
+  auto compound = std::make_unique<btCompoundShape>(/*enableDynamicAabbTree=*/false,
+                                                    static_cast<int>(segment.shapes.size()));
+  for (const Shape& shape : segment.shapes) {
+    owned.push_back(make_shape(shape));
+    compound->addChildShape(to_bt(shape.orientation, shape.position), owned.back().get());
+  }
+  owned.push_back(std::move(compound));
+  return owned.back().get();
 }
 
 Ground make_ground() {

@@ -39,6 +39,10 @@ constexpr double kMaxImpulse = 1e6;
 // the model's shape, centred on the segment's COM in its segment frame (a capsule's axis is z
 // in both conventions; half_length is half the cylinder part in both)
 std::unique_ptr<btCollisionShape> make_shape(const Shape& shape);
+// a segment's collider: its one shape, or a compound of its shapes each at its place in the
+// segment frame; what it creates is kept in `owned` (children before their compound)
+btCollisionShape* make_segment_shape(const Segment& segment,
+                                     std::vector<std::unique_ptr<btCollisionShape>>& owned);
 
 // the plane z = 0, friction 1 so that Bullet's product of frictions is the segment's μ
 struct Ground {

@@ -344,11 +344,10 @@ void MultibodySolver::build_limits() {
 void MultibodySolver::build_colliders() {
   const int mask = segment_mask(environment_);
   for (int s = 0; s < model_.segment_count(); ++s) {
-    std::unique_ptr<btCollisionShape> shape = make_shape(model_.segments[s].shape);
+    btCollisionShape* shape = make_segment_shape(model_.segments[s], shapes_);
     const int link = link_of_[s];
     auto collider = std::make_unique<btMultiBodyLinkCollider>(body_.get(), link);
-    collider->setCollisionShape(shape.get());
-    shapes_.push_back(std::move(shape));
+    collider->setCollisionShape(shape);
     // Bullet multiplies the two frictions; the ground's is 1
     collider->setFriction(environment_.friction);
     collider->setRestitution(0.0);

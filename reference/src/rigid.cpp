@@ -123,9 +123,9 @@ RigidSolver::~RigidSolver() {
 void RigidSolver::build_bodies() {
   const int mask = segment_mask(environment_);
   for (const Segment& segment : model_.segments) {
-    shapes_.push_back(make_shape(segment.shape));
+    btCollisionShape* shape = make_segment_shape(segment, shapes_);
     // the model's inertia, never Bullet's calculateLocalInertia
-    btRigidBody::btRigidBodyConstructionInfo info(segment.mass, nullptr, shapes_.back().get(),
+    btRigidBody::btRigidBodyConstructionInfo info(segment.mass, nullptr, shape,
                                                   to_bt(segment.inertia));
     info.m_startWorldTransform = to_bt(segment.rest_orientation, segment.rest_position);
     info.m_linearDamping = 0.0;  // nothing but the environment takes energy out

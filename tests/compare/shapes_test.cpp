@@ -24,7 +24,7 @@ Model one_cylinder() {
 // the cylinder 5 cm above the ground, axis up or along x, after 2 s at 1/240 s
 BodyState settled(const std::string& solver, const Model& model, bool lying) {
   Scenario s = make_scenario("drop", model);
-  const double r = model.segments[0].shape.radius, h = model.segments[0].shape.half_length;
+  const double r = model.segments[0].shapes[0].radius, h = model.segments[0].shapes[0].half_length;
   s.initial[0] = BodyState{};
   s.initial[0].q = lying ? Quaterniond(Eigen::AngleAxisd(std::numbers::pi / 2, Vector3d::UnitY()))
                          : Quaterniond::Identity();

@@ -48,7 +48,7 @@ TEST(Environment, ASubmergedBodyFeelsArchimedes) {
   water.water = true;
   water.water_level = 5.0;
   const EnvironmentForce f = environment_force(segment, water, body, 1.0 / 240.0);
-  const double volume = shape_volume(segment.shape);
+  const double volume = segment_volume(segment);
   EXPECT_NEAR(volume, M_PI * 0.01 * 0.6 + 4.0 / 3.0 * M_PI * 0.001, 1e-15);
   const Vector3d expected =
       segment.mass * water.gravity - water.water_density * volume * water.gravity;
@@ -79,7 +79,7 @@ TEST(Environment, DragIsTheRateThatDecaysByTheExponential) {
     EXPECT_LE(rate, 1.0 / h);
     const EnvironmentForce f = environment_force(segment, air, body, h);
     EXPECT_NEAR(f.drag, rate, 1e-15 * rate);
-    const Vector3d buoyancy = -0.5 * air.water_density * shape_volume(segment.shape) * air.gravity;
+    const Vector3d buoyancy = -0.5 * air.water_density * segment_volume(segment) * air.gravity;
     EXPECT_LT((f.force - buoyancy + rate * segment.mass * body.v).norm(), 1e-12) << h;
     const Wrench wrench = environment_wrench(segment, air, body, h);
     const Vector3d torque = -rate * (world_inertia(segment, body.q) * body.w);

@@ -51,10 +51,15 @@ TEST(MjcfReader, PinocchioRoundTripsBitForBit) {
     EXPECT_EQ(t.inv_mass, s.inv_mass);
     expect_same_vector(t.inertia, s.inertia, "inertia");
     expect_same_vector(t.inv_inertia, s.inv_inertia, "inv_inertia");
-    EXPECT_EQ(t.shape.type, s.shape.type);
-    EXPECT_EQ(t.shape.radius, s.shape.radius);
-    EXPECT_EQ(t.shape.half_length, s.shape.half_length);
-    expect_same_vector(t.shape.half_extents, s.shape.half_extents, "half_extents");
+    ASSERT_EQ(t.shapes.size(), s.shapes.size());
+    for (size_t k = 0; k < s.shapes.size(); ++k) {
+      EXPECT_EQ(t.shapes[k].type, s.shapes[k].type);
+      EXPECT_EQ(t.shapes[k].radius, s.shapes[k].radius);
+      EXPECT_EQ(t.shapes[k].half_length, s.shapes[k].half_length);
+      expect_same_vector(t.shapes[k].half_extents, s.shapes[k].half_extents, "half_extents");
+      expect_same_vector(t.shapes[k].position, s.shapes[k].position, "shape position");
+      expect_same_quaternion(t.shapes[k].orientation, s.shapes[k].orientation, "shape axes");
+    }
     expect_same_vector(t.rest_position, s.rest_position, "rest_position");
     expect_same_quaternion(t.rest_orientation, s.rest_orientation, "rest_orientation");
     EXPECT_EQ(t.parent, s.parent);
@@ -246,7 +251,7 @@ TEST(MjcfReader, HandWrittenFileInMujocosTerms) {
   ASSERT_EQ(m.segment_count(), 3);
   const Segment& torso = m.segments[0];
   EXPECT_EQ(torso.mass, 20.0);
-  EXPECT_EQ(torso.shape.type, ShapeType::kBox);
+  EXPECT_EQ(torso.shapes[0].type, ShapeType::kBox);
   EXPECT_NEAR(torso.inertia.x(), 20.0 / 12.0 * (0.4 * 0.4 + 0.6 * 0.6), 1e-12);
 
   // zyx Euler: 90° about z turns the body's frame; fromto makes the capsule's axis −z of it
@@ -254,8 +259,8 @@ TEST(MjcfReader, HandWrittenFileInMujocosTerms) {
   const double r = 0.05, h = 0.15;
   const double volume = kPi * r * r * 2 * h + 4.0 / 3.0 * kPi * r * r * r;
   EXPECT_NEAR(upper.mass, 500.0 * volume, 1e-12);
-  EXPECT_EQ(upper.shape.type, ShapeType::kCapsule);
-  EXPECT_NEAR(upper.shape.half_length, h, 1e-15);
+  EXPECT_EQ(upper.shapes[0].type, ShapeType::kCapsule);
+  EXPECT_NEAR(upper.shapes[0].half_length, h, 1e-15);
   EXPECT_LT((upper.rest_position - Vector3d(0, 0.22, 1.6)).norm(), 1e-12);
   EXPECT_LT((upper.rest_orientation * Vector3d::UnitZ() - Vector3d(0, 0, -1)).norm(), 1e-12);
   const Joint& shoulder = m.joints[0];

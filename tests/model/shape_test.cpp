@@ -101,7 +101,7 @@ TEST(Shape, WorldInverseInertiaInvertsTheWorldInertia) {
   std::mt19937_64 random(7);
   std::normal_distribution<double> normal;
   for (const Shape& shape : shapes) {
-    segment.shape = shape;
+    segment.shapes = {shape};
     segment.inertia = solid_inertia(shape, segment.mass);
     derive_mass_terms(segment);
     for (int k = 0; k < 200; ++k) {

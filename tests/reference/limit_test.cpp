@@ -322,8 +322,8 @@ TEST(LimitImpact, WithoutTheVelocityPassXpbdGivesTheImpactBack) {
   std::vector<BodyState> start = rest_pose(model);
   start[1].w = kImpactSpeed * limited_axis(model);
   start[1].v = start[1].w.cross(start[1].x - joint.anchor_world);
-  procedural::Solver solver =
-      procedural_solver(with_still_parent(model), procedural::Rule::kXpbd, false);
+  const Model still = with_still_parent(model);  // the solver keeps a reference to its model
+  procedural::Solver solver = procedural_solver(still, procedural::Rule::kXpbd, false);
   solver.reset(start);
   const double back = rebound(model, joint.upper, [&](int step) {
     if (step > 0) solver.step(kImpactDt);

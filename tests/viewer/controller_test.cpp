@@ -36,7 +36,7 @@ TEST(Controller, PressOnThePuppetGrabsThePointUnderTheMouse) {
   Vector2d held_pixel = f.pixel_of(held);
   EXPECT_LE((held_pixel - pixel).norm(), 1e-6);
   const BodyState& arm = f.session.run(0).bodies[forearm];
-  const Shape& shape = f.session.model().segments[forearm].shape;
+  const Shape& shape = f.session.model().segments[forearm].shapes[0];
   EXPECT_NEAR(signed_distance(shape, arm.q.conjugate() * (held - arm.x)), 0.0, 1e-9);
   EXPECT_LT((held - f.camera.eye()).norm(), (arm.x - f.camera.eye()).norm());
 

@@ -68,7 +68,7 @@ void frame_model(App& app) {
     for (int axis = 0; axis < 3; ++axis) {
       for (const double sign : {-1.0, 1.0}) {
         const Vector3d d = sign * Vector3d::Unit(axis);
-        const Vector3d p = b.x + b.q * support_point(segment.shape, b.q.conjugate() * d);
+        const Vector3d p = b.x + b.q * support_point(segment, b.q.conjugate() * d);
         low = low.cwiseMin(p);
         high = high.cwiseMax(p);
       }

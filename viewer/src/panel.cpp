@@ -124,8 +124,9 @@ void world_section(Session& session) {
   ImGui::SameLine();
   changed |= ImGui::Checkbox("tremble", &e.tremble);
   if (ImGui::IsItemHovered()) {
-    ImGui::SetTooltip("the seed's tremble: a force on every segment, in every solver, that grows "
-                      "with the grab's pull");
+    ImGui::SetTooltip(
+        "the seed's tremble: a force on every segment, in every solver, that grows "
+        "with the grab's pull");
   }
   if (!changed) return;
   e.gravity = {g[0], g[1], g[2]};

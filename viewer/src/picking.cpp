@@ -97,6 +97,19 @@ std::optional<double> intersect(const Shape& shape, const Ray& local_ray) {
       return intersect_box(local_ray, shape.half_extents);
     case ShapeType::kCylinder:
       return intersect_cylinder(local_ray, shape.radius, shape.half_length);
+    case ShapeType::kEllipsoid: {
+      // the unit sphere in coordinates scaled by the semi-axes, where the ray keeps its t but
+      // not its unit direction: a t² + 2 b t + c = 0
+      const Vector3d scale = shape.half_extents.cwiseInverse();
+      const Vector3d m = local_ray.origin.cwiseProduct(scale);
+      const Vector3d d = local_ray.direction.cwiseProduct(scale);
+      const double a = d.squaredNorm(), b = m.dot(d), c = m.squaredNorm() - 1.0;
+      if (c <= 0.0) return 0.0;
+      if (b > 0.0) return std::nullopt;
+      const double disc = b * b - a * c;
+      if (disc < 0.0) return std::nullopt;
+      return (-b - std::sqrt(disc)) / a;
+    }
   }
   return std::nullopt;
 }
@@ -107,11 +120,15 @@ Hit pick(const Model& model, std::span<const BodyState> bodies, const Ray& ray) 
     const BodyState& body = bodies[s];
     const Quaterniond to_local = body.q.conjugate();
     const Ray local{to_local * (ray.origin - body.x), to_local * ray.direction};
-    const std::optional<double> t = intersect(model.segments[s].shape, local);
-    if (t && (hit.segment < 0 || *t < hit.distance)) {
-      hit.segment = s;
-      hit.distance = *t;
-      hit.local_point = local.at(*t);
+    for (const Shape& shape : model.segments[s].shapes) {
+      const Ray in_shape{to_shape(shape, local.origin),
+                         shape.orientation.conjugate() * local.direction};
+      const std::optional<double> t = intersect(shape, in_shape);
+      if (t && (hit.segment < 0 || *t < hit.distance)) {
+        hit.segment = s;
+        hit.distance = *t;
+        hit.local_point = local.at(*t);
+      }
     }
   }
   if (hit.segment >= 0) hit.world_point = ray.at(hit.distance);

@@ -272,31 +272,44 @@ void Renderer::draw_mesh(const Mesh& mesh, const Matrix4f& model, const Vector4f
 void Renderer::draw_model(const Model& model, std::span<const BodyState> bodies, int grabbed,
                           const Vector3f& colour, float alpha) {
   for (int s = 0; s < model.segment_count(); ++s) {
-    const Shape& shape = model.segments[s].shape;
-    const Matrix4f frame = pose(bodies[s]);
     const Vector4f c = with_alpha(s == grabbed ? Palette::kGrabbed : colour, alpha);
-    const float r = static_cast<float>(shape.radius);
-    switch (shape.type) {
-      case ShapeType::kSphere:
-        draw_mesh(sphere_, frame * translation_scale(Vector3f::Zero(), Vector3f::Constant(r)), c);
-        break;
-      case ShapeType::kCapsule: {
-        const float h = static_cast<float>(shape.half_length);
-        draw_mesh(cylinder_, frame * translation_scale(Vector3f::Zero(), Vector3f(r, r, h)), c);
-        draw_mesh(sphere_, frame * translation_scale(Vector3f(0, 0, h), Vector3f::Constant(r)), c);
-        draw_mesh(sphere_, frame * translation_scale(Vector3f(0, 0, -h), Vector3f::Constant(r)), c);
-        break;
-      }
-      case ShapeType::kBox:
-        draw_mesh(cube_,
-                  frame * translation_scale(Vector3f::Zero(), shape.half_extents.cast<float>()), c);
-        break;
-      case ShapeType::kCylinder: {
-        const float h = static_cast<float>(shape.half_length);
-        draw_mesh(cylinder_, frame * translation_scale(Vector3f::Zero(), Vector3f(r, r, h)), c);
-        draw_mesh(disc_, frame * translation_scale(Vector3f(0, 0, h), Vector3f(r, r, 1)), c);
-        draw_mesh(disc_, frame * translation_scale(Vector3f(0, 0, -h), Vector3f(r, r, -1)), c);
-        break;
+    for (const Shape& shape : model.segments[s].shapes) {
+      // the shape's own frame: the segment's, then the shape's place in it
+      Affine3f placed = Affine3f::Identity();
+      placed.translate(shape.position.cast<float>());
+      placed.rotate(shape.orientation.cast<float>());
+      const Matrix4f frame = pose(bodies[s]) * placed.matrix();
+      const float r = static_cast<float>(shape.radius);
+      switch (shape.type) {
+        case ShapeType::kSphere:
+          draw_mesh(sphere_, frame * translation_scale(Vector3f::Zero(), Vector3f::Constant(r)), c);
+          break;
+        case ShapeType::kCapsule: {
+          const float h = static_cast<float>(shape.half_length);
+          draw_mesh(cylinder_, frame * translation_scale(Vector3f::Zero(), Vector3f(r, r, h)), c);
+          draw_mesh(sphere_, frame * translation_scale(Vector3f(0, 0, h), Vector3f::Constant(r)),
+                    c);
+          draw_mesh(sphere_, frame * translation_scale(Vector3f(0, 0, -h), Vector3f::Constant(r)),
+                    c);
+          break;
+        }
+        case ShapeType::kBox:
+          draw_mesh(cube_,
+                    frame * translation_scale(Vector3f::Zero(), shape.half_extents.cast<float>()),
+                    c);
+          break;
+        case ShapeType::kCylinder: {
+          const float h = static_cast<float>(shape.half_length);
+          draw_mesh(cylinder_, frame * translation_scale(Vector3f::Zero(), Vector3f(r, r, h)), c);
+          draw_mesh(disc_, frame * translation_scale(Vector3f(0, 0, h), Vector3f(r, r, 1)), c);
+          draw_mesh(disc_, frame * translation_scale(Vector3f(0, 0, -h), Vector3f(r, r, -1)), c);
+          break;
+        }
+        case ShapeType::kEllipsoid:
+          draw_mesh(sphere_,
+                    frame * translation_scale(Vector3f::Zero(), shape.half_extents.cast<float>()),
+                    c);
+          break;
       }
     }
   }

@@ -8,9 +8,9 @@
 namespace puppet::compare {
 namespace {
 
-// the shape's extreme point along a world direction, at rest, in the segment frame
+// the shapes' extreme point along a world direction, at rest, in the segment frame
 Vector3d rest_extreme_point(const Segment& segment, const Vector3d& world_direction) {
-  return support_point(segment.shape, segment.rest_orientation.conjugate() * world_direction);
+  return support_point(segment, segment.rest_orientation.conjugate() * world_direction);
 }
 
 double rest_lowest_z(const Segment& segment) {
@@ -100,8 +100,7 @@ Scenario held_figure(const Model& model, const ScenarioOptions& options, bool he
     hand_pin = choose_point(model, options.grab, default_grab_segment(model, hand->segment),
                             -Vector3d::UnitZ(), "grab");
     if (start && !(options.grab && options.grab->local_point)) {
-      hand_pin.local_point =
-          support_point(model.segments[hand_pin.segment].shape, start->grab_direction);
+      hand_pin.local_point = support_point(model.segments[hand_pin.segment], start->grab_direction);
     }
   }
   // a random start poses the figure from the segment held first (it stays at rest, so a held

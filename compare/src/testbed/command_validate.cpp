@@ -21,12 +21,14 @@ int validate(const std::string& path) {
               model.rest_height);
   std::printf("  %-14s %-14s %8s  %s\n", "segment", "parent", "mass kg", "shape");
   for (const Segment& s : model.segments) {
-    const char* shape = s.shape.type == ShapeType::kCapsule    ? "capsule"
-                        : s.shape.type == ShapeType::kBox      ? "box"
-                        : s.shape.type == ShapeType::kCylinder ? "cylinder"
-                                                               : "sphere";
+    std::string shapes;
+    for (const Shape& shape : s.shapes) {
+      if (!shapes.empty()) shapes += ", ";
+      shapes += shape_type_name(shape.type);
+    }
     std::printf("  %-14s %-14s %8.3f  %s\n", s.name.c_str(),
-                s.parent >= 0 ? model.segments[s.parent].name.c_str() : "-", s.mass, shape);
+                s.parent >= 0 ? model.segments[s.parent].name.c_str() : "-", s.mass,
+                shapes.c_str());
   }
   std::printf("  %-14s %-6s %-14s %-14s %s\n", "joint", "type", "parent", "child", "limits (deg)");
   for (const Joint& j : model.joints) {

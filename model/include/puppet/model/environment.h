@@ -89,7 +89,10 @@ inline Vector3d up_in_frame(const Quaterniond& q) {
 }
 /// a shape's half height along a unit direction of its frame (its support distance)
 double half_height(const Shape& shape, const Vector3d& up);
-/// world z-extent of a segment's shape
+/// how far a shape placed in its segment reaches below and above the segment's origin along
+/// `up` (a unit direction of the segment frame)
+void shape_reach(const Shape& shape, const Vector3d& up, double* below, double* above);
+/// world z-extent of a segment's shapes
 void vertical_extent(const Segment& segment, const Quaterniond& q, const Vector3d& x, double* low,
                      double* high);
 /// fraction of the segment below the water surface: linear in depth across its vertical extent

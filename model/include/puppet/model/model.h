@@ -19,23 +19,31 @@ using Eigen::Matrix3d;
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
 
-enum class ShapeType { kSphere, kCapsule, kBox, kCylinder };
+enum class ShapeType { kSphere, kCapsule, kBox, kCylinder, kEllipsoid };
 
-/// a collision/visual shape in its segment's frame, centred on the segment's COM
+/// a collision/visual shape, placed in its segment's frame (a segment's only shape sits at the
+/// origin, the centre of mass, with the segment's axes)
 struct Shape {
   ShapeType type = ShapeType::kSphere;
   double radius = 0.0;             ///< sphere, capsule, cylinder
   double half_length = 0.0;        ///< capsule: half the cylinder part; cylinder: half its height;
-                                   /// both along local z
-  Vector3d half_extents{0, 0, 0};  ///< box
+                                   /// both along the shape's z
+  Vector3d half_extents{0, 0, 0};  ///< box; ellipsoid: its semi-axes
+  Vector3d position{0, 0, 0};      ///< the shape's centre in the segment frame
+  Quaterniond orientation = Quaterniond::Identity();  ///< the shape's axes in the segment frame
 };
 
+/// "sphere", "capsule", "box", "cylinder", "ellipsoid"
+const char* shape_type_name(ShapeType type);
+
+/// The shape functions below read the shape in its own frame (centred, its own axes)
 double shape_volume(const Shape& shape);
-/// solid-body inertia of the shape with the given mass, diagonal in the segment frame
+/// solid-body inertia of the shape with the given mass, diagonal in the shape's own frame
 Vector3d solid_inertia(const Shape& shape, double mass);
-/// the shape's point furthest along `direction` (segment frame); ties resolve to the middle
+/// the shape's point furthest along `direction` (shape frame); ties resolve to the middle
 Vector3d support_point(const Shape& shape, const Vector3d& direction);
-/// signed distance from a point (segment frame) to the shape's surface, negative inside
+/// signed distance from a point (shape frame) to the shape's surface, negative inside (for an
+/// ellipsoid a bound that has the right sign and is exact on the axes)
 double signed_distance(const Shape& shape, const Vector3d& point);
 
 struct Segment {
@@ -45,7 +53,8 @@ struct Segment {
   /// 1/mass and 1/inertia, derived by derive_mass_terms(): the solvers multiply, never divide
   double inv_mass = 0.0;
   Vector3d inv_inertia{0, 0, 0};
-  Shape shape;
+  /// one shape or more (MJCF's geoms of one body), each placed in the segment frame
+  std::vector<Shape> shapes;
   Vector3d rest_position{0, 0, 0};                         ///< COM in world at rest
   Quaterniond rest_orientation = Quaterniond::Identity();  ///< segment frame in world at rest
   int parent_joint = -1;  ///< joint whose child this segment is; -1 for the root
@@ -97,6 +106,15 @@ struct Joint {
 
 /// fills the segment's inverse mass and inertia; call after setting mass and inertia
 void derive_mass_terms(Segment& segment);
+/// The segment's shapes together, in the segment frame: the point furthest along `direction`,
+/// the signed distance of a point (the least over the shapes) and the volume (the sum; shapes
+/// that overlap count twice, as MuJoCo counts their mass)
+Vector3d support_point(const Segment& segment, const Vector3d& direction);
+double signed_distance(const Segment& segment, const Vector3d& point);
+double segment_volume(const Segment& segment);
+/// a point of the segment frame in the shape's own frame, and back
+Vector3d to_shape(const Shape& shape, const Vector3d& in_segment);
+Vector3d from_shape(const Shape& shape, const Vector3d& in_shape);
 /// whether `frame` (a rotation in the segment's frame) is a principal frame of the segment: its
 /// inertia, seen in that frame, is diagonal to 1e-9 of its largest moment. Segment frames always
 /// are; joint frames need not be (a solver whose link frames must be principal checks this)

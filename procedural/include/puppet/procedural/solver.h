@@ -71,6 +71,9 @@ class Solver {
   /// here when null; tables of another model throw std::invalid_argument)
   Solver(const Model& model, const Settings& settings, const Environment& environment,
          std::shared_ptr<const ModelTables> tables = nullptr);
+  /// a temporary model would not outlive the solver
+  Solver(Model&&, const Settings&, const Environment&,
+         std::shared_ptr<const ModelTables> = nullptr) = delete;
   ~Solver();
   Solver(Solver&&) noexcept;
   Solver(const Solver&) = delete;
