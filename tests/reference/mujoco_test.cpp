@@ -269,9 +269,19 @@ void expect_read_as_mujoco(const std::string& path) {
   mj_kinematics(m, d);
   EXPECT_EQ(m->nbody, model.segment_count() + 1);
   EXPECT_NEAR(mj_getTotalmass(m), model.total_mass, 1e-12 * model.total_mass);
+  // a body MuJoCo has no name for is the one whose id the generated name gives ("body3", and
+  // "body3_" where a named body is "body3")
+  const auto body_id = [&](const std::string& name) {
+    int b = mj_name2id(m, mjOBJ_BODY, name.c_str());
+    if (b < 0 && name.rfind("body", 0) == 0) {
+      b = std::atoi(name.c_str() + 4);
+      EXPECT_EQ(m->names[m->name_bodyadr[b]], '\0') << name;
+    }
+    return b;
+  };
   for (const Segment& segment : model.segments) {
     SCOPED_TRACE(segment.name);
-    const int b = mj_name2id(m, mjOBJ_BODY, segment.name.c_str());
+    const int b = body_id(segment.name);
     ASSERT_GE(b, 1);
     EXPECT_NEAR(m->body_mass[b], segment.mass, 1e-12 * segment.mass);
     // the principal moments, and the inertia tensor in world, which no choice of principal axes
@@ -321,17 +331,20 @@ void expect_read_as_mujoco(const std::string& path) {
   }
   for (const Joint& joint : model.joints) {
     SCOPED_TRACE(joint.name);
-    const int j = mj_name2id(m, mjOBJ_JOINT, joint.name.c_str());
     if (joint.type == JointType::kFixed) {
-      EXPECT_LT(j, 0);
+      EXPECT_LT(mj_name2id(m, mjOBJ_JOINT, joint.name.c_str()), 0);
       continue;
     }
+    // an unnamed joint took its body's name: it is that body's joint
+    int j = mj_name2id(m, mjOBJ_JOINT, joint.name.c_str());
+    if (j < 0) j = m->body_jntadr[body_id(model.segments[joint.child].name)];
     ASSERT_GE(j, 0);
     const Vector3d anchor(d->xanchor[3 * j], d->xanchor[3 * j + 1], d->xanchor[3 * j + 2]);
     EXPECT_LT((anchor - joint.anchor_world).norm(), 1e-12);
     if (joint.type == JointType::kHinge) {
-      EXPECT_NEAR(m->jnt_range[2 * j], joint.lower, 1e-15);
-      EXPECT_NEAR(m->jnt_range[2 * j + 1], joint.upper, 1e-15);
+      // an unlimited hinge turns all the way round: ±π
+      EXPECT_NEAR(m->jnt_limited[j] ? m->jnt_range[2 * j] : -M_PI, joint.lower, 1e-15);
+      EXPECT_NEAR(m->jnt_limited[j] ? m->jnt_range[2 * j + 1] : M_PI, joint.upper, 1e-15);
       const Vector3d axis(d->xaxis[3 * j], d->xaxis[3 * j + 1], d->xaxis[3 * j + 2]);
       EXPECT_LT((axis - joint.frame_world * joint.hinge_axis).norm(), 1e-12);
     } else if (m->jnt_limited[j]) {
