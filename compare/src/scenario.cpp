@@ -2,10 +2,14 @@
 // model. The scenarios themselves are one file each under scenarios/ (catalogue.cpp lists them).
 #include "puppet/compare/scenario.h"
 
+#include "puppet/model/text.h"
 #include "puppet/model/user_forces.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <mutex>
+#include <set>
 
 namespace puppet::compare {
 namespace {
@@ -152,8 +156,38 @@ std::string builtin_model_path() {
   return std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json";
 }
 
+namespace {
+std::mutex reading_mutex;
+ReadOptions reading;
+std::set<std::string> noted;  // the files whose skip note is printed
+}  // namespace
+
+void set_model_reading(const ReadOptions& options) {
+  const std::lock_guard<std::mutex> lock(reading_mutex);
+  reading = options;
+}
+
+ReadOptions model_reading() {
+  const std::lock_guard<std::mutex> lock(reading_mutex);
+  return reading;
+}
+
 Model load_named_model(const std::string& name) {
-  return load_model(name == "pinocchio" ? builtin_model_path() : name);
+  ReadOptions options;
+  {
+    const std::lock_guard<std::mutex> lock(reading_mutex);
+    options = reading;
+  }
+  std::string note;
+  Model model = load_model(name == "pinocchio" ? builtin_model_path() : name, options, &note);
+  if (!note.empty()) {
+    const std::lock_guard<std::mutex> lock(reading_mutex);
+    if (noted.insert(name).second) {
+      std::fprintf(stderr, "testbed: %s: skipped what the testbed does not model: %s\n",
+                   printable(name, 256).c_str(), printable(note, 300).c_str());
+    }
+  }
+  return model;
 }
 
 }  // namespace puppet::compare

@@ -14,13 +14,16 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 #include <sstream>
 #include <vector>
 
 #include "model_builder.h"
+#include "puppet/model/file.h"
 #include "puppet/model/mjcf.h"
 
 namespace puppet {
@@ -65,6 +68,10 @@ constexpr Names kLightAttributes = {"name",    "class",   "directional", "castsh
 constexpr Names kMaterialAttributes = {"name",        "class",    "texture",  "texrepeat",
                                        "texuniform",  "emission", "specular", "shininess",
                                        "reflectance", "rgba"};
+// what a <default> may also set: defaults of what this reader skips or refuses
+constexpr Names kDefaultKindsElsewhere = {
+    "mesh",     "pair",        "equality", "tendon",   "general", "motor",   "position",
+    "velocity", "intvelocity", "damper",   "cylinder", "muscle",  "adhesion"};
 constexpr Names kOrientationAttributes = {"quat", "axisangle", "xyaxes", "zaxis", "euler"};
 constexpr Names kSizeAttributes = {"njmax",       "nconmax",    "nstack",       "nuserdata",
                                    "nkey",        "nuser_body", "nuser_jnt",    "nuser_geom",
@@ -210,47 +217,44 @@ struct DefaultClass {
   std::map<std::string, std::map<std::string, std::string>> own;
 };
 
+// <include> files: at most this deep, and this many in one model (each file once, as MuJoCo)
+constexpr int kMaxIncludeDepth = 8;
+constexpr int kMaxIncludedFiles = 64;
+
+// What the testbed does not model and skips where the passive dynamics stay those MuJoCo
+// computes (an actuator with no control, a sensor, a camera...): each kind counted for the note
+std::string skipped_note(const std::map<std::string, int>& skipped) {
+  std::string note;
+  for (const auto& [kind, count] : skipped) {
+    note += (note.empty() ? "" : ", ") + std::to_string(count) + " <" + kind + ">";
+  }
+  return note;
+}
+
 class Reader {
  public:
-  explicit Reader(std::string source) : source_(std::move(source)) {}
+  Reader(std::string source, const ReadOptions& options)
+      : source_(std::move(source)), options_(options) {}
 
-  Model read(const std::string& text) {
-    if (std::string problem = detail::text_problem(text); !problem.empty()) {
-      throw ModelError(source_ + ": " + problem);
-    }
-    if (const auto [line, problem] = xml_shape_problem(text); line > 0) {
-      throw ModelError(source_ + ":" + std::to_string(line) + ": " + problem);
-    }
-    tinyxml2::XMLDocument doc;
-    if (doc.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) {
-      // "XML_ERROR_MISMATCHED_ELEMENT" → "mismatched element"
-      std::string what = doc.ErrorName();
-      if (what.rfind("XML_ERROR_", 0) == 0) what = what.substr(10);
-      for (char& c : what) c = c == '_' ? ' ' : static_cast<char>(std::tolower(c));
-      throw ModelError(source_ + ":" + std::to_string(doc.ErrorLineNum()) +
-                       ": malformed XML: " + what);
-    }
-    const XMLElement* root = doc.RootElement();
-    if (root == nullptr) throw ModelError(source_ + ":1: malformed XML: no element");
-    check_outside_root(doc);
+  Model read(const std::string& text, std::string* note) {
+    const XMLElement* root = parse_document(text, source_);
     if (std::string(root->Name()) != "mujoco") {
       throw ModelError(source_ + ":" + std::to_string(root->GetLineNum()) + ": <" +
                        one_line(root->Name()) + ">: the root element must be <mujoco>");
     }
-    if (const XMLElement* second = root->NextSiblingElement()) {
-      fail(second, "a second root element (a file holds one <mujoco>)");
-    }
+    folder_ = std::filesystem::path(source_).parent_path();
     check_attributes(root, {"model"});
     root_line_ = root->GetLineNum();
     name_ = model_name(attribute(root, "model").value_or(""));
 
-    // the sections, in any order; the compiler's settings first since everything reads them
-    for (const XMLElement* e = root->FirstChildElement("compiler"); e;
-         e = e->NextSiblingElement("compiler")) {
-      read_compiler(e);
+    // the sections, in any order and any number (MuJoCo merges repeated ones); the compiler's
+    // settings first since everything reads them
+    const std::vector<const XMLElement*> sections = children(root);
+    for (const XMLElement* e : sections) {
+      if (std::string(e->Name()) == "compiler") read_compiler(e);
     }
-    const XMLElement* world = nullptr;
-    for (const XMLElement* e = root->FirstChildElement(); e; e = e->NextSiblingElement()) {
+    std::vector<const XMLElement*> worlds;
+    for (const XMLElement* e : sections) {
       const std::string tag = e->Name();
       if (tag == "compiler") continue;
       if (tag == "option") {
@@ -260,37 +264,43 @@ class Reader {
       } else if (tag == "default") {
         read_default(e, "main", -1);
       } else if (tag == "worldbody") {
-        if (world) fail(e, "a second <worldbody>");
-        world = e;
-      } else if (tag == "visual" || tag == "statistic" || tag == "asset" || tag == "sensor") {
-        // what is drawn and what is measured: nothing that moves the body
+        worlds.push_back(e);
+      } else if (tag == "visual" || tag == "statistic" || tag == "asset") {
+        // what is drawn: nothing that moves the body
       } else if (tag == "contact") {
-        for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+        for (const XMLElement* c : children(e)) {
           // segments never collide with each other here: an exclusion changes nothing
           if (std::string(c->Name()) != "exclude") {
             fail(c, "is not supported (segments collide only with the ground)");
           }
         }
-      } else if (tag == "actuator" || tag == "tendon" || tag == "equality" || tag == "keyframe" ||
-                 tag == "custom" || tag == "extension") {
-        fail(e,
-             "is not supported: the testbed drives no actuators and models no tendons, "
-             "equality constraints or keyframes");
+      } else if (tag == "actuator") {
+        for (const XMLElement* c : children(e)) read_actuator(c);
+      } else if (tag == "sensor" || tag == "custom" || tag == "keyframe") {
+        // what is measured, the user's own data, saved states: skipped
+        for (const XMLElement* c : children(e)) skip(c);
+      } else if (tag == "tendon") {
+        for (const XMLElement* c : children(e)) read_tendon(c);
+      } else if (tag == "equality") {
+        fail(e, "is not supported: equality constraints change the dynamics");
+      } else if (tag == "extension" || tag == "plugin") {
+        fail(e, "is not supported: plugins change the dynamics");
       } else {
         fail(e, "is not an MJCF section this reader knows");
       }
     }
-    if (!world) fail(root, "has no <worldbody>");
-    read_world(world);
+    if (worlds.empty()) fail(root, "has no <worldbody>");
+    read_world(worlds);
+    apply_mass_options();
 
     auto locate = [this](detail::Part part, int index) {
       switch (part) {
         case detail::Part::kSegment:
-          return source_ + ":" + std::to_string(segment_lines_[index]) + ": <body name=\"" +
-                 one_line(segments_[index].name) + "\">";
+          return segment_where_[index] + ": <body name=\"" + one_line(segments_[index].name) +
+                 "\">";
         case detail::Part::kJoint:
-          return source_ + ":" + std::to_string(joint_lines_[index]) + ": <joint name=\"" +
-                 one_line(joints_[index].joint.name) + "\">";
+          return joint_where_[index] + ": <joint name=\"" + one_line(joints_[index].joint.name) +
+                 "\">";
         case detail::Part::kModel:
           break;
       }
@@ -299,6 +309,7 @@ class Reader {
     // copies: locate reads the members while assemble consumes its arguments
     Model model = detail::assemble(name_, segments_, joints_, locate);
     model.gravity = gravity_;
+    if (note) *note = skipped_note(skipped_);
     return model;
   }
 
@@ -317,19 +328,150 @@ class Reader {
     return name.empty() ? "mjcf" : name;
   }
 
+  // where an element is: its file and line
+  std::string where(const XMLElement* e) const {
+    return sources_.at(e->GetDocument()) + ":" + std::to_string(e->GetLineNum());
+  }
+
   [[noreturn]] void fail(const XMLElement* e, const std::string& problem) const {
     std::string what = "<" + one_line(e->Name());
     if (const char* n = e->Attribute("name")) what += " name=\"" + one_line(n) + "\"";
     // the problem may quote the file (a class name, a value): printable, and bounded
-    throw ModelError(source_ + ":" + std::to_string(e->GetLineNum()) + ": " + what +
-                     ">: " + detail::printable(problem, 200));
+    throw ModelError(where(e) + ": " + what + ">: " + detail::printable(problem, 200));
+  }
+
+  // One file's text checked and parsed: its root element. The documents live as long as the
+  // reader, each with the name it is reported by
+  const XMLElement* parse_document(const std::string& text, const std::string& source) {
+    if (std::string problem = detail::text_problem(text); !problem.empty()) {
+      throw ModelError(source + ": " + problem);
+    }
+    if (const auto [line, problem] = xml_shape_problem(text); line > 0) {
+      throw ModelError(source + ":" + std::to_string(line) + ": " + problem);
+    }
+    auto doc = std::make_unique<tinyxml2::XMLDocument>();
+    if (doc->Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) {
+      // "XML_ERROR_MISMATCHED_ELEMENT" → "mismatched element"
+      std::string what = doc->ErrorName();
+      if (what.rfind("XML_ERROR_", 0) == 0) what = what.substr(10);
+      for (char& c : what) c = c == '_' ? ' ' : static_cast<char>(std::tolower(c));
+      throw ModelError(source + ":" + std::to_string(doc->ErrorLineNum()) +
+                       ": malformed XML: " + what);
+    }
+    const XMLElement* root = doc->RootElement();
+    if (root == nullptr) throw ModelError(source + ":1: malformed XML: no element");
+    check_outside_root(*doc, source);
+    sources_[doc.get()] = source;
+    documents_.push_back(std::move(doc));
+    if (const XMLElement* second = root->NextSiblingElement()) {
+      fail(second, "a second root element (a file holds one <mujoco>)");
+    }
+    return root;
+  }
+
+  // An element's child elements, each <include> replaced by the children of its file's root, as
+  // MuJoCo splices them in (recursively: an included file may include)
+  std::vector<const XMLElement*> children(const XMLElement* e) {
+    std::vector<const XMLElement*> out;
+    for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+      if (std::string(c->Name()) != "include") {
+        out.push_back(c);
+        continue;
+      }
+      for (const XMLElement* k : children(included_root(c))) out.push_back(k);
+    }
+    return out;
+  }
+
+  // The file an <include> names: resolved from the including file's folder, checked to lie in
+  // the model's folder (unless the options allow more), read once (an element is read once
+  // however often its parent's children are listed), and not a file read before
+  const XMLElement* included_root(const XMLElement* include) {
+    if (auto known = includes_.find(include); known != includes_.end()) return known->second;
+    check_attributes(include, {"file"});
+    if (include->FirstChild()) fail(include, "an <include> has no content");
+    const auto file = attribute(include, "file");
+    if (!file || file->empty()) fail(include, "needs a file");
+    const std::string& from = sources_.at(include->GetDocument());
+    const int depth = depths_[include->GetDocument()] + 1;
+    if (depth > kMaxIncludeDepth) {
+      fail(include, "includes nest more than " + std::to_string(kMaxIncludeDepth) + " deep");
+    }
+    if (static_cast<int>(includes_.size()) >= kMaxIncludedFiles) {
+      fail(include, "more than " + std::to_string(kMaxIncludedFiles) + " included files");
+    }
+    namespace fs = std::filesystem;
+    const fs::path path = (fs::path(from).parent_path() / *file).lexically_normal();
+    // MuJoCo 2.2.2 reads every include's path from the top file's folder: where the two
+    // readings name different files the model means one thing to MuJoCo and another here
+    const fs::path mujocos = (folder_ / *file).lexically_normal();
+    std::error_code error;
+    const fs::path real = fs::weakly_canonical(path, error);
+    if (error) fail(include, "cannot resolve \"" + one_line(*file) + "\"");
+    if (real != fs::weakly_canonical(mujocos, error)) {
+      fail(include, "\"" + one_line(*file) +
+                        "\" names another file from the model's folder, where MuJoCo 2.2.2 reads "
+                        "it (write it from there)");
+    }
+    const fs::path top = fs::weakly_canonical(folder_.empty() ? fs::path(".") : folder_, error);
+    const auto [end, _] = std::mismatch(top.begin(), top.end(), real.begin(), real.end());
+    if (end != top.end() && !options_.include_outside) {
+      fail(include, "\"" + one_line(*file) +
+                        "\" is outside the model's folder (--include-outside allows it)");
+    }
+    if (!included_files_.insert(real.string()).second) {
+      fail(include, "\"" + one_line(*file) + "\" is included a second time");
+    }
+    std::string text, problem;
+    if (!read_regular_file(path.string(), detail::kMaxFileBytes, &text, &problem)) {
+      fail(include, "cannot read \"" + one_line(*file) + "\": " + problem);
+    }
+    const XMLElement* root = parse_document(text, path.string());
+    depths_[root->GetDocument()] = depth;
+    if (!root->FirstChildElement()) fail(include, "\"" + one_line(*file) + "\" is empty");
+    includes_[include] = root;
+    return root;
+  }
+
+  // An element the testbed does not model, whose absence leaves the passive dynamics MuJoCo's:
+  // counted for the note, or refused when reading strictly
+  void skip(const XMLElement* e) {
+    if (options_.strict) fail(e, "is not modelled by the testbed (skipped unless --strict)");
+    ++skipped_[e->Name()];
+  }
+
+  // An actuator with no control applies no force when nothing but its control drives it (a
+  // motor; a general actuator without bias; an adhesion); one with a bias (a position or
+  // velocity servo, a damper, a muscle) is a spring or a damper even at rest
+  void read_actuator(const XMLElement* e) {
+    const std::string tag = e->Name();
+    if (tag == "motor" || tag == "adhesion") return skip(e);
+    if (tag == "general") {
+      const std::string bias = attribute(e, "biastype").value_or("none");
+      if (bias == "none") return skip(e);
+    }
+    fail(e, "is not supported: this actuator acts as a spring or a damper without a control");
+  }
+
+  // A tendon without stiffness, damping, friction loss or limit does nothing by itself
+  void read_tendon(const XMLElement* e) {
+    for (const char* physics : {"stiffness", "damping", "frictionloss"}) {
+      if (auto v = attribute(e, physics); v && single(e, physics, *v) != 0.0) {
+        fail(e, std::string("a tendon with ") + physics + " is not supported");
+      }
+    }
+    const std::string limited = attribute(e, "limited").value_or("auto");
+    if (limited == "true" || (limited == "auto" && attribute(e, "range") && auto_limits_)) {
+      fail(e, "a limited tendon is not supported");
+    }
+    skip(e);
   }
 
   // Outside its one root element an XML document holds only comments, whitespace and, first, a
   // declaration. tinyxml2 also keeps text before the root, CDATA and a closing tag after it, a
   // second byte-order mark and a DOCTYPE there; MuJoCo's reader takes some of those. None is
   // MJCF, and a DOCTYPE's entities would be read unexpanded, so each is refused.
-  void check_outside_root(const tinyxml2::XMLDocument& doc) const {
+  void check_outside_root(const tinyxml2::XMLDocument& doc, const std::string& source) const {
     for (const tinyxml2::XMLNode* node = doc.FirstChild(); node; node = node->NextSibling()) {
       if (node->ToElement() || node->ToComment()) continue;
       if (node->ToDeclaration() && node == doc.FirstChild()) continue;
@@ -337,7 +479,7 @@ class Reader {
                          : node->ToUnknown()   ? "a DOCTYPE or other markup declaration"
                          : node->ToText() && node->ToText()->CData() ? "CDATA"
                                                                      : "text";
-      throw ModelError(source_ + ":" + std::to_string(node->GetLineNum()) +
+      throw ModelError(source + ":" + std::to_string(node->GetLineNum()) +
                        ": malformed XML: " + what + " outside the root element");
     }
   }
@@ -370,9 +512,10 @@ class Reader {
   }
 
   // a site, camera or light: nothing that moves the body, but what it says is MJCF
-  void check_ornament(const XMLElement* e) const {
+  void check_ornament(const XMLElement* e) {
     check_attributes(e, *default_kind(e->Name()));
     if (e->FirstChildElement()) fail(e->FirstChildElement(), "is not supported here");
+    if (std::string(e->Name()) != "site") skip(e);  // a site marks a point; nothing to note
   }
 
   // a boolean attribute: "true" or "false" (MJCF's spelling), else refused
@@ -512,10 +655,34 @@ class Reader {
   }
 
   void read_compiler(const XMLElement* e) {
-    check_attributes(e, {"angle", "coordinate", "inertiafromgeom", "eulerseq", "autolimits",
-                         "meshdir", "texturedir", "assetdir", "strippath", "discardvisual"});
-    boolean(e, "strippath");
-    boolean(e, "discardvisual");
+    check_attributes(
+        e, {"angle",     "coordinate",   "inertiafromgeom", "eulerseq",       "autolimits",
+            "meshdir",   "texturedir",   "assetdir",        "strippath",      "discardvisual",
+            "boundmass", "boundinertia", "settotalmass",    "balanceinertia", "inertiagrouprange",
+            "fitaabb",   "convexhull",   "usethread",       "fusestatic",     "exactmeshinertia"});
+    for (const char* flag :
+         {"strippath", "discardvisual", "fitaabb", "convexhull", "usethread", "exactmeshinertia"}) {
+      boolean(e, flag);
+    }
+    if (boolean(e, "fusestatic").value_or(false)) {
+      fail(e, "fusestatic is not supported (a body without a joint is a welded segment here)");
+    }
+    if (auto b = boolean(e, "balanceinertia")) balance_inertia_ = *b;
+    if (attribute(e, "boundmass")) bound_mass_ = single(e, "boundmass", *attribute(e, "boundmass"));
+    if (attribute(e, "boundinertia")) {
+      bound_inertia_ = single(e, "boundinertia", *attribute(e, "boundinertia"));
+    }
+    if (attribute(e, "settotalmass")) {
+      total_mass_ = single(e, "settotalmass", *attribute(e, "settotalmass"));
+    }
+    if (attribute(e, "inertiagrouprange")) {
+      const auto v = numbers(e, "inertiagrouprange", *attribute(e, "inertiagrouprange"));
+      if (v.size() != 2 || v[0] != std::floor(v[0]) || v[1] != std::floor(v[1]) ||
+          std::abs(v[0]) > 1e6 || std::abs(v[1]) > 1e6) {
+        fail(e, "inertiagrouprange must be two integers");
+      }
+      inertia_groups_ = {static_cast<int>(v[0]), static_cast<int>(v[1])};
+    }
     if (auto a = attribute(e, "angle")) {
       if (*a != "degree" && *a != "radian") fail(e, "angle must be degree or radian");
       degrees_ = *a == "degree";
@@ -575,33 +742,43 @@ class Reader {
     if (attribute(e, "nuser_jnt")) user_joint_ = count("nuser_jnt");
   }
 
+  // A <default> class. The top-level ones are all "main" (MuJoCo merges them), and a kind given
+  // twice in one class is merged too, the later value of an attribute replacing the earlier. The
+  // kinds that only set up what this reader skips or refuses (actuators, tendons, meshes...) are
+  // taken as they are
   void read_default(const XMLElement* e, const std::string& name, int parent) {
     check_attributes(e, {"class"});
-    const int index = static_cast<int>(classes_.size());
-    if (!class_index_.emplace(name, index).second) {
-      fail(e, "a second default class \"" + one_line(name) + "\"");
+    int index = static_cast<int>(classes_.size());
+    if (parent < 0 && class_index_.count("main")) {
+      index = class_index_.at("main");
+    } else {
+      if (!class_index_.emplace(name, index).second) {
+        fail(e, "a second default class \"" + one_line(name) + "\"");
+      }
+      classes_.push_back({parent, {}});
     }
-    classes_.push_back({parent, {}});
-    for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+    const std::vector<const XMLElement*> kinds = children(e);
+    for (const XMLElement* c : kinds) {
       const std::string tag = c->Name();
       if (tag == "default") continue;
       const Names* known = default_kind(tag);
-      if (!known)
-        fail(c, "is not supported in <default> (geom, joint, site, camera, light, material)");
+      if (!known) {
+        if (among(tag.c_str(), kDefaultKindsElsewhere)) continue;
+        fail(c, "is not an element a <default> sets");
+      }
       if (c->FirstChildElement()) fail(c->FirstChildElement(), "is not supported here");
-      auto [kind, fresh] = classes_[index].own.try_emplace(tag);
-      if (!fresh) fail(c, "a second <" + tag + "> in default class \"" + one_line(name) + "\"");
+      auto& own = classes_[index].own[tag];
       check_one_orientation(c);
       for (const tinyxml2::XMLAttribute* a = c->FirstAttribute(); a; a = a->Next()) {
         if (!among(a->Name(), *known) || std::strcmp(a->Name(), "name") == 0 ||
             std::strcmp(a->Name(), "class") == 0) {
           fail(c, "attribute \"" + one_line(a->Name()) + "\" is not supported in a default");
         }
-        kind->second[a->Name()] = a->Value();
+        own[a->Name()] = a->Value();
       }
     }
-    for (const XMLElement* c = e->FirstChildElement("default"); c;
-         c = c->NextSiblingElement("default")) {
+    for (const XMLElement* c : kinds) {
+      if (std::string(c->Name()) != "default") continue;
       const auto child = attribute(c, "class");
       if (!child) fail(c, "a nested default needs a class");
       read_default(c, *child, index);
@@ -615,36 +792,42 @@ class Reader {
     return *c;
   }
 
-  void read_world(const XMLElement* world) {
-    check_attributes(world, {});
+  // The <worldbody> sections, merged: one body tree (its root on a free joint), and what the
+  // world holds besides: a floor plane (the scenarios decide whether there is ground), lights,
+  // cameras and sites
+  void read_world(const std::vector<const XMLElement*>& worlds) {
     const XMLElement* root = nullptr;
-    for (const XMLElement* e = world->FirstChildElement(); e; e = e->NextSiblingElement()) {
-      const std::string tag = e->Name();
-      if (tag == "body") {
-        if (root) fail(e, "a second body tree in <worldbody> (the model has one root)");
-        root = e;
-      } else if (tag == "geom") {
-        // a floor: the scenarios decide whether there is ground
-        check_attributes(e, kGeomAttributes);
-        if (value(e, "type", class_of(e, "main")).value_or("sphere") != "plane") {
-          fail(e, "a geom on the world is not supported (only a floor plane, which is ignored)");
+    for (const XMLElement* world : worlds) {
+      check_attributes(world, {});
+      for (const XMLElement* e : children(world)) {
+        const std::string tag = e->Name();
+        if (tag == "body") {
+          if (root) {
+            fail(e, "a second body tree in <worldbody> (the testbed runs one figure, not scenes)");
+          }
+          root = e;
+        } else if (tag == "geom") {
+          check_attributes(e, kGeomAttributes);
+          if (value(e, "type", class_of(e, "main")).value_or("sphere") != "plane") {
+            fail(e, "a geom on the world is not supported (only a floor plane, which is ignored)");
+          }
+        } else if (tag == "light" || tag == "camera" || tag == "site") {
+          check_ornament(e);
+        } else {
+          fail(e, "is not supported in <worldbody>");
         }
-      } else if (tag == "light" || tag == "camera" || tag == "site") {
-        check_ornament(e);
-      } else {
-        fail(e, "is not supported in <worldbody>");
       }
     }
-    if (!root) fail(world, "has no body");
-    collect_body_names(world);
+    if (!root) fail(worlds[0], "has no body");
+    collect_body_names(root);
     read_body(root, -1, Vector3d::Zero(), Quaterniond::Identity(), "main");
   }
 
   // every name a body of the tree gives itself: the names generated for the others avoid them
-  void collect_body_names(const XMLElement* e) {
-    for (const XMLElement* c = e->FirstChildElement("body"); c; c = c->NextSiblingElement("body")) {
-      if (const char* n = c->Attribute("name")) body_names_.insert(n);
-      collect_body_names(c);
+  void collect_body_names(const XMLElement* body) {
+    if (const char* n = body->Attribute("name")) body_names_.insert(n);
+    for (const XMLElement* c : children(body)) {
+      if (std::string(c->Name()) == "body") collect_body_names(c);
     }
   }
 
@@ -672,7 +855,7 @@ class Reader {
 
     std::vector<const XMLElement*> geoms, joints, bodies;
     const XMLElement* inertial = nullptr;
-    for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+    for (const XMLElement* c : children(e)) {
       const std::string tag = c->Name();
       if (tag == "geom") {
         geoms.push_back(c);
@@ -691,7 +874,7 @@ class Reader {
     }
     segments_.push_back(read_segment(e, geoms, inertial, x, q, child_class));
     segments_.back().name = name;
-    segment_lines_.push_back(e->GetLineNum());
+    segment_where_.push_back(where(e));
 
     if (parent < 0) {
       if (joints.size() != 1 || !is_free(joints[0], child_class)) {
@@ -819,6 +1002,10 @@ class Reader {
       solid.mass = density * shape_volume(shape);
     }
     if (!(solid.mass >= 0.0)) fail(geom, "its mass must not be negative");
+    // a geom outside the compiler's inertiagrouprange is a shape without mass
+    const auto group = value(geom, "group", cls);
+    const double g = group ? single(geom, "group", *group) : 0.0;
+    if (g < inertia_groups_[0] || g > inertia_groups_[1]) solid.mass = 0.0;
     return solid;
   }
 
@@ -872,6 +1059,31 @@ class Reader {
     }
     derive_mass_terms(s);
     return s;
+  }
+
+  // The compiler's options on mass and inertia, as MuJoCo 2.2.2 applies them: each body's mass
+  // and moments raised to boundmass and boundinertia, moments that break the triangle inequality
+  // set to their mean with balanceinertia (A + B < C is refused otherwise, by the model's
+  // checks), then every mass and moment scaled so that the total is settotalmass
+  void apply_mass_options() {
+    double total = 0.0;
+    for (Segment& s : segments_) {
+      s.mass = std::max(s.mass, bound_mass_);
+      s.inertia = s.inertia.cwiseMax(bound_inertia_);
+      const Vector3d& i = s.inertia;
+      if (balance_inertia_ && (i[0] + i[1] < i[2] || i[0] + i[2] < i[1] || i[1] + i[2] < i[0])) {
+        s.inertia.setConstant((i[0] + i[1] + i[2]) / 3.0);
+      }
+      total += s.mass;
+    }
+    if (total_mass_ > 0.0) {
+      const double scale = std::max(1e-15, total_mass_ / std::max(1e-15, total));  // mjMINVAL
+      for (Segment& s : segments_) {
+        s.mass *= scale;
+        s.inertia *= scale;
+      }
+    }
+    for (Segment& s : segments_) derive_mass_terms(s);
   }
 
   // the inertial's mass, its frame in the body (centre and axes) and its principal moments: a
@@ -1002,7 +1214,7 @@ class Reader {
     Joint& j = raw.joint;
     raw.parent_name = segments_[parent].name;
     raw.child_name = segments_[child].name;
-    joint_lines_.push_back(hinges[0]->GetLineNum());
+    joint_where_.push_back(where(hinges[0]));
     std::array<JointElement, 3> h;
     for (int k = 0; k < 3; ++k) {
       h[k] = read_joint_element(hinges[k], child, x, q, class_name);
@@ -1092,10 +1304,10 @@ class Reader {
       };
       j.anchor_world = 0.5 * (facing(p, c.rest_position) + facing(c, p.rest_position));
       derive_limit_terms(j);
-      joint_lines_.push_back(body->GetLineNum());
+      joint_where_.push_back(where(body));
       return raw;
     }
-    joint_lines_.push_back(e->GetLineNum());
+    joint_where_.push_back(where(e));
     const JointElement element = read_joint_element(e, child, x, q, class_name);
     j.name = element.name;
     j.anchor_world = element.anchor_world;
@@ -1152,13 +1364,26 @@ class Reader {
   std::vector<Segment> segments_;
   std::set<std::string> body_names_;
   std::vector<detail::RawJoint> joints_;
-  std::vector<int> segment_lines_, joint_lines_;
+  std::vector<std::string> segment_where_, joint_where_;  // file:line
+  ReadOptions options_;
+  std::filesystem::path folder_;  // the model file's
+  std::vector<std::unique_ptr<tinyxml2::XMLDocument>> documents_;
+  std::map<const tinyxml2::XMLDocument*, std::string> sources_;
+  std::map<const tinyxml2::XMLDocument*, int> depths_;       // of includes
+  std::map<const XMLElement*, const XMLElement*> includes_;  // <include> → its file's root
+  std::set<std::string> included_files_;
+  std::map<std::string, int> skipped_;
+  // compiler options on mass and inertia (MuJoCo's names; negative: not set)
+  double bound_mass_ = 0.0, bound_inertia_ = 0.0, total_mass_ = -1.0;
+  bool balance_inertia_ = false;
+  std::array<int, 2> inertia_groups_{0, 5};
 };
 
 }  // namespace
 
-Model parse_mjcf(const std::string& xml_text, const std::string& source) {
-  return Reader(source).read(xml_text);
+Model parse_mjcf(const std::string& xml_text, const std::string& source, const ReadOptions& options,
+                 std::string* note) {
+  return Reader(source, options).read(xml_text, note);
 }
 
 }  // namespace puppet

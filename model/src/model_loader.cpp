@@ -585,7 +585,9 @@ Model parse_model(const std::string& json_text, const std::string& source) {
   return build(document, source);
 }
 
-Model load_model(const std::string& path_or_builtin) {
+Model load_model(const std::string& path_or_builtin, const ReadOptions& options,
+                 std::string* note) {
+  if (note) note->clear();
   const std::string chain_prefix = "chain:";
   if (path_or_builtin.rfind(chain_prefix, 0) == 0) {
     const std::string count = path_or_builtin.substr(chain_prefix.size());
@@ -609,7 +611,7 @@ Model load_model(const std::string& path_or_builtin) {
     throw ModelError(source + ": " + problem);
   }
   const bool xml = path.size() > 4 && path.compare(path.size() - 4, 4, ".xml") == 0;
-  return xml ? parse_mjcf(text, source) : parse_model(text, source);
+  return xml ? parse_mjcf(text, source, options, note) : parse_model(text, source);
 }
 
 }  // namespace puppet

@@ -361,5 +361,52 @@ TEST(MjcfReader, TheSubsetIsStrict) {
             "t.xml:1: <compiler>: autolimits must be true or false");
 }
 
+// What the testbed does not model but that leaves the passive dynamics MuJoCo's is skipped with
+// one note naming each element kind and its count; read strictly it is refused at the first one
+TEST(MjcfReader, WhatIsNotModelledIsSkippedWithANoteOrRefusedStrictly) {
+  const std::string path = std::string(PUPPET_SOURCE_DIR) + "/tests/data/mjcf/published_style.xml";
+  std::string note;
+  const Model model = load_model(path, {}, &note);
+  EXPECT_EQ(note, "1 <camera>, 1 <jointpos>, 1 <light>, 2 <motor>, 1 <numeric>");
+  EXPECT_EQ(model.name, "planar_walker__published_style_");  // its free text, in the charset
+  try {
+    load_model(path, ReadOptions{.strict = true});
+    ADD_FAILURE() << "read strictly";
+  } catch (const ModelError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              path + ":28: <motor name=\"right_hip\">: is not modelled by the testbed (skipped "
+                     "unless --strict)");
+  }
+  // a file with nothing to skip has no note
+  load_model(std::string(PUPPET_SOURCE_DIR) + "/models/humanoid.xml", {}, &note);
+  EXPECT_EQ(note, "");
+}
+
+// The compiler's options on mass, as MuJoCo applies them: a body's mass and moments raised to
+// boundmass and boundinertia, moments that break the triangle inequality balanced to their
+// mean, then every mass and moment scaled to settotalmass
+TEST(MjcfReader, TheCompilersMassOptionsActAsInMujoco) {
+  const auto model = [](const std::string& compiler, const std::string& inertial) {
+    return parse_mjcf("<mujoco model=\"m\"><compiler " + compiler +
+                          "/><worldbody><body name=\"b\"><freejoint/>" + inertial +
+                          "<geom size=\"0.1\"/><body name=\"c\" pos=\"0 0 -0.15\"><joint "
+                          "type=\"ball\"/><geom size=\"0.05\" mass=\"2\"/></body></body>"
+                          "</worldbody></mujoco>",
+                      "m.xml");
+  };
+  const std::string light = "<inertial pos=\"0 0 0\" mass=\"1e-5\" diaginertia=\"1e-9 2e-9 2e-9\"/>";
+  const Model bounded = model("boundmass=\"0.5\" boundinertia=\"1e-4\"", light);
+  EXPECT_EQ(bounded.segments[0].mass, 0.5);
+  EXPECT_EQ(bounded.segments[0].inertia, Vector3d(1e-4, 1e-4, 1e-4));
+  const std::string flat = "<inertial pos=\"0 0 0\" mass=\"1\" diaginertia=\"1 1 3\"/>";
+  EXPECT_EQ(model("balanceinertia=\"true\"", flat).segments[0].inertia,
+            Vector3d(5.0 / 3.0, 5.0 / 3.0, 5.0 / 3.0));
+  const Model scaled = model("settotalmass=\"6\"", "<inertial pos=\"0 0 0\" mass=\"1\" "
+                                                   "diaginertia=\"0.1 0.2 0.25\"/>");
+  EXPECT_DOUBLE_EQ(scaled.total_mass, 6.0);
+  EXPECT_DOUBLE_EQ(scaled.segments[0].mass, 2.0);  // 1 of 3 kg, times 2
+  EXPECT_DOUBLE_EQ(scaled.segments[0].inertia.z(), 0.5);
+}
+
 }  // namespace
 }  // namespace puppet

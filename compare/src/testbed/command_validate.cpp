@@ -75,6 +75,7 @@ Command add_validate_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand("validate", "load a model and print it, or its error");
   command->add_option("MODEL", *path, "model file, pinocchio, or chain:N")->required();
   add_engine_budget_flag(command, *budget);
+  add_model_reading_flags(command);
   return {command, [path, budget] {
             compare::set_engine_budget(*budget);
             return validate(*path);

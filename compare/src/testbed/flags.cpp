@@ -27,6 +27,28 @@ std::vector<std::string> all_rules() {
 void add_model_flag(CLI::App* command, Flags& f) {
   command->add_option("--model", f.model, "model file, pinocchio, or chain:N")
       ->capture_default_str();
+  add_model_reading_flags(command);
+}
+
+void add_model_reading_flags(CLI::App* command) {
+  // set as they are parsed: every command reads its model after its flags
+  command->add_flag_callback(
+      "--strict",
+      [] {
+        ReadOptions options = compare::model_reading();
+        options.strict = true;
+        compare::set_model_reading(options);
+      },
+      "refuse MJCF elements the testbed does not model (actuators, sensors, cameras...) instead "
+      "of skipping them with a note");
+  command->add_flag_callback(
+      "--include-outside",
+      [] {
+        ReadOptions options = compare::model_reading();
+        options.include_outside = true;
+        compare::set_model_reading(options);
+      },
+      "let an MJCF <include> read files outside the model's folder");
 }
 
 void add_solver_choice_flags(CLI::App* command, Flags& f) {

@@ -47,8 +47,9 @@ struct Flags {
 
 // --engine-budget (engines.h: engine_budget)
 void add_engine_budget_flag(CLI::App* command, double& budget);
-// --model
+// --model, and how a model file is read: --strict, --include-outside
 void add_model_flag(CLI::App* command, Flags& f);
+void add_model_reading_flags(CLI::App* command);
 // --solver and --rule
 void add_solver_choice_flags(CLI::App* command, Flags& f);
 // --scenario

@@ -122,7 +122,12 @@ Scenario make_scenario(const std::string& name, const Model& model,
 
 // the built-in Pinocchio's model file, in the source tree
 std::string builtin_model_path();
-// "pinocchio" names the built-in figure; anything else is a model file or chain:N (load_model)
+// how load_named_model reads model files from here on (the command line's --strict and
+// --include-outside); by default MJCF elements the testbed does not model are skipped with a note
+void set_model_reading(const ReadOptions& options);
+ReadOptions model_reading();
+// "pinocchio" names the built-in figure; anything else is a model file or chain:N (load_model).
+// What a file's reading skipped is printed once per file to stderr, as one line
 Model load_named_model(const std::string& name);
 
 }  // namespace puppet::compare

@@ -89,8 +89,11 @@ std::string write_mjcf(const Model& model, const MjcfOptions& options = {});
 /// the file in error messages, which give the element's line. User data as write_mjcf writes it
 /// gives back the exact rest values; without it the rest pose comes from the bodies' frames, a
 /// ball limit is MuJoCo's cone (swing and twist both bounded by its angle) and a ball's joint
-/// frame is its child's segment frame. Throws ModelError.
-Model parse_mjcf(const std::string& xml_text, const std::string& source);
+/// frame is its child's segment frame. An <include> is read from the folder of `source` (a path).
+/// `note`, when given, gets what was skipped (see ReadOptions) as one line, or nothing. Throws
+/// ModelError.
+Model parse_mjcf(const std::string& xml_text, const std::string& source,
+                 const ReadOptions& options = {}, std::string* note = nullptr);
 
 /// the body of segment s in a document written without model names: "s<s>"
 std::string mjcf_segment_body(int segment);

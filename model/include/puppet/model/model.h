@@ -143,10 +143,22 @@ struct Model {
   int find_segment(const std::string& segment_name) const;
 };
 
+/// How a model file is read (MJCF's options; a JSON file has none)
+struct ReadOptions {
+  /// refuse what the testbed does not model instead of skipping it with a note (actuators
+  /// without a control's force, sensors, tendons without effect, custom data, keyframes,
+  /// cameras and lights)
+  bool strict = false;
+  /// let an MJCF <include> read a file outside the model file's folder
+  bool include_outside = false;
+};
+
 /// Parses the JSON text of a model file. `source` names the file in error messages.
 Model parse_model(const std::string& json_text, const std::string& source);
-/// Loads a model file, or a built-in generated model `chain:N`.
-Model load_model(const std::string& path_or_builtin);
+/// Loads a model file, or a built-in generated model `chain:N`. `note`, when given, gets what was
+/// skipped as one line ("21 <motor>, 2 <camera>"), or nothing.
+Model load_model(const std::string& path_or_builtin, const ReadOptions& options = {},
+                 std::string* note = nullptr);
 /// N capsules (0.25 m tip to tip, 1 kg) hanging in a chain of free ball joints from z = 0.
 Model make_chain(int n);
 
