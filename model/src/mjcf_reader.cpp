@@ -308,7 +308,7 @@ class Reader {
     };
     // copies: locate reads the members while assemble consumes its arguments
     Model model = detail::assemble(name_, segments_, joints_, locate);
-    model.gravity = gravity_;
+    model.gravity = gravity_off_ ? Vector3d::Zero() : gravity_;
     if (note) *note = skipped_note(skipped_);
     return model;
   }
@@ -708,9 +708,12 @@ class Reader {
 
   void read_option(const XMLElement* e) {
     // the solver's own settings are each engine's; what the model is made of is read
-    check_attributes(e, {"timestep", "gravity", "integrator", "cone", "jacobian", "solver",
-                         "iterations", "tolerance", "noslip_iterations", "mpr_iterations",
-                         "collision", "impratio", "density", "viscosity", "wind", "magnetic"});
+    check_attributes(e, {"timestep",          "gravity",          "integrator",    "cone",
+                         "jacobian",          "solver",           "iterations",    "tolerance",
+                         "noslip_iterations", "mpr_iterations",   "collision",     "impratio",
+                         "density",           "viscosity",        "wind",          "magnetic",
+                         "apirate",           "noslip_tolerance", "mpr_tolerance", "o_margin",
+                         "o_solref",          "o_solimp"});
     if (attribute(e, "gravity")) {
       gravity_ = vector3(e, "gravity", "", gravity_);
       if (std::string problem = detail::gravity_problem(gravity_); !problem.empty())
@@ -725,7 +728,33 @@ class Reader {
     if (attribute(e, "wind") && !vector3(e, "wind", "", Vector3d::Zero()).isZero()) {
       fail(e, "wind is not supported");
     }
-    if (e->FirstChildElement()) fail(e->FirstChildElement(), "is not supported");
+    for (const XMLElement* c : children(e)) {
+      if (std::string(c->Name()) != "flag") fail(c, "is not supported in <option>");
+      read_flags(c);
+    }
+  }
+
+  // MuJoCo's switches: gravity off is a model without gravity; limits off (or every constraint
+  // off) are joints without limits. Contacts are the scenarios' (they decide the ground), and the
+  // switches of what the testbed does not model (equality, friction loss, passive forces,
+  // actuation, sensors) or that change nothing here (energy, warm start...) are taken as they
+  // are
+  void read_flags(const XMLElement* e) {
+    check_attributes(
+        e, {"constraint", "equality", "frictionloss", "limit", "contact", "passive", "gravity",
+            "clampctrl", "warmstart", "filterparent", "actuation", "refsafe", "sensor", "override",
+            "energy", "fwdinv", "sensornoise", "multiccd"});
+    for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next()) {
+      const std::string v = a->Value();
+      if (v != "enable" && v != "disable") {
+        fail(e, "attribute \"" + one_line(a->Name()) + "\" must be enable or disable");
+      }
+    }
+    const auto off = [&](const char* flag) {
+      return attribute(e, flag).value_or("enable") == "disable";
+    };
+    if (off("gravity")) gravity_off_ = true;
+    if (off("limit") || off("constraint")) limits_off_ = true;
   }
 
   void read_size(const XMLElement* e) {
@@ -1168,7 +1197,8 @@ class Reader {
       // MuJoCo 2.2's compiler refuses it the same way
       fail(e, "has a range but no limited (give limited, or compiler autolimits=\"true\")");
     }
-    out.limited = limited_text == "true" || (limited_text == "auto" && range_text);
+    out.limited =
+        !limits_off_ && (limited_text == "true" || (limited_text == "auto" && range_text));
     if (out.limited) {
       if (!range_text) fail(e, "limited but has no range");
       out.range = numbers(e, "range", *range_text);
@@ -1376,6 +1406,7 @@ class Reader {
   // compiler options on mass and inertia (MuJoCo's names; negative: not set)
   double bound_mass_ = 0.0, bound_inertia_ = 0.0, total_mass_ = -1.0;
   bool balance_inertia_ = false;
+  bool gravity_off_ = false, limits_off_ = false;  // <option><flag>
   std::array<int, 2> inertia_groups_{0, 5};
 };
 

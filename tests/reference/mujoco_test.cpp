@@ -269,6 +269,10 @@ void expect_read_as_mujoco(const std::string& path) {
   mj_kinematics(m, d);
   EXPECT_EQ(m->nbody, model.segment_count() + 1);
   EXPECT_NEAR(mj_getTotalmass(m), model.total_mass, 1e-12 * model.total_mass);
+  const Vector3d gravity = m->opt.disableflags & mjDSBL_GRAVITY
+                               ? Vector3d::Zero()
+                               : Vector3d(m->opt.gravity[0], m->opt.gravity[1], m->opt.gravity[2]);
+  EXPECT_EQ(model.gravity, gravity);
   // a body MuJoCo has no name for is the one whose id the generated name gives ("body3", and
   // "body3_" where a named body is "body3")
   const auto body_id = [&](const std::string& name) {
@@ -342,9 +346,11 @@ void expect_read_as_mujoco(const std::string& path) {
     const Vector3d anchor(d->xanchor[3 * j], d->xanchor[3 * j + 1], d->xanchor[3 * j + 2]);
     EXPECT_LT((anchor - joint.anchor_world).norm(), 1e-12);
     if (joint.type == JointType::kHinge) {
-      // an unlimited hinge turns all the way round: ±π
-      EXPECT_NEAR(m->jnt_limited[j] ? m->jnt_range[2 * j] : -M_PI, joint.lower, 1e-15);
-      EXPECT_NEAR(m->jnt_limited[j] ? m->jnt_range[2 * j + 1] : M_PI, joint.upper, 1e-15);
+      // an unlimited hinge turns all the way round: ±π (limits switched off are none)
+      const bool limited = m->jnt_limited[j] && !(m->opt.disableflags & mjDSBL_LIMIT) &&
+                           !(m->opt.disableflags & mjDSBL_CONSTRAINT);
+      EXPECT_NEAR(limited ? m->jnt_range[2 * j] : -M_PI, joint.lower, 1e-15);
+      EXPECT_NEAR(limited ? m->jnt_range[2 * j + 1] : M_PI, joint.upper, 1e-15);
       const Vector3d axis(d->xaxis[3 * j], d->xaxis[3 * j + 1], d->xaxis[3 * j + 2]);
       EXPECT_LT((axis - joint.frame_world * joint.hinge_axis).norm(), 1e-12);
     } else if (m->jnt_limited[j]) {
