@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -1080,11 +1081,11 @@ class Reader {
       const Vector3d ux((*user)[0], (*user)[1], (*user)[2]);
       const Quaterniond uq((*user)[3], (*user)[4], (*user)[5], (*user)[6]);
       if ((ux - s.rest_position).norm() > 1e-6 ||
-          uq.normalized().angularDistance(s.rest_orientation) > 1e-6) {
+          unit_quaternion(uq).angularDistance(s.rest_orientation) > 1e-6) {
         fail(body, "its user data (a rest pose) disagrees with its pos and orientation");
       }
       s.rest_position = ux;
-      s.rest_orientation = uq.normalized();
+      s.rest_orientation = unit_quaternion(uq);
     }
     derive_mass_terms(s);
     return s;
@@ -1147,6 +1148,15 @@ class Reader {
       fail(e, "needs diaginertia or fullinertia");
     }
     if ((s.inertia.array() <= 0.0).any()) fail(e, "its moments of inertia must be positive");
+  }
+
+  // A quaternion from user data: taken as it is when it is a unit quaternion to rounding (as
+  // write_mjcf writes them: normalising again would change its last bits, and an exported file
+  // read back and exported again would differ), normalised otherwise
+  static Quaterniond unit_quaternion(const Quaterniond& q) {
+    return std::abs(q.squaredNorm() - 1.0) <= 8.0 * std::numeric_limits<double>::epsilon()
+               ? q
+               : q.normalized();
   }
 
   // an element's user data when the file declares at least `size` numbers per element (size's
@@ -1281,7 +1291,7 @@ class Reader {
     if (h[0].user && h[1].user && h[2].user) {
       const auto& u = *h[0].user;
       j.anchor_world = user_anchor(hinges[0], u, j.anchor_world);
-      j.frame_world = Quaterniond(u[3], u[4], u[5], u[6]).normalized();
+      j.frame_world = unit_quaternion(Quaterniond(u[3], u[4], u[5], u[6]));
       for (int k = 0; k < 3; ++k) {
         const auto& uk = *h[k].user;
         const Vector3d e(uk[7], uk[8], uk[9]);
@@ -1366,7 +1376,7 @@ class Reader {
       // write_mjcf's exact rest anchor, frame and limits
       const auto& u = *user;
       j.anchor_world = user_anchor(e, u, j.anchor_world);
-      j.frame_world = Quaterniond(u[3], u[4], u[5], u[6]).normalized();
+      j.frame_world = unit_quaternion(Quaterniond(u[3], u[4], u[5], u[6]));
       if (j.type == JointType::kBall) {
         j.swing_x = u[7];
         j.swing_y = u[8];

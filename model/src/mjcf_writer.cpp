@@ -15,6 +15,7 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 std::string num(double x) {
+  if (x == 0.0) x = 0.0;  // -0 is written as 0: the same number, and a document that reads back
   char buffer[32];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, x);
   return std::string(buffer, result.ptr);

@@ -132,6 +132,10 @@ class Element {
   Element child(const char* key, const std::string& name) const {
     return Element(field(key), source_, where_ + " " + name);
   }
+  // an element of one of its arrays
+  Element item(const json& value, const std::string& name) const {
+    return Element(value, source_, where_ + " " + name);
+  }
 
   const std::string& source() const { return source_; }
 
@@ -147,15 +151,18 @@ class Element {
   std::string where_;
 };
 
+// the fields that place one of a segment's "shapes" (an initializer list at namespace scope: its
+// array lives as long as the program)
+constexpr std::initializer_list<const char*> kPlacedFields = {"position", "orientation"};
+constexpr std::initializer_list<const char*> kNoFields = {};
+
 // a shape's type and size; `placed`: one of a segment's "shapes", which also gives its centre
 // ("position") and axes ("orientation") in world at rest
 Shape read_shape(const Element& e, bool placed) {
   e.require_object();
   Shape shape;
   const std::string type = e.string("type");
-  const std::initializer_list<const char*> pose =
-      placed ? std::initializer_list<const char*>{"position", "orientation"}
-             : std::initializer_list<const char*>{};
+  const std::initializer_list<const char*> pose = placed ? kPlacedFields : kNoFields;
   if (type == "capsule" || type == "cylinder") {
     e.reject_unknown({"type", "radius", "half_length"}, pose);
     shape.type = type == "capsule" ? ShapeType::kCapsule : ShapeType::kCylinder;
@@ -209,8 +216,7 @@ Segment read_segment(const Element& e) {
     std::vector<Shape> solids;
     double volume = 0.0;
     for (size_t k = 0; k < list.size(); ++k) {
-      solids.push_back(
-          read_shape(Element(list[k], e.source(), "shape #" + std::to_string(k)), true));
+      solids.push_back(read_shape(e.item(list[k], "shape #" + std::to_string(k)), true));
       volume += shape_volume(solids.back());
     }
     std::vector<double> masses;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <random>
 
@@ -361,6 +362,26 @@ TEST(MjcfReader, TheSubsetIsStrict) {
             "t.xml:1: <compiler>: autolimits must be true or false");
 }
 
+// Export is a fixed point: a model written as MJCF, read back and written again gives the same
+// bytes (no quaternion normalised twice, no -0), for the models shipped and the MJCF corpus
+TEST(MjcfReader, ExportReadExportIsAFixedPoint) {
+  std::vector<std::string> files;
+  for (const char* folder : {"/models", "/tests/data/mjcf", "/tests/data/mjcf_classes"}) {
+    for (const auto& entry :
+         std::filesystem::directory_iterator(std::string(PUPPET_SOURCE_DIR) + folder)) {
+      const auto extension = entry.path().extension();
+      if (extension == ".xml" || extension == ".json") files.push_back(entry.path().string());
+    }
+  }
+  ASSERT_GE(files.size(), 12u);
+  for (const std::string& file : files) {
+    SCOPED_TRACE(file);
+    const std::string once = write_mjcf(load_model(file));
+    const std::string twice = write_mjcf(parse_mjcf(once, "exported.xml"));
+    EXPECT_EQ(once, twice);
+  }
+}
+
 // What the testbed does not model but that leaves the passive dynamics MuJoCo's is skipped with
 // one note naming each element kind and its count; read strictly it is refused at the first one
 TEST(MjcfReader, WhatIsNotModelledIsSkippedWithANoteOrRefusedStrictly) {
@@ -374,8 +395,9 @@ TEST(MjcfReader, WhatIsNotModelledIsSkippedWithANoteOrRefusedStrictly) {
     ADD_FAILURE() << "read strictly";
   } catch (const ModelError& e) {
     EXPECT_EQ(std::string(e.what()),
-              path + ":28: <motor name=\"right_hip\">: is not modelled by the testbed (skipped "
-                     "unless --strict)");
+              path +
+                  ":28: <motor name=\"right_hip\">: is not modelled by the testbed (skipped "
+                  "unless --strict)");
   }
   // a file with nothing to skip has no note
   load_model(std::string(PUPPET_SOURCE_DIR) + "/models/humanoid.xml", {}, &note);
@@ -394,15 +416,17 @@ TEST(MjcfReader, TheCompilersMassOptionsActAsInMujoco) {
                           "</worldbody></mujoco>",
                       "m.xml");
   };
-  const std::string light = "<inertial pos=\"0 0 0\" mass=\"1e-5\" diaginertia=\"1e-9 2e-9 2e-9\"/>";
+  const std::string light =
+      "<inertial pos=\"0 0 0\" mass=\"1e-5\" diaginertia=\"1e-9 2e-9 2e-9\"/>";
   const Model bounded = model("boundmass=\"0.5\" boundinertia=\"1e-4\"", light);
   EXPECT_EQ(bounded.segments[0].mass, 0.5);
   EXPECT_EQ(bounded.segments[0].inertia, Vector3d(1e-4, 1e-4, 1e-4));
   const std::string flat = "<inertial pos=\"0 0 0\" mass=\"1\" diaginertia=\"1 1 3\"/>";
   EXPECT_EQ(model("balanceinertia=\"true\"", flat).segments[0].inertia,
             Vector3d(5.0 / 3.0, 5.0 / 3.0, 5.0 / 3.0));
-  const Model scaled = model("settotalmass=\"6\"", "<inertial pos=\"0 0 0\" mass=\"1\" "
-                                                   "diaginertia=\"0.1 0.2 0.25\"/>");
+  const Model scaled = model("settotalmass=\"6\"",
+                             "<inertial pos=\"0 0 0\" mass=\"1\" "
+                             "diaginertia=\"0.1 0.2 0.25\"/>");
   EXPECT_DOUBLE_EQ(scaled.total_mass, 6.0);
   EXPECT_DOUBLE_EQ(scaled.segments[0].mass, 2.0);  // 1 of 3 kg, times 2
   EXPECT_DOUBLE_EQ(scaled.segments[0].inertia.z(), 0.5);

@@ -97,6 +97,40 @@ TEST(ModelLoader, MissingFileNamesTheFile) {
   }
 }
 
+// A segment of several shapes in JSON: the mass split by volume (uniform density), the centre
+// of mass and the principal moments by the parallel-axis theorem, checked against the sum
+// written out by hand for two spheres on a rod along x (centred, so the frame keeps its axes)
+TEST(ModelLoader, ShapesComposeAtUniformDensity) {
+  const Model m = parse_model(R"({"name": "dumbbell", "segments": [{"name": "bell", "mass": 3.0,
+      "shapes": [{"type": "sphere", "radius": 0.08, "position": [-0.25, 0, 1]},
+                 {"type": "cylinder", "radius": 0.02, "half_length": 0.2, "position": [0, 0, 1],
+                  "orientation": [0.7071067811865476, 0, 0.7071067811865476, 0]},
+                 {"type": "sphere", "radius": 0.08, "position": [0.25, 0, 1]}]}]})",
+                              "dumbbell.json");
+  const Segment& s = m.segments[0];
+  const double ball = 4.0 / 3.0 * M_PI * std::pow(0.08, 3), rod = M_PI * 0.02 * 0.02 * 0.4;
+  const double m_ball = 3.0 * ball / (2 * ball + rod), m_rod = 3.0 * rod / (2 * ball + rod);
+  EXPECT_NEAR((s.rest_position - Vector3d(0, 0, 1)).norm(), 0.0, 1e-15);
+  const double own = 0.4 * m_ball * 0.08 * 0.08;
+  const double along = 2 * own + 0.5 * m_rod * 0.02 * 0.02;
+  const double across =
+      2 * (own + m_ball * 0.25 * 0.25) + m_rod * (3 * 0.02 * 0.02 + 0.4 * 0.4) / 12;
+  // the moments in the segment's axes, whichever order its principal frame takes them in
+  const Matrix3d r = s.rest_orientation.toRotationMatrix();
+  const Matrix3d world = r * s.inertia.asDiagonal() * r.transpose();
+  EXPECT_NEAR(world(0, 0), along, 1e-12);
+  EXPECT_NEAR(world(1, 1), across, 1e-12);
+  EXPECT_NEAR(world(2, 2), across, 1e-12);
+  EXPECT_NEAR(s.mass, 3.0, 1e-15);
+  // each shape where it was put, seen from the segment
+  for (int k : {0, 2}) {
+    EXPECT_NEAR((s.rest_position + s.rest_orientation * s.shapes[k].position -
+                 Vector3d(k == 0 ? -0.25 : 0.25, 0, 1))
+                    .norm(),
+                0.0, 1e-15);
+  }
+}
+
 // every file of the malformed corpus fails with one line: "<file>: <element>: <problem>"
 TEST(ModelLoader, MalformedCorpus) {
   std::ifstream manifest(kData + "bad/expected.tsv");
@@ -128,7 +162,7 @@ TEST(ModelLoader, MalformedCorpus) {
       })) << message;
     }
   }
-  EXPECT_GE(cases, 73 + 74);  // JSON, and MJCF
+  EXPECT_GE(cases, 78 + 74);  // JSON, and MJCF
   // and every file in the folder is listed
   int files = 0;
   for (const auto& entry : std::filesystem::directory_iterator(kData + "bad")) {

@@ -39,6 +39,54 @@ TEST(Shape, CapsuleInertiaMatchesIntegration) {
   EXPECT_NEAR(inertia.z(), mass * izz / volume, 3e-3 * inertia.z());
 }
 
+TEST(Shape, EllipsoidInertiaSupportAndDistanceMatchIntegration) {
+  // the same independent answer for a solid ellipsoid (semi-axes 4, 6 and 9 cm): its volume and
+  // moments by the midpoint rule, its support points on its surface and furthest along their
+  // direction among sampled surface points, and its distance's sign
+  Shape egg;
+  egg.type = ShapeType::kEllipsoid;
+  egg.half_extents = {0.04, 0.06, 0.09};
+  const double mass = 1.3;
+  const Vector3d e = egg.half_extents;
+  const int n = 90;
+  double volume = 0;
+  Vector3d second{0, 0, 0};  // ∫x², ∫y², ∫z²
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      for (int k = 0; k < n; ++k) {
+        const Vector3d p =
+            (Vector3d(i + 0.5, j + 0.5, k + 0.5) * (2.0 / n) - Vector3d::Ones()).cwiseProduct(e);
+        if (signed_distance(egg, p) > 0) continue;
+        const double dv = 8.0 * e.prod() / (n * n * n);
+        volume += dv;
+        second += p.cwiseAbs2() * dv;
+      }
+    }
+  }
+  const Vector3d inertia = solid_inertia(egg, mass);
+  EXPECT_NEAR(shape_volume(egg), volume, 3e-3 * volume);
+  EXPECT_NEAR(inertia.x(), mass * (second.y() + second.z()) / volume, 3e-3 * inertia.x());
+  EXPECT_NEAR(inertia.y(), mass * (second.x() + second.z()) / volume, 3e-3 * inertia.y());
+  EXPECT_NEAR(inertia.z(), mass * (second.x() + second.y()) / volume, 3e-3 * inertia.z());
+  std::mt19937_64 random(3);
+  std::normal_distribution<double> normal;
+  for (int k = 0; k < 200; ++k) {
+    const Vector3d d = Vector3d(normal(random), normal(random), normal(random)).normalized();
+    const Vector3d support = support_point(egg, d);
+    EXPECT_NEAR(support.cwiseQuotient(e).norm(), 1.0, 1e-12);  // on the surface
+    EXPECT_NEAR(signed_distance(egg, support), 0.0, 1e-12);
+    for (int m = 0; m < 50; ++m) {
+      const Vector3d u = Vector3d(normal(random), normal(random), normal(random)).normalized();
+      EXPECT_LE(u.cwiseProduct(e).dot(d), support.dot(d) + 1e-12);
+    }
+    // outside and inside: the distance's sign, and never more than the true distance (the
+    // support point is a surface point, so the true distance is at most the way to it)
+    EXPECT_GT(signed_distance(egg, 1.5 * support), 0.0);
+    EXPECT_LE(signed_distance(egg, 1.5 * support), 0.5 * support.norm() + 1e-12);
+    EXPECT_LT(signed_distance(egg, 0.5 * support), 0.0);
+  }
+}
+
 TEST(Shape, CylinderInertiaMatchesIntegration) {
   // the same independent answer for a solid cylinder, and its support points and distances
   Shape cylinder;
