@@ -148,6 +148,39 @@ TEST(TestbedCli, Validate) {
              "/no/such/gate.json: cannot open");
 }
 
+// A published-style MJCF file: what it has that the testbed does not model is one line on stderr,
+// once, and the command goes on; with --strict it is refused (exit 2, one line) before anything
+// runs; an include outside the model's folder needs --include-outside
+TEST(TestbedCli, SkippedElementsAreOneNoteOrRefusedStrictly) {
+  const std::string model = std::string(PUPPET_SOURCE_DIR) + "/tests/data/mjcf/published_style.xml";
+  const std::string note =
+      "skipped what the testbed does not model: 1 <camera>, 1 <jointpos>, 1 <light>, 2 <motor>, "
+      "1 <numeric>";
+  const Outcome validated = testbed("validate " + model);
+  EXPECT_EQ(validated.status, 0) << validated.output;
+  const auto at = validated.output.find(note);
+  EXPECT_NE(at, std::string::npos) << validated.output;
+  EXPECT_EQ(validated.output.find(note, at + 1), std::string::npos) << "once";
+  const fs::path out = fresh_folder("skipped");
+  const Outcome run = testbed("run --model " + model +
+                              " --scenario hang --solver procedural --rule xpbd --duration 0.05 "
+                              "--no-timing --out " +
+                              out.string());
+  EXPECT_EQ(run.status, 0) << run.output;
+  EXPECT_NE(run.output.find(note), std::string::npos) << run.output;
+  expect_bad("validate --strict " + model,
+             "published_style.xml:28: <motor name=\"right_hip\">: is not modelled by the testbed");
+  const fs::path strict = fresh_folder("strict");
+  expect_bad("run --strict --model " + model + " --scenario hang --out " + strict.string(),
+             "is not modelled by the testbed (skipped unless --strict)");
+  EXPECT_FALSE(fs::exists(strict));
+  const std::string outside =
+      std::string(PUPPET_SOURCE_DIR) + "/tests/data/bad/mjcf_include_outside.xml";
+  expect_bad("validate " + outside, "is outside the model's folder (--include-outside allows it)");
+  EXPECT_EQ(testbed("validate --include-outside " + outside).status, 0);
+  fs::remove_all(out);
+}
+
 // export-mjcf: the document to stdout, or whole to a file; a bad model or an unwritable path
 // exits 2 with one line and leaves no file
 TEST(TestbedCli, ExportMjcf) {
