@@ -60,9 +60,7 @@ void add_model(KeyBytes& key, const Model& model) {
     for (const Shape& shape : s.shapes) {
       key.add(shape.type).add(shape.radius).add(shape.half_length).add(shape.half_extents);
     }
-    const Shape& first = s.shapes.front();
-    if (s.shapes.size() > 1 || !first.position.isZero() ||
-        first.orientation.coeffs() != Quaterniond::Identity().coeffs()) {
+    if (!lone_shape(s)) {
       key.add(static_cast<int>(s.shapes.size()));
       for (const Shape& shape : s.shapes) key.add(shape.position).add(shape.orientation);
     }

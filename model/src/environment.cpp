@@ -42,6 +42,12 @@ void shape_reach(const Shape& shape, const Vector3d& up, double* below, double* 
 void vertical_extent(const Segment& segment, const Quaterniond& q, const Vector3d& x, double* low,
                      double* high) {
   const Vector3d up = up_in_frame(q);
+  if (lone_shape(segment)) {
+    const double half = half_height(segment.shapes[0], up);
+    *low = x.z() - half;
+    *high = x.z() + half;
+    return;
+  }
   double below = -std::numeric_limits<double>::infinity(), above = below;
   for (const Shape& shape : segment.shapes) {
     double b = 0.0, a = 0.0;

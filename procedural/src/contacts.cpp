@@ -67,13 +67,16 @@ Vector3d contact_candidate(const Shape& shape, const Vector3d& up, int c) {
   return Vector3d::Zero();
 }
 
-// the same in the segment frame, where `up` is the world's up in that frame
-Vector3d segment_candidate(const Shape& shape, const Vector3d& up, int c) {
+// the same in the segment frame, where `up` is the world's up in that frame; a lone shape at the
+// segment's origin is read as it is (every segment of a one-shape model: no rotation per point)
+Vector3d segment_candidate(const Segment& segment, const Shape& shape, const Vector3d& up, int c) {
+  if (lone_shape(segment)) return contact_candidate(shape, up, c);
   return from_shape(shape, contact_candidate(shape, shape.orientation.conjugate() * up, c));
 }
 
 // a segment's lowest reach below its origin along the world's up (segment frame)
 double reach_below(const Segment& segment, const Vector3d& up) {
+  if (lone_shape(segment)) return half_height(segment.shapes[0], up);
   double below = -std::numeric_limits<double>::infinity();
   for (const Shape& shape : segment.shapes) {
     double b = 0.0, a = 0.0;
@@ -99,7 +102,7 @@ double push_out_of_ground(const Model& model, const Environment& environment, in
     for (const Shape& shape : seg.shapes) {
       for (int c = 0; c < candidate_count(shape); ++c) {
         // every correction moves the segment: each candidate is read from the current pose
-        const Vector3d local = segment_candidate(shape, up, c);
+        const Vector3d local = segment_candidate(seg, shape, up, c);
         const double depth = -(body.x.z() + up.dot(local));
         if (depth <= 0.0) continue;
         deepest = std::max(deepest, depth);
@@ -171,7 +174,7 @@ void ground_velocity_pass(const Model& model, const Environment& environment, St
     if (body.x.z() - reach_below(seg, up) > kTouching) continue;
     for (const Shape& shape : seg.shapes) {
       for (int c = 0; c < candidate_count(shape); ++c) {
-        const Vector3d local = segment_candidate(shape, up, c);
+        const Vector3d local = segment_candidate(seg, shape, up, c);
         if (body.x.z() + up.dot(local) > kTouching) continue;
         const Vector3d r = body.q * local;  // world, from the centre
         const Vector3d velocity = body.v + body.w.cross(r);

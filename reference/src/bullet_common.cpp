@@ -43,10 +43,8 @@ std::unique_ptr<btCollisionShape> make_shape(const Shape& shape) {
 
 btCollisionShape* make_segment_shape(const Segment& segment,
                                      std::vector<std::unique_ptr<btCollisionShape>>& owned) {
-  const Shape& first = segment.shapes.front();
-  if (segment.shapes.size() == 1 && first.position.isZero() &&
-      first.orientation.coeffs() == Quaterniond::Identity().coeffs()) {
-    owned.push_back(make_shape(first));
+  if (lone_shape(segment)) {
+    owned.push_back(make_shape(segment.shapes[0]));
     return owned.back().get();
   }
   auto compound = std::make_unique<btCompoundShape>(/*enableDynamicAabbTree=*/false,

@@ -112,6 +112,13 @@ void derive_mass_terms(Segment& segment);
 Vector3d support_point(const Segment& segment, const Vector3d& direction);
 double signed_distance(const Segment& segment, const Vector3d& point);
 double segment_volume(const Segment& segment);
+/// whether the segment is one shape at its origin with its axes (the shape's frame is the
+/// segment's: the hot paths read it without a rotation)
+inline bool lone_shape(const Segment& segment) {
+  const Shape& first = segment.shapes.front();
+  return segment.shapes.size() == 1 && first.position.isZero() &&
+         first.orientation.coeffs() == Quaterniond::Identity().coeffs();
+}
 /// a point of the segment frame in the shape's own frame, and back
 Vector3d to_shape(const Shape& shape, const Vector3d& in_segment);
 Vector3d from_shape(const Shape& shape, const Vector3d& in_shape);
