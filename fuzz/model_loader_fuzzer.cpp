@@ -26,6 +26,11 @@ void check_model(const puppet::Model& model) {
     check(s.inv_inertia.allFinite() && (s.inv_inertia.array() > 0.0).all());
     check(s.rest_position.allFinite());
     check(std::abs(s.rest_orientation.norm() - 1.0) < 1e-9);
+    check(!s.shapes.empty());
+    for (const puppet::Shape& shape : s.shapes) {
+      check(shape.position.allFinite());
+      check(std::abs(shape.orientation.norm() - 1.0) < 1e-9);
+    }
   }
   for (const puppet::Joint& j : model.joints) {
     check(j.anchor_in_parent.allFinite() && j.anchor_in_child.allFinite());
