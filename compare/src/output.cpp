@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -154,6 +155,17 @@ std::string output_file_problem(const std::string& path) {
                      : S_ISSOCK(link.st_mode) ? "a socket"
                                               : "not a regular file";
   return std::string("is ") + what + " (name a new or a regular file)";
+}
+
+std::string content_checksum(const std::string& bytes) {
+  uint64_t hash = 0xcbf29ce484222325ull;  // FNV-1a 64: offset basis and prime
+  for (const char c : bytes) {
+    hash ^= static_cast<unsigned char>(c);
+    hash *= 0x100000001b3ull;
+  }
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
+  return text;
 }
 
 void write_file_atomically(const std::string& path, const std::string& content) {

@@ -68,17 +68,6 @@ std::string shard_model_problem(const std::string& model) {
   return {};
 }
 
-std::string content_checksum(const std::string& bytes) {
-  uint64_t hash = 0xcbf29ce484222325ull;  // FNV-1a 64: offset basis and prime
-  for (const char c : bytes) {
-    hash ^= static_cast<unsigned char>(c);
-    hash *= 0x100000001b3ull;
-  }
-  char text[17];
-  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
-  return text;
-}
-
 std::string shard_manifest(const RobustnessSpec& spec, int64_t rows, const std::string& csv) {
   std::vector<std::string> configs, dts;
   for (const SolverConfig& config : spec.configs) configs.push_back(config_name(config));

@@ -8,7 +8,6 @@
 #include <stdexcept>
 
 #include "puppet/compare/output.h"
-#include "puppet/compare/shard.h"
 #include "puppet/model/file.h"
 
 namespace puppet::compare {

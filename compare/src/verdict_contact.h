@@ -7,7 +7,7 @@
 #include <string>
 
 #include "puppet/compare/sweep.h"
-#include "puppet/compare/verdict.h"
+#include "puppet/compare/verdict_choice.h"
 
 namespace puppet::compare {
 

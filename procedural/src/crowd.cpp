@@ -22,7 +22,11 @@ Crowd::Crowd(const Model& model, const Settings& settings, const Environment& en
     puppets_.push_back(std::make_unique<Solver>(model, settings, environment, tables));
     puppet_pointers_.push_back(puppets_.back().get());
   }
-  lanes_ = lanes::LaneStepper::make(*puppets_[0], lanes);
+  const int max_width = lanes == CrowdLanes::kWidest ? 8
+                        : lanes == CrowdLanes::kFour ? 4
+                        : lanes == CrowdLanes::kTwo  ? 2
+                                                     : 0;
+  lanes_ = lanes::LaneStepper::make(*puppets_[0], max_width);
   if (lanes_) {
     for (int t = 0; t < threads; ++t)
       lane_scratch_.push_back(std::make_unique<LaneScratch>(*lanes_));

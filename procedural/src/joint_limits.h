@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "model_tables.h"
+#include "joint_terms.h"
 #include "puppet/model/model.h"
 
 namespace puppet::procedural {

@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <memory>
 
+#include "geometry.h"
 #include "joint_limits.h"
 #include "model_tables.h"
-#include "rules/catalogue.h"
 
 namespace puppet::procedural {
 
@@ -100,7 +100,8 @@ AnchorOrder make_anchor_order(const Model& model, int anchor) {
 
 namespace {
 
-JointTerms make_joint_terms(const Model& model, const Joint& joint) {
+JointTerms make_joint_terms(const Model& model, const Joint& joint,
+                            std::span<const PrepareJointFn> prepare) {
   JointTerms terms;
   terms.limit_free_w = limit_free_w(joint);
   terms.box = make_box_test(joint);
@@ -114,16 +115,15 @@ JointTerms make_joint_terms(const Model& model, const Joint& joint) {
     terms.point_mass[side] = diagonal_point_mass_matrix(segment.inv_mass, segment.inv_inertia, r);
     terms.inv_inertia[side] = segment.inv_inertia;
     // what each rule keeps of the joint (its row's prepare_joint)
-    for (const RuleRow& rule : rule_rows()) {
-      if (rule.prepare_joint) rule.prepare_joint(segment, r, side, terms);
-    }
+    for (const PrepareJointFn prepare_joint : prepare) prepare_joint(segment, r, side, terms);
   }
   return terms;
 }
 
 }  // namespace
 
-std::shared_ptr<const ModelTables> make_model_tables(const Model& model) {
+std::shared_ptr<const ModelTables> make_model_tables(const Model& model,
+                                                     std::span<const PrepareJointFn> prepare) {
   auto tables = std::make_shared<ModelTables>();
   tables->incidence = make_incidence(model);
   if (model.segment_count() <= kKeptOrderSegments) {
@@ -135,7 +135,9 @@ std::shared_ptr<const ModelTables> make_model_tables(const Model& model) {
     }
   }
   tables->joints.reserve(model.joint_count());
-  for (const Joint& joint : model.joints) tables->joints.push_back(make_joint_terms(model, joint));
+  for (const Joint& joint : model.joints) {
+    tables->joints.push_back(make_joint_terms(model, joint, prepare));
+  }
   return tables;
 }
 

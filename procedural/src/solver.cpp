@@ -20,6 +20,10 @@
 
 namespace puppet::procedural {
 
+std::shared_ptr<const ModelTables> make_model_tables(const Model& model) {
+  return make_model_tables(model, joint_preparers());
+}
+
 Solver::Solver(const Model& model, const Settings& settings, const Environment& environment,
                std::shared_ptr<const ModelTables> tables)
     : model_(model),

@@ -16,7 +16,8 @@
 #include "geometry.h"
 #include "joint_limits.h"
 #include "model_tables.h"
-#include "puppet/procedural/solver.h"
+#include "puppet/procedural/settings.h"
+#include "puppet/procedural/state.h"
 #include "workspace.h"
 
 namespace puppet::procedural {

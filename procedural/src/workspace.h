@@ -10,7 +10,8 @@
 
 #include "joint_limits.h"
 #include "model_tables.h"
-#include "puppet/procedural/solver.h"
+#include "puppet/procedural/settings.h"
+#include "puppet/procedural/state.h"
 
 namespace puppet::procedural {
 

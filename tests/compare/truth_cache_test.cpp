@@ -12,6 +12,7 @@
 #include <set>
 
 #include "puppet/compare/output.h"
+#include "puppet/compare/sweep.h"
 
 namespace puppet::compare {
 namespace {

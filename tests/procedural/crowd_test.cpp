@@ -15,6 +15,7 @@
 
 #include "model_tables.h"
 #include "puppet/compare/scenario.h"
+#include "puppet/procedural/solver.h"
 #include "support/source_dir.h"
 
 namespace puppet::procedural {

@@ -11,6 +11,7 @@
 #include "puppet/model/environment.h"
 #include "puppet/model/model.h"
 #include "puppet/model/rotation.h"
+#include "puppet/procedural/solver.h"
 #include "stages.h"
 #include "support/random.h"
 

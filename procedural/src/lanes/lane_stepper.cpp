@@ -97,8 +97,8 @@ Quaterniond get4(const double* slots, int width, int slot, int lane) {
 
 }  // namespace
 
-std::unique_ptr<LaneStepper> LaneStepper::make(const Solver& puppet, CrowdLanes lanes) {
-  if (lanes == CrowdLanes::kNone) return nullptr;
+std::unique_ptr<LaneStepper> LaneStepper::make(const Solver& puppet, int max_width) {
+  if (max_width < 2) return nullptr;
   const Settings& settings = puppet.settings();
   const Environment& environment = puppet.environment();
   // the lanes' limit pass keeps no rate from before the adjust: restitution 0 only
@@ -109,9 +109,7 @@ std::unique_ptr<LaneStepper> LaneStepper::make(const Solver& puppet, CrowdLanes 
       environment.water || environment.ground || puppet.tables_->orders.empty()) {
     return nullptr;
   }
-  const int width = widest_lanes(lanes == CrowdLanes::kWidest ? 8
-                                 : lanes == CrowdLanes::kFour ? 4
-                                                              : 2);
+  const int width = widest_lanes(max_width);
   return std::unique_ptr<LaneStepper>(new LaneStepper(puppet, width));
 }
 

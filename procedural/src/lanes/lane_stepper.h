@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "lane_kernel.h"
-#include "puppet/procedural/crowd.h"
+#include "puppet/procedural/solver.h"
 
 namespace puppet::procedural::lanes {
 
@@ -17,8 +17,9 @@ class LaneStepper {
  public:
   // a stepper for puppets made like `puppet` (every puppet of a crowd is), or null when they
   // cannot be stepped in lanes: a rule other than xpbd, water, the ground, either tremble, timed
-  // stages, a model too large to keep its anchor orders, or `lanes` kNone
-  static std::unique_ptr<LaneStepper> make(const Solver& puppet, CrowdLanes lanes);
+  // stages, a model too large to keep its anchor orders, or `max_width` under 2. Its width is the
+  // widest the processor has up to `max_width` (8: AVX-512, 4: AVX2, 2: SSE2)
+  static std::unique_ptr<LaneStepper> make(const Solver& puppet, int max_width);
   ~LaneStepper();
 
   int width() const { return width_; }

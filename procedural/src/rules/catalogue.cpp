@@ -2,6 +2,7 @@
 #include "catalogue.h"
 
 #include <cassert>
+#include <vector>
 
 #include "rules.h"
 
@@ -127,6 +128,18 @@ static_assert(std::size(kRows) == kAllRules.size(), "one row per rule");
 }  // namespace
 
 std::span<const RuleRow> rule_rows() { return kRows; }
+
+std::span<const PrepareJointFn> joint_preparers() {
+  // every rule's prepare_joint, in the rows' order (a rule with none keeps nothing per joint)
+  static const std::vector<PrepareJointFn> prepare = [] {
+    std::vector<PrepareJointFn> out;
+    for (const RuleRow& row : kRows) {
+      if (row.prepare_joint) out.push_back(row.prepare_joint);
+    }
+    return out;
+  }();
+  return prepare;
+}
 
 const RuleRow& rule_row(Rule rule) {
   const RuleRow& row = kRows[static_cast<int>(rule)];

@@ -22,10 +22,6 @@ using AdjustFn = void (*)(const Model& model, std::span<const JointTerms> joints
 using ForcedRotationFn = Quaterniond (*)(const MovingBody& body, const Vector3d& r,
                                          const Vector3d& s, const Vector3d& cross,
                                          double cross_norm2);
-// what the rule keeps in the model tables for one side of a joint (the segment, its anchor r in
-// its frame), written into terms at `side`
-using PrepareJointFn = void (*)(const Segment& segment, const Vector3d& r, int side,
-                                JointTerms& terms);
 
 struct RuleRow {
   Rule rule;
@@ -42,5 +38,8 @@ struct RuleRow {
 const RuleRow& rule_row(Rule rule);
 // every row, in rule.h's order
 std::span<const RuleRow> rule_rows();
+// the rows' prepare_joint (those that have one), in their order: what make_model_tables fills
+// each joint's terms with
+std::span<const PrepareJointFn> joint_preparers();
 
 }  // namespace puppet::procedural

@@ -58,6 +58,10 @@ std::string output_file_problem(const std::string& path);
 // writing and again before the rename), std::runtime_error naming the file when a write fails.
 void write_file_atomically(const std::string& path, const std::string& content);
 
+// the FNV-1a 64-bit hash of a file's bytes, as 16 hex digits: it catches a file cut short or
+// edited by accident (a shard's manifest, a truth cache's key); it is no signature
+std::string content_checksum(const std::string& bytes);
+
 // the commit the binary runs from ("unknown" outside a git checkout) and a one-line machine id
 std::string current_git_sha();
 std::string machine_description();

@@ -30,10 +30,6 @@ inline constexpr int64_t kMaxShardRuns = 2000000;  // a row is about 300 bytes h
 // characters of printable ASCII. robustness --shard refuses such a name up front, merge on read.
 std::string shard_model_problem(const std::string& model);
 
-// the FNV-1a 64-bit hash of a file's bytes, as 16 hex digits: it catches a file cut short or
-// edited by accident (it is no signature: whoever edits a shard can write a new manifest)
-std::string content_checksum(const std::string& bytes);
-
 // shard.txt for a shard of `spec` whose robustness.csv is `csv` (holding `rows` rows)
 std::string shard_manifest(const RobustnessSpec& spec, int64_t rows, const std::string& csv);
 

@@ -15,7 +15,8 @@
 #include <string>
 
 #include "puppet/compare/accuracy.h"
-#include "puppet/compare/sweep.h"
+#include "puppet/compare/scenario.h"
+#include "puppet/compare/simulator.h"
 
 namespace puppet::compare {
 

@@ -18,36 +18,9 @@
 #include "puppet/model/model.h"
 #include "puppet/procedural/rule.h"
 #include "puppet/procedural/settings.h"
+#include "puppet/procedural/state.h"
 
 namespace puppet::procedural {
-
-constexpr int kMaxPins = 4;
-
-/// everything that changes during a run; allocated once, plain contiguous data
-struct State {
-  std::vector<BodyState> bodies;  ///< per segment
-  std::vector<Vector3d> x_prev;   ///< poses at the start of the (sub)step
-  std::vector<Quaterniond> q_prev;
-  std::vector<Vector3d> user_force;  ///< world, at the COM; left in place between steps
-  std::vector<Vector3d> user_torque;
-  std::vector<Vector3d> tremble_offset;  ///< current tremble displacement per segment
-  std::array<Pin, kMaxPins> pins{};
-  std::array<Vector3d, kMaxPins> pin_previous_target{};
-  std::array<double, kMaxPins> pin_force{};  ///< last correction expressed as a force (N)
-  int pin_count = 0;
-  /// the grabs (Pin::is_grab): forces, not constraints, applied in the update (user_forces.h)
-  std::array<Pin, kMaxPins> grabs{};
-  std::array<Vector3d, kMaxPins> grab_previous_target{};
-  int grab_count = 0;
-  /// what set_pins was given, in its order: pin k is pins[slots[k]] when that is ≥ 0, else
-  /// grabs[−1 − slots[k]]
-  std::array<int, kMaxPins> slots{};
-  int slot_count = 0;
-  double tremble_phase = 0.0;
-  double time = 0.0;
-  bool diverged = false;  ///< a non-finite value appeared; the state is no longer advanced
-  double diverged_time = 0.0;
-};
 
 enum Stage { kUpdate, kAdjust, kContacts, kVelocities, kStageCount };
 inline constexpr std::array<std::string_view, kStageCount> kStageNames = {"update", "adjust",
