@@ -1,0 +1,247 @@
+// MJCF's joints (mjcf_reader.h): a body's joints into its joint to its parent: a free root, a
+// weld, a hinge, a ball, or several hinges at one point as an Euler box; user data written by
+// write_mjcf gives back the exact rest values
+#include "mjcf_reader.h"
+
+namespace puppet::mjcf {
+
+bool Reader::is_free(const XMLElement* joint, const std::string& class_name) const {
+  if (std::string(joint->Name()) == "freejoint") return true;
+  return value(joint, "type", class_of(joint, class_name)).value_or("hinge") == "free";
+}
+
+void Reader::check_free(const XMLElement* joint, const std::string& class_name) const {
+  if (std::string(joint->Name()) == "freejoint") {
+    check_attributes(joint, {"name", "group"});
+    return;
+  }
+  check_attributes(joint, kJointAttributes);
+  const std::string cls = class_of(joint, class_name);
+  for (const char* physics : {"damping", "armature", "stiffness", "frictionloss"}) {
+    const auto v = value(joint, physics, cls);
+    if (v && single(joint, physics, *v) != 0.0) {
+      fail(joint, std::string(physics) + " on the free root is not supported");
+    }
+  }
+  if (value(joint, "limited", cls).value_or("false") == "true") {
+    fail(joint, "a limited free joint (MuJoCo refuses it too)");
+  }
+}
+
+Quaterniond Reader::unit_quaternion(const Quaterniond& q) {
+  return std::abs(q.squaredNorm() - 1.0) <= 8.0 * std::numeric_limits<double>::epsilon()
+             ? q
+             : q.normalized();
+}
+
+std::optional<std::vector<double>> Reader::user_data(const XMLElement* e, int declared, int size,
+                                                     const std::string& class_name) const {
+  const auto text = value(e, "user", class_name);
+  if (!text || declared < size) return std::nullopt;
+  auto v = numbers(e, "user", *text);
+  if (v.size() < static_cast<size_t>(size)) return std::nullopt;
+  return v;
+}
+
+Reader::JointElement Reader::read_joint_element(const XMLElement* e, int child, const Vector3d& x,
+                                                const Quaterniond& q,
+                                                const std::string& class_name) const {
+  if (std::string(e->Name()) == "freejoint") fail(e, "a free joint below the root");
+  const std::string cls = class_of(e, class_name);
+  check_attributes(e, kJointAttributes);
+  JointElement out;
+  out.name = attribute(e, "name").value_or(segments_[child].name);
+  if (std::string problem = detail::name_problem(out.name); !problem.empty()) fail(e, problem);
+  for (const char* physics : {"stiffness", "damping", "armature", "frictionloss", "ref"}) {
+    const auto v = value(e, physics, cls);
+    if (v && single(e, physics, *v) != 0.0) {
+      fail(e, std::string(physics) + " is not supported (the model's joints are ideal)");
+    }
+  }
+  out.type = value(e, "type", cls).value_or("hinge");
+  out.anchor_world = x + q * vector3(e, "pos", cls, {0, 0, 0});
+  const auto limited_text = value(e, "limited", cls).value_or("auto");
+  const auto range_text = value(e, "range", cls);
+  if (limited_text != "true" && limited_text != "false" && limited_text != "auto") {
+    fail(e, "limited must be true, false or auto");
+  }
+  if (limited_text == "auto" && range_text && !auto_limits_) {
+    // MuJoCo 2.2's compiler refuses it the same way
+    fail(e, "has a range but no limited (give limited, or compiler autolimits=\"true\")");
+  }
+  out.limited = !limits_off_ && (limited_text == "true" || (limited_text == "auto" && range_text));
+  if (out.limited) {
+    if (!range_text) fail(e, "limited but has no range");
+    out.range = numbers(e, "range", *range_text);
+    if (out.range.size() != 2) fail(e, "attribute \"range\" must have 2 numbers");
+    out.range = {angle(out.range[0]), angle(out.range[1])};
+  }
+  out.user = user_data(e, user_joint_, kJointUserSize, cls);
+  if (out.type == "hinge") {
+    const Vector3d axis = vector3(e, "axis", cls, {0, 0, 1});
+    check_norm(e, "axis", axis);
+    out.axis_world = detail::normalized(Vector3d(q * axis));
+    if (out.limited) {
+      if (out.range[0] > out.range[1]) fail(e, "its range has lo > hi");
+      if (out.range[0] > 0.0 || out.range[1] < 0.0) {
+        fail(e, "its range must contain 0, the rest angle");
+      }
+      out.lower = std::max(out.range[0], -kPi);
+      out.upper = std::min(out.range[1], kPi);
+    }
+  }
+  return out;
+}
+
+Vector3d Reader::user_anchor(const XMLElement* e, const std::vector<double>& u,
+                             const Vector3d& anchor_world) const {
+  const Vector3d anchor(u[0], u[1], u[2]);
+  if ((anchor - anchor_world).norm() > 1e-6) {
+    fail(e, "its user data (a rest anchor) disagrees with its pos");
+  }
+  return anchor;
+}
+
+detail::RawJoint Reader::read_box(const std::vector<const XMLElement*>& hinges, int child,
+                                  int parent, const Vector3d& x, const Quaterniond& q,
+                                  const std::string& class_name) {
+  detail::RawJoint raw;
+  Joint& j = raw.joint;
+  raw.parent_name = segments_[parent].name;
+  raw.child_name = segments_[child].name;
+  joint_where_.push_back(where(hinges[0]));
+  std::array<JointElement, 3> h;
+  for (int k = 0; k < 3; ++k) {
+    h[k] = read_joint_element(hinges[k], child, x, q, class_name);
+    if (h[k].type != "hinge") {
+      fail(hinges[k], "several joints in one body are read only as three hinges (a box limit)");
+    }
+    if ((h[k].anchor_world - h[0].anchor_world).norm() > 1e-9) {
+      fail(hinges[k], "a box limit's three hinges must share one pos");
+    }
+    for (int m = 0; m < k; ++m) {
+      if (std::abs(h[k].axis_world.dot(h[m].axis_world)) > 1e-6) {
+        fail(hinges[k], "a box limit's three hinges must have orthogonal axes");
+      }
+    }
+  }
+  j.type = JointType::kBall;
+  j.ball_limit = BallLimit::kEulerBox;
+  j.swing_x = j.swing_y = j.twist = kPi;
+  j.anchor_world = h[0].anchor_world;
+  for (int k = 0; k < 3; ++k) {
+    j.box_lower[k] = h[k].lower;
+    j.box_upper[k] = h[k].upper;
+  }
+  const std::string stem = h[0].name.substr(0, h[0].name.rfind(':'));
+  j.name = h[0].name;
+  for (int k = 0; k < 3; ++k) {
+    const std::string& name = h[k].name;
+    if (stem.empty() || name.size() != stem.size() + 2 || name.compare(0, stem.size(), stem) ||
+        name[stem.size()] != ':') {
+      break;
+    }
+    if (k == 2) j.name = stem;
+  }
+  if (h[0].user && h[1].user && h[2].user) {
+    const auto& u = *h[0].user;
+    j.anchor_world = user_anchor(hinges[0], u, j.anchor_world);
+    j.frame_world = unit_quaternion(Quaterniond(u[3], u[4], u[5], u[6]));
+    for (int k = 0; k < 3; ++k) {
+      const auto& uk = *h[k].user;
+      const Vector3d e(uk[7], uk[8], uk[9]);
+      int axis = 0;
+      e.cwiseAbs().maxCoeff(&axis);
+      if ((e - Vector3d::Unit(axis)).norm() > 1e-12 ||
+          (j.frame_world * e - h[k].axis_world).norm() > 1e-6) {
+        fail(hinges[k], "its user data (an axis of the box's frame) disagrees with its axis");
+      }
+      j.box_order.axes[k] = axis;
+    }
+    if (j.box_order.axes[0] == j.box_order.axes[1] || j.box_order.axes[1] == j.box_order.axes[2] ||
+        j.box_order.axes[2] == j.box_order.axes[0]) {
+      fail(hinges[2], "its user data names a box frame's axis twice");
+    }
+  } else {
+    Eigen::Matrix3d frame;
+    frame << h[0].axis_world, h[1].axis_world, h[2].axis_world;
+    if (frame.determinant() < 0.0) {
+      frame.col(2) = -frame.col(2);
+      j.box_lower[2] = -h[2].upper;
+      j.box_upper[2] = -h[2].lower;
+    }
+    j.frame_world = Quaterniond(frame).normalized();
+  }
+  derive_limit_terms(j);
+  return raw;
+}
+
+detail::RawJoint Reader::read_joint(const XMLElement* body, const XMLElement* e, int child,
+                                    int parent, const Vector3d& x, const Quaterniond& q,
+                                    const std::string& class_name) {
+  detail::RawJoint raw;
+  Joint& j = raw.joint;
+  raw.parent_name = segments_[parent].name;
+  raw.child_name = segments_[child].name;
+  if (e == nullptr) {
+    // no joint: MuJoCo welds the body to its parent. A weld has no point of its own; the
+    // anchor is taken between the two shapes, halfway from each one's surface point facing
+    // the other's centre
+    j.type = JointType::kFixed;
+    j.name = segments_[child].name;
+    const Segment& p = segments_[parent];
+    const Segment& c = segments_[child];
+    auto facing = [](const Segment& from, const Vector3d& towards) {
+      const Vector3d d = from.rest_orientation.conjugate() * (towards - from.rest_position);
+      if (d.norm() < 1e-12) return from.rest_position;
+      return Vector3d(from.rest_position + from.rest_orientation * support_point(from, d));
+    };
+    j.anchor_world = 0.5 * (facing(p, c.rest_position) + facing(c, p.rest_position));
+    derive_limit_terms(j);
+    joint_where_.push_back(where(body));
+    return raw;
+  }
+  joint_where_.push_back(where(e));
+  const JointElement element = read_joint_element(e, child, x, q, class_name);
+  j.name = element.name;
+  j.anchor_world = element.anchor_world;
+  const auto& user = element.user;
+  if (element.type == "ball") {
+    j.type = JointType::kBall;
+    // the twist axis is the segment's own z: its long axis for a capsule
+    j.frame_world = segments_[child].rest_orientation;
+    j.swing_x = j.swing_y = j.twist = kPi;
+    if (element.limited) {
+      const auto& range = element.range;
+      if (range[0] != 0.0) fail(e, "a ball joint's range must start at 0");
+      if (!(range[1] > 0.0)) fail(e, "a ball joint's range must end above 0");
+      j.swing_x = j.swing_y = j.twist = std::min(range[1], kPi);
+    }
+  } else if (element.type == "hinge") {
+    j.type = JointType::kHinge;
+    raw.hinge_axis_world = element.axis_world;
+    j.lower = element.lower;
+    j.upper = element.upper;
+  } else {
+    fail(e,
+         "type \"" + one_line(element.type) + "\" is not supported below the root (hinge or ball)");
+  }
+  if (user) {
+    // write_mjcf's exact rest anchor, frame and limits
+    const auto& u = *user;
+    j.anchor_world = user_anchor(e, u, j.anchor_world);
+    j.frame_world = unit_quaternion(Quaterniond(u[3], u[4], u[5], u[6]));
+    if (j.type == JointType::kBall) {
+      j.swing_x = u[7];
+      j.swing_y = u[8];
+      j.twist = u[9];
+    } else {
+      j.hinge_axis = Vector3d(u[7], u[8], u[9]);
+      raw.hinge_axis_in_frame = true;
+    }
+  }
+  derive_limit_terms(j);
+  return raw;
+}
+
+}  // namespace puppet::mjcf
