@@ -27,6 +27,43 @@ std::string lock_holder(int fd) {
   return pid.empty() ? "" : " (pid " + pid + ")";
 }
 
+// The lock at `lock`, taken without waiting: an open, locked, regular file, and the one the name
+// still names (one that was removed while we waited is not the lock). Its descriptor; `fail`
+// (which throws) says why not.
+template <typename Fail>
+int lock_exclusively(const fs::path& lock, const Fail& fail) {
+  int fd = -1;
+  for (;;) {
+    // never through a link planted at the lock's name: its target would be truncated
+    fd = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd < 0 && errno == ELOOP) {
+      fail("cannot be locked: its lock " + shown(lock.filename().string()) +
+           " is a symbolic link, which is never written through (remove it)");
+    }
+    if (fd < 0) fail(std::string("cannot be locked (") + std::strerror(errno) + ")");
+    struct stat opened {};
+    if (::fstat(fd, &opened) == 0 && !S_ISREG(opened.st_mode)) {
+      ::close(fd);
+      fd = -1;
+      fail("cannot be locked: its lock " + shown(lock.filename().string()) +
+           " is not a regular file (remove it)");
+    }
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+      const std::string holder = lock_holder(fd);
+      ::close(fd);
+      fd = -1;
+      fail("is being written by another command" + holder + "; wait for it or choose another");
+    }
+    struct stat held {
+    }, named{};
+    if (::fstat(fd, &held) == 0 && ::stat(lock.c_str(), &named) == 0 &&
+        held.st_ino == named.st_ino && held.st_dev == named.st_dev) {
+      return fd;
+    }
+    ::close(fd);
+  }
+}
+
 }  // namespace
 
 OutputFolder::OutputFolder(const std::string& flag, const std::string& path,
@@ -93,35 +130,7 @@ OutputFolder::OutputFolder(const std::string& flag, const std::string& path,
 
   // the lock: an open, locked file; one that was removed while we waited is not the lock
   lock_ = parent / ("." + name + ".lock");
-  for (;;) {
-    // never through a link planted at the lock's name: its target would be truncated
-    lock_fd_ = ::open(lock_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
-    if (lock_fd_ < 0 && errno == ELOOP) {
-      fail("cannot be locked: its lock " + shown(lock_.filename().string()) +
-           " is a symbolic link, which is never written through (remove it)");
-    }
-    if (lock_fd_ < 0) fail(std::string("cannot be locked (") + std::strerror(errno) + ")");
-    struct stat opened {};
-    if (::fstat(lock_fd_, &opened) == 0 && !S_ISREG(opened.st_mode)) {
-      ::close(lock_fd_);
-      lock_fd_ = -1;
-      fail("cannot be locked: its lock " + shown(lock_.filename().string()) +
-           " is not a regular file (remove it)");
-    }
-    if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
-      const std::string holder = lock_holder(lock_fd_);
-      ::close(lock_fd_);
-      lock_fd_ = -1;
-      fail("is being written by another command" + holder + "; wait for it or choose another");
-    }
-    struct stat held {
-    }, named{};
-    if (::fstat(lock_fd_, &held) == 0 && ::stat(lock_.c_str(), &named) == 0 &&
-        held.st_ino == named.st_ino && held.st_dev == named.st_dev) {
-      break;
-    }
-    ::close(lock_fd_);
-  }
+  lock_fd_ = lock_exclusively(lock_, fail);
   tidy_lock_.emplace(lock_);
   const std::string pid = std::to_string(::getpid()) + "\n";
   if (::ftruncate(lock_fd_, 0) != 0 || ::pwrite(lock_fd_, pid.data(), pid.size(), 0) < 0) {
