@@ -6,7 +6,7 @@
 //                                    stage alone, stepped kBatchSteps times per batch like a
 //                                    step/ benchmark, so step ÷ floor compares like with like
 //
-// The solvers are built with compare::procedural_settings, exactly as compare/ builds them.
+// The solvers are built with compare::procedural_settings, exactly as the harness builds them.
 #include <memory>
 
 #include "bench_support.h"

@@ -1,6 +1,6 @@
 // One Pinocchio step in every solver configuration, in hang, drag and drop.
 // Names: step/<scenario>/<solver or rule>, so --benchmark_filter=hang selects every solver's run
-// of hang. Each is configured exactly as compare/ runs it (compare::make_simulator).
+// of hang. Each is configured exactly as the harness runs it (compare::make_simulator).
 #include <memory>
 
 #include "bench_support.h"

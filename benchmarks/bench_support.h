@@ -1,4 +1,4 @@
-// What every benchmark shares: the scenarios of compare/ at a warmed-up instant, and batches of
+// What every benchmark shares: the harness's scenarios at a warmed-up instant, and batches of
 // steps timed by hand so that restoring the snapshot between batches is never timed.
 //
 // Each benchmark iteration restores the snapshot taken after the warm-up, then times kBatchSteps
@@ -60,7 +60,7 @@ const Model& chain(int n);
 // skipped with the reason) when it diverged on the way.
 bool warm_up(benchmark::State& state, compare::Simulator& simulator, const Workload& workload);
 
-// The settings compare/ gives the procedural solver with this rule,
+// The settings the harness gives the procedural solver with this rule,
 // and such a solver stepped through the warm-up (the benchmark skipped if it diverged).
 procedural::Settings procedural_settings(procedural::Rule rule);
 std::unique_ptr<procedural::Solver> warmed_up_solver(benchmark::State& state,

@@ -37,7 +37,7 @@ CONFIGS = [config for engine in _CATALOGUE["engines"]
 SEARCH = {(entry["solver"], entry["rule"]): [(s["flags"], s["label"]) for s in entry["settings"]]
           for entry in _CATALOGUE["verdict_search"]}
 STAGES = list(_CATALOGUE["stages"])
-# the accuracy rows' references: the truth, the second truth (compare/sweep.h), the pairwise
+# the accuracy rows' references: the truth, the second truth (studies/.../sweep.h), the pairwise
 TRUTH, SECOND_TRUTH = (truth["reference"] for truth in _CATALOGUE["truths"])
 TRUTHS = (TRUTH, SECOND_TRUTH)
 # how the report names each truth's engine ("MuJoCo (RK4)"), by its solver

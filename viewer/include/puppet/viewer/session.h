@@ -1,4 +1,4 @@
-// The simulation side of the viewer: a model and a scenario from compare/, one solver and an
+// The simulation side of the viewer: a model and a scenario from the harness, one solver and an
 // optional ghost driven by the same pin targets, and the user's grab. No window: the viewer, its
 // scripts and its tests drive it alike.
 #pragma once
@@ -54,7 +54,7 @@ struct SessionConfig {
   compare::GrabSettings grab_spring;
   bool grab_pin = false;
   double grab_compliance = 0.0;
-  // "SEED:INDEX": a random start of testbed robustness (compare/start.h), replayed; empty for
+  // "SEED:INDEX": a random start of testbed robustness (harness/.../start.h), replayed; empty for
   // the scenario's own start
   std::string start;
 };

@@ -1,4 +1,4 @@
-// The engine catalogue (compare/src/engines/): every row makes what it names, the lists every
+// The engine catalogue (harness/src/engines/): every row makes what it names, the lists every
 // client reads come from it, and each engine's flags read back what its replay flags write.
 #include "puppet/compare/engines.h"
 

@@ -1,7 +1,7 @@
 // The engine catalogue: one row per engine the testbed can run (docs/design.md, "The
 // references"). Every client that lists, makes or checks engines reads it: the testbed's
 // commands and flags, the sweeps and the truths, the viewer, the benchmarks. An engine is its
-// file under compare/src/engines/ (its Simulator, its flags, its row), its row in
+// file under harness/src/engines/ (its Simulator, its flags, its row), its row in
 // engines/catalogue.cpp, its settings in SolverOptions, its CMake lines and its test.
 #pragma once
 

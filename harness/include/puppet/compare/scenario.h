@@ -104,7 +104,7 @@ struct Scenario {
 // from some random starts), which no solver can give without pumping energy in.
 double reach_shortfall(const Model& model, const Scenario& scenario);
 
-// the names of the scenarios, in the catalogue's order (compare/src/scenarios/catalogue.cpp: one
+// the names of the scenarios, in the catalogue's order (harness/src/scenarios/catalogue.cpp: one
 // file per scenario)
 const std::vector<std::string>& scenario_names();
 // what a scenario asks of a solver, and why, in a sentence (empty for an unknown name)

@@ -8,10 +8,10 @@
 #include <cstdint>
 #include <new>
 
-#include "../joint_limits.h"
-#include "../model_tables.h"
-#include "../stages.h"
-#include "../workspace.h"
+#include "joint_limits.h"
+#include "model_tables.h"
+#include "stages.h"
+#include "workspace.h"
 
 namespace puppet::procedural::lanes {
 namespace {

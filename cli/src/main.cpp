@@ -16,8 +16,8 @@
 #include "puppet/compare/scenario.h"
 #include "puppet/compare/shard.h"
 #include "puppet/model/text.h"
-#include "testbed/cli.h"
-#include "testbed/commands.h"
+#include "cli.h"
+#include "commands.h"
 
 namespace {
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The crowd's lane kernels (procedural/src/lanes/xpbd_lanes_*.cpp) are compiled with -mavx2 or
+# The crowd's lane kernels (crowd/src/lanes/xpbd_lanes_*.cpp) are compiled with -mavx2 or
 # -mavx512f and called only where the processor has those instructions. An inline function that
 # such a file instantiated with external linkage (a weak symbol) could be the copy the linker
 # keeps for every caller, and then run on a processor without them: each kernel's object must
