@@ -13,7 +13,6 @@ import re
 import sys
 from pathlib import Path
 
-LIBRARIES = ["model", "procedural", "reference", "compare", "viewer", "benchmarks", "fuzz"]
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
 SUFFIXES = {".h", ".cpp", ".inc"}
 
@@ -32,7 +31,10 @@ def unit_of(root: Path, path: Path) -> str:
 
 def main() -> int:
     root = Path(sys.argv[1]) if len(sys.argv) > 1 else Path(__file__).resolve().parent.parent
-    files = [p for lib in LIBRARIES if (root / lib).is_dir()
+    # every top-level folder CMake builds, but the tests and the examples
+    libraries = sorted(d.name for d in root.iterdir()
+                       if (d / "CMakeLists.txt").is_file() and d.name not in ("tests", "examples"))
+    files = [p for lib in libraries
              for p in (root / lib).rglob("*") if p.suffix in SUFFIXES and p.is_file()]
     by_path = {p.resolve(): p for p in files}
     public = {}  # "puppet/<lib>/<name>.h" -> file
