@@ -11,7 +11,7 @@
 // segment before the pass (world as a), so the pass leaves the joints closed and what is left
 // of the other pins' gaps is reported as pin_gap_m.
 #include "puppet/model/rotation.h"
-#include "rules/rules.h"
+#include "rules/catalogue.h"
 
 namespace puppet::procedural {
 namespace {
@@ -19,25 +19,25 @@ namespace {
 // close_link for a single segment b, applied in place: b's joint point is known in its own
 // frame, so the motion is never built: b is turned (the rule's rotation, then the clamp) and
 // placed with its joint point on c_a, or only translated when neither turns it
-void close_segment_link(const Model& model, const JointTerms& terms, Rule rule,
+void close_segment_link(const Model& model, const JointTerms& terms, const RuleRow& row,
                         const AnchorOrder::Link& link, const BodyState& a, BodyState& b) {
   const Joint& joint = model.joints[link.joint];
   const auto [local_a, local_b] = link_anchors(joint, link);
   const Vector3d c_a = world_point(a, local_a);
   Quaterniond turned;
-  if (rule == Rule::kWeighted) {
+  if (row.one_sided.constant_gain) {
     // the gap in b's frame, where the weighted rotation is a constant matrix of it
     const Vector3d gap = b.q.conjugate() * (c_a - b.x) - local_b;
     turned = times_exp(b.q, terms.rotation_gain[link.b_is_child] * gap);
   } else {
-    // nearly every literal link is a pure translation by s, decided as close_point() does but
-    // from the side's constant bound
+    // with a translation bound (literal) nearly every link is a pure translation by s, decided
+    // as close_point() does but from the side's constant bound
     const Vector3d c_b = world_point(b, local_b);
     const Vector3d s = c_a - c_b;
     Correction closing{Quaterniond::Identity(), s};
-    if (rule != Rule::kLiteral ||
+    if (!row.one_sided.translation_bound ||
         (c_b - b.x).cross(s).squaredNorm() >= terms.literal_still_cross2[link.b_is_child]) {
-      closing = close_point(rule, single_body(model.segments[link.b], b), c_b, c_a);
+      closing = close_point(row.rule, single_body(model.segments[link.b], b), c_b, c_a);
     }
     if (!closing.rotates()) {
       // a pure translation: the clamp, if any, turns b about c_a
@@ -59,14 +59,14 @@ void close_segment_link(const Model& model, const JointTerms& terms, Rule rule,
 
 // a pin closed by moving its own segment alone (the world is a): the weighted correction in place,
 // or the rule's forced rotation and translation
-void close_pin(const Model& model, Rule rule, const Pin& pin, const Vector3d& target,
+void close_pin(const Model& model, const RuleRow& row, const Pin& pin, const Vector3d& target,
                BodyState& body) {
   const Segment& segment = model.segments[pin.segment];
-  if (rule == Rule::kWeighted) {
+  if (row.one_sided.constant_gain) {
     close_segment_point(segment, pin.local_point, target, body);
     return;
   }
-  close_point(rule, single_body(segment, body), world_point(body, pin.local_point), target)
+  close_point(row.rule, single_body(segment, body), world_point(body, pin.local_point), target)
       .apply(body);
 }
 
@@ -76,9 +76,9 @@ bool closes(PinClosure closure, const Pin& pin) {
          (closure == PinClosure::kRigidOnly && pin.compliance == 0.0);
 }
 
-void close_secondary_pins(const Model& model, Rule rule, PinClosure closure,
+void close_secondary_pins(const Model& model, const RuleRow& row, PinClosure closure,
                           const PinTargets& targets, State& state) {
-  const Rule single = rule == Rule::kSubtree ? Rule::kWeighted : rule;
+  const RuleRow& single = rule_row(row.one_sided.lone_segment.value_or(row.rule));
   for (int i = 1; i < state.pin_count; ++i) {
     const Pin& pin = state.pins[i];
     if (!closes(closure, pin)) continue;
@@ -113,16 +113,17 @@ void one_sided_pass(const Model& model, std::span<const JointTerms> joints, Rule
                     State& state, Workspace& ws) {
   const bool pinned = state.pin_count > 0 && state.pins[0].segment == order.anchor &&
                       closes(closure, state.pins[0]);
-  close_secondary_pins(model, rule, closure, targets, state);
-  if (rule == Rule::kSubtree) {
-    subtree_pass(model, joints, order, pinned, targets, state, ws);
+  const RuleRow& row = rule_row(rule);
+  close_secondary_pins(model, row, closure, targets, state);
+  if (row.one_sided.walk) {
+    row.one_sided.walk(model, joints, order, pinned, targets, state, ws);
     return;
   }
   // the anchor: closed to its pin (a joint with the world), else left where update put it
-  if (pinned) close_pin(model, rule, state.pins[0], targets[0], state.bodies[order.anchor]);
+  if (pinned) close_pin(model, row, state.pins[0], targets[0], state.bodies[order.anchor]);
   // every joint, parent-before-child from the anchor
   for (const AnchorOrder::Link& link : order.level_links) {
-    close_segment_link(model, joints[link.joint], rule, link, state.bodies[link.a],
+    close_segment_link(model, joints[link.joint], row, link, state.bodies[link.a],
                        state.bodies[link.b]);
   }
 }

@@ -30,6 +30,26 @@ constexpr RuleSearch kOnePass{};  // dt is all there is to choose
 // - xpbd and tree hold the ground as a constraint of their own solve (kInAdjust).
 // The one-sided rules make one pass and read no iterations; their 4 is relaxed's, kept so that
 // a configuration reads the same whichever rule it names.
+// How the one-sided rules read the pass (OneSidedReading): the forced rotation, with literal's
+// translation bound, weighted's constant gain, or subtree's walk over whole subtrees (a pin's
+// segment alone closed by weighted's gain). The rules that solve at once read none of it.
+constexpr OneSidedReading kForcedRotation{.constant_gain = false,
+                                          .translation_bound = false,
+                                          .lone_segment = std::nullopt,
+                                          .walk = nullptr};
+constexpr OneSidedReading kTranslationBound{.constant_gain = false,
+                                            .translation_bound = true,
+                                            .lone_segment = std::nullopt,
+                                            .walk = nullptr};
+constexpr OneSidedReading kConstantGain{.constant_gain = true,
+                                        .translation_bound = false,
+                                        .lone_segment = std::nullopt,
+                                        .walk = nullptr};
+constexpr OneSidedReading kSubtrees{.constant_gain = false,
+                                    .translation_bound = false,
+                                    .lone_segment = Rule::kWeighted,
+                                    .walk = subtree_pass};
+
 const RuleRow kRows[] = {
     {.rule = Rule::kLiteral,
      .info = {.name = "literal",
@@ -42,7 +62,10 @@ const RuleRow kRows[] = {
      .contacts = ContactPolicy::kPushOutAndRepass,
      .adjust = one_sided_adjust,
      .forced_rotation = literal_forced_rotation,
-     .prepare_joint = literal_prepare_joint},
+     .prepare_joint = literal_prepare_joint,
+     .limit_velocities = false,
+     .one_sided = kTranslationBound,
+     .closing_pass = std::nullopt},
     {.rule = Rule::kSmoothed,
      .info = {.name = "smoothed",
               .iterations = 4,
@@ -54,7 +77,10 @@ const RuleRow kRows[] = {
      .contacts = ContactPolicy::kPushOutAndRepass,
      .adjust = one_sided_adjust,
      .forced_rotation = smoothed_forced_rotation,
-     .prepare_joint = nullptr},
+     .prepare_joint = nullptr,
+     .limit_velocities = false,
+     .one_sided = kForcedRotation,
+     .closing_pass = std::nullopt},
     {.rule = Rule::kWeighted,
      .info = {.name = "weighted",
               .iterations = 4,
@@ -66,7 +92,11 @@ const RuleRow kRows[] = {
      .contacts = ContactPolicy::kPushOutAndRepass,
      .adjust = one_sided_adjust,
      .forced_rotation = weighted_forced_rotation,
-     .prepare_joint = weighted_prepare_joint},
+     .prepare_joint = weighted_prepare_joint,
+     .limit_velocities = false,
+     .one_sided = kConstantGain,
+     .closing_pass = std::nullopt},
+    // subtree: the weighted reading over whole subtrees; a pin's segment alone is weighted's
     {.rule = Rule::kSubtree,
      .info = {.name = "subtree",
               .iterations = 4,
@@ -78,8 +108,11 @@ const RuleRow kRows[] = {
      .contacts = ContactPolicy::kPushOutAndRepass,
      .adjust = one_sided_adjust,
      .forced_rotation = weighted_forced_rotation,
-     .prepare_joint = nullptr},
-    // relaxed: the four sweeps of one step that the seed's pass then closes
+     .prepare_joint = nullptr,
+     .limit_velocities = false,
+     .one_sided = kSubtrees,
+     .closing_pass = std::nullopt},
+    // relaxed: the four sweeps of one step that the seed's pass (weighted's reading) then closes
     {.rule = Rule::kRelaxed,
      .info = {.name = "relaxed",
               .iterations = 4,
@@ -92,7 +125,9 @@ const RuleRow kRows[] = {
      .adjust = relaxed_adjust,
      .forced_rotation = weighted_forced_rotation,
      .prepare_joint = nullptr,
-     .limit_velocities = false},
+     .limit_velocities = false,
+     .one_sided = kForcedRotation,
+     .closing_pass = Rule::kWeighted},
     // xpbd: many short substeps of one sweep each (Müller et al. 2020), the count chosen by
     // measurement (docs/solver.md: the substep sweep)
     {.rule = Rule::kXpbd,
@@ -107,7 +142,9 @@ const RuleRow kRows[] = {
      .adjust = xpbd_adjust,
      .forced_rotation = weighted_forced_rotation,
      .prepare_joint = nullptr,
-     .limit_velocities = true},
+     .limit_velocities = true,
+     .one_sided = kForcedRotation,
+     .closing_pass = std::nullopt},
     // tree: a few substeps of a few Newton iterations of the exact projection
     {.rule = Rule::kTree,
      .info = {.name = "tree",
@@ -121,7 +158,9 @@ const RuleRow kRows[] = {
      .adjust = tree_adjust,
      .forced_rotation = weighted_forced_rotation,
      .prepare_joint = nullptr,
-     .limit_velocities = true},
+     .limit_velocities = true,
+     .one_sided = kForcedRotation,
+     .closing_pass = std::nullopt},
 };
 static_assert(std::size(kRows) == kAllRules.size(), "one row per rule");
 

@@ -6,6 +6,7 @@
 // enum value in rule.h, its CMake line and its test.
 #pragma once
 
+#include <optional>
 #include <span>
 
 #include "../stages.h"
@@ -23,6 +24,28 @@ using ForcedRotationFn = Quaterniond (*)(const MovingBody& body, const Vector3d&
                                          const Vector3d& s, const Vector3d& cross,
                                          double cross_norm2);
 
+// a walk from the anchor that replaces the one-sided pass's own walk over single segments (rule
+// subtree's, which moves whole subtrees)
+using OneSidedWalkFn = void (*)(const Model& model, std::span<const JointTerms> joints,
+                                const AnchorOrder& order, bool pinned, const PinTargets& targets,
+                                State& state, Workspace& ws);
+
+// How a rule made of the one-sided pass reads it (one_sided_pass.cpp): the pass asks these, never
+// the rule's name
+struct OneSidedReading {
+  // a single segment (a link's far side, a pinned segment) is closed by the constant gain of its
+  // point (JointTerms::rotation_gain, close_segment_point) instead of the forced rotation
+  bool constant_gain = false;
+  // a link whose closing turn would fall below its side's bound (JointTerms::literal_still_cross2)
+  // is a pure translation, decided without the rotation
+  bool translation_bound = false;
+  // the rule whose reading closes a segment alone (the pins after the first): the rule itself
+  // when empty
+  std::optional<Rule> lone_segment;
+  // replaces the walk over single segments; null: the pass's own
+  OneSidedWalkFn walk = nullptr;
+};
+
 struct RuleRow {
   Rule rule;
   RuleInfo info;
@@ -33,6 +56,10 @@ struct RuleRow {
   // its velocities come from its positions, so a limit's correction leaves a rate that the
   // limits' velocity pass must set (limit_velocities.cpp); the one-sided rules' clamp leaves none
   bool limit_velocities = false;
+  OneSidedReading one_sided;
+  // a rule whose own adjust ends with a one-sided pass (relaxed's sweeps, then a closing pass):
+  // the rule whose reading that pass takes; empty: none
+  std::optional<Rule> closing_pass;
 };
 
 const RuleRow& rule_row(Rule rule);

@@ -4,6 +4,7 @@
 // both sides' K are constants but for the parent's rotation into it); then the one-sided
 // `weighted` pass closes every joint exactly from the anchor (one_sided_pass.cpp). A compliant
 // pin is the sweeps' to pull, and the final pass leaves it be (docs/solver.md, "relaxed").
+#include "catalogue.h"
 #include "puppet/model/rotation.h"
 #include "rules.h"
 
@@ -57,7 +58,9 @@ void relaxed_adjust(const Model& model, std::span<const JointTerms> joints,
                     const AnchorOrder& order, const PinTargets& targets, State& state,
                     Workspace& ws, double h) {
   relaxed_sweeps(model, joints, settings, environment, order, targets, state, ws, h);
-  one_sided_pass(model, joints, Rule::kWeighted, order, PinClosure::kRigidOnly, targets, state, ws);
+  // the closing pass its row names (the seed's pass, weighted's reading)
+  one_sided_pass(model, joints, *rule_row(settings.rule).closing_pass, order,
+                 PinClosure::kRigidOnly, targets, state, ws);
 }
 
 }  // namespace puppet::procedural
