@@ -21,7 +21,7 @@ std::vector<SolverConfig> solver_configs() {
     }
     for (procedural::Rule rule : procedural::kAllRules) {
       compare::SolverOptions options;
-      options.rule = rule;
+      options.procedural.rule = rule;
       configs.push_back({std::string(procedural::rule_name(rule)), solver, options});
     }
   }
@@ -105,7 +105,7 @@ bool warm_up(benchmark::State& state, compare::Simulator& simulator, const Workl
 
 procedural::Settings procedural_settings(procedural::Rule rule) {
   compare::SolverOptions options;
-  options.rule = rule;
+  options.procedural.rule = rule;
   return compare::procedural_settings(options);
 }
 

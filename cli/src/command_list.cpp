@@ -29,9 +29,9 @@ int list_text() {
   for (const auto& s : solver_names()) std::cout << ' ' << s;
   std::cout << "\nrules:    ";
   for (auto rule : procedural::kAllRules) std::cout << ' ' << procedural::rule_name(rule);
-  std::cout << " (procedural only; default " << procedural::rule_name(SolverOptions{}.rule)
-            << ")\nmodels:    pinocchio (" << builtin_model_path()
-            << "), chain:N, or any model file\n";
+  std::cout << " (procedural only; default "
+            << procedural::rule_name(SolverOptions{}.procedural.rule) << ")\nmodels:    pinocchio ("
+            << builtin_model_path() << "), chain:N, or any model file\n";
   return 0;
 }
 
@@ -63,7 +63,7 @@ int list_json() {
                      {"iterations_are", info.iterations_are},
                      {"lanes", info.lanes}});
   }
-  out["default_rule"] = procedural::rule_name(SolverOptions{}.rule);
+  out["default_rule"] = procedural::rule_name(SolverOptions{}.procedural.rule);
   // what a verdict searches for each configuration besides dt: the flags candidates.csv names a
   // setting by, and the words tables show for it
   auto& search = out["verdict_search"] = nlohmann::ordered_json::array();

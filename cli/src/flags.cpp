@@ -207,7 +207,7 @@ ScenarioOptions parse_scenario_options(const Flags& f) {
 
 std::vector<SolverConfig> parse_solver_configs(const Flags& f) {
   SolverOptions options = f.options;  // CLI11 checked the ranges
-  options.position_tremble = f.position_tremble;
+  options.procedural.tremble = f.position_tremble;
   std::vector<procedural::Rule> rules;
   for (const auto& rule : expand("--rule", f.rule, all_rules())) {
     rules.push_back(*procedural::parse_rule(rule));  // expand() accepted only rule names

@@ -30,7 +30,8 @@ constexpr uint64_t kMaxSteps = 10000001;
 
 std::string config_name(const SolverConfig& config) {
   return has_rules(config.solver)
-             ? config.solver + ":" + std::string(procedural::rule_name(config.options.rule))
+             ? config.solver + ":" +
+                   std::string(procedural::rule_name(config.options.procedural.rule))
              : config.solver;
 }
 

@@ -52,8 +52,9 @@ std::vector<Truth> truths_for(const Model& model) {
 }
 
 std::string rule_of(const SolverConfig& config) {
-  return has_rules(config.solver) ? std::string(procedural::rule_name(config.options.rule))
-                                  : std::string();
+  return has_rules(config.solver)
+             ? std::string(procedural::rule_name(config.options.procedural.rule))
+             : std::string();
 }
 
 std::vector<SolverConfig> solver_configs(const std::vector<std::string>& solvers,
@@ -67,7 +68,7 @@ std::vector<SolverConfig> solver_configs(const std::vector<std::string>& solvers
     }
     for (const procedural::Rule rule : rules) {
       out.push_back({solver, options});
-      out.back().options.rule = rule;
+      out.back().options.procedural.rule = rule;
     }
   }
   return out;

@@ -95,16 +95,19 @@ void add_scenario(KeyBytes& key, const Scenario& scenario) {
 }
 
 void add_options(KeyBytes& key, const SolverOptions& o) {
-  key.add(o.rule)
-      .add(o.iterations)
-      .add(o.substeps)
-      .add(o.derive_velocities)
-      .add(o.start_lever_arms)
-      .add(o.limit_functions)
-      .add(o.limits_before_joints)
-      .add(o.limit_velocity_pass)
-      .add(o.limit_restitution)
-      .add(o.position_tremble);
+  key.add(o.procedural.rule)
+      .add(o.procedural.iterations)
+      .add(o.procedural.substeps)
+      .add(o.procedural.derive_velocities)
+      .add(o.procedural.start_lever_arms)
+      .add(o.procedural.limit_functions)
+      .add(o.procedural.limits_before_joints)
+      .add(o.procedural.limit_velocity_pass)
+      .add(o.procedural.limit_restitution)
+      .add(o.procedural.tremble)
+      .add(o.procedural.joint_compliance)
+      .add(o.procedural.limit_compliance)
+      .add(static_cast<int64_t>(o.procedural.tremble_seed));  // time_stages moves nothing
   key.add(o.bullet.iterations).add(o.bullet.erp).add(o.bullet.euler_ball_limits);
   key.add(o.mujoco.integrator).add(o.mujoco.constraint_time_constant);
 }

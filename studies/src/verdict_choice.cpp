@@ -131,7 +131,7 @@ SolverOptions candidate_options(const std::string& solver, const std::string& ru
   if (has_rules(solver)) {
     const auto parsed = procedural::parse_rule(rule);
     if (!parsed) throw ScenarioError("unknown rule " + rule, "rule");
-    base.options.rule = *parsed;
+    base.options.procedural.rule = *parsed;
   }
   for (const Setting& s : settings_searched(base.solver, base.options)) {
     if (s.flags == setting) return s.options;

@@ -138,7 +138,7 @@ TEST(ContactJudge, TheVerdictJudgesADropWithoutRefusingIt) {
   spec.model = &model;
   spec.scenarios = {"drop"};
   spec.solvers = {{"procedural", {}}};
-  spec.solvers[0].options.rule = procedural::Rule::kTree;
+  spec.solvers[0].options.procedural.rule = procedural::Rule::kTree;
   spec.dts = {1.0 / 60, 1.0 / 240};
   spec.budgets_m = {0.01, 0.05};
   spec.starts = 8;

@@ -57,9 +57,9 @@ TEST(Engines, AnUnknownNameIsRefused) {
 // options that differ from the defaults in every field a flag sets
 SolverOptions changed_options() {
   SolverOptions o;
-  o.iterations = 3;
-  o.substeps = 5;
-  o.derive_velocities = false;
+  o.procedural.iterations = 3;
+  o.procedural.substeps = 5;
+  o.procedural.derive_velocities = false;
   o.bullet.iterations = 7;
   o.bullet.euler_ball_limits = true;
   o.mujoco.integrator = reference::MujocoIntegrator::kRk4;
@@ -80,9 +80,9 @@ TEST(Engines, ReplayFlagsReadBackAsTheOptionsTheyCameFrom) {
       EXPECT_EQ(replay, "") << "the defaults replay as nothing";
     }
     app.parse(replay, false);
-    EXPECT_EQ(read.iterations, options.iterations) << replay;
-    EXPECT_EQ(read.substeps, options.substeps) << replay;
-    EXPECT_EQ(read.derive_velocities, options.derive_velocities) << replay;
+    EXPECT_EQ(read.procedural.iterations, options.procedural.iterations) << replay;
+    EXPECT_EQ(read.procedural.substeps, options.procedural.substeps) << replay;
+    EXPECT_EQ(read.procedural.derive_velocities, options.procedural.derive_velocities) << replay;
     EXPECT_EQ(read.bullet.iterations, options.bullet.iterations) << replay;
     EXPECT_EQ(read.bullet.euler_ball_limits, options.bullet.euler_ball_limits) << replay;
     EXPECT_EQ(read.mujoco.integrator, options.mujoco.integrator) << replay;

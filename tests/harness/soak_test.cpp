@@ -46,7 +46,7 @@ struct SoakCount {
 SoakCount soak(const Model& model, const std::string& solver, const std::string& rule, long steps,
                uint64_t seed) {
   SolverOptions options;
-  if (!rule.empty()) options.rule = *procedural::parse_rule(rule);
+  if (!rule.empty()) options.procedural.rule = *procedural::parse_rule(rule);
   auto simulator = make_simulator(solver, options);
   const Scenario scenario = make_scenario("drop", model);  // ground, gravity, air drag
   simulator->reset(model, scenario);

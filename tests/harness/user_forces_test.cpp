@@ -20,7 +20,8 @@ Model pinocchio() { return load_model(std::string(PUPPET_SOURCE_DIR) + "/models/
 
 SolverOptions one_substep() {
   SolverOptions options;
-  options.substeps = 1;  // the procedural user forces are the last substep's: the step's here
+  options.procedural.substeps =
+      1;  // the procedural user forces are the last substep's: the step's here
   return options;
 }
 

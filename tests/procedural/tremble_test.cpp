@@ -25,7 +25,7 @@ TrembleRun run_tremble(uint64_t seed, bool pinned) {
   // the hand on a hard pin: the pull the position tremble reads is the pins' corrections
   const compare::Scenario scenario = compare::make_scenario("marionette", model);
   compare::SolverOptions options;
-  options.position_tremble = true;
+  options.procedural.tremble = true;
   Settings settings = compare::procedural_settings(options);
   EXPECT_TRUE(settings.tremble);
   settings.tremble_seed = seed;

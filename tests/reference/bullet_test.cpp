@@ -378,7 +378,7 @@ TEST(SetState, RoundTripInEverySolver) {
   std::vector<Vector3d> targets;
   auto states_after = [&](const std::string& solver, const std::string& rule) {
     compare::SolverOptions options;
-    if (!rule.empty()) options.rule = *procedural::parse_rule(rule);
+    if (!rule.empty()) options.procedural.rule = *procedural::parse_rule(rule);
     auto simulator = compare::make_simulator(solver, options);
     simulator->reset(model, drag);
     for (int k = 0; k < 300; ++k) {

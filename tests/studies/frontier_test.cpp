@@ -26,7 +26,7 @@ TEST(Frontier, BisectionBracketsTheBoundaryToItsResolution) {
   FrontierSpec spec;
   spec.model = &model;
   SolverOptions literal;
-  literal.rule = procedural::Rule::kLiteral;
+  literal.procedural.rule = procedural::Rule::kLiteral;
   spec.configs = {{"procedural", literal}};
   spec.hz_low = 2.0;
   spec.hz_high = 16.0;

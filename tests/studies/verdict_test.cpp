@@ -177,12 +177,12 @@ TEST(Verdict, TheTruthsFloorIsItsErrorBarOrTheTruthsDisagreement) {
 TEST(Verdict, EverySettingSearchedIsFoundByItsFlags) {
   for (const char* rule : {"literal", "relaxed", "xpbd", "tree"}) {
     SolverConfig base{"procedural", {}};
-    base.options.rule = *procedural::parse_rule(rule);
+    base.options.procedural.rule = *procedural::parse_rule(rule);
     for (const Setting& s : settings_searched(base.solver, base.options)) {
       const SolverOptions o = candidate_options("procedural", rule, s.flags);
-      EXPECT_EQ(o.substeps, s.options.substeps) << rule << " " << s.flags;
-      EXPECT_EQ(o.iterations, s.options.iterations) << rule << " " << s.flags;
-      EXPECT_EQ(o.rule, base.options.rule);
+      EXPECT_EQ(o.procedural.substeps, s.options.procedural.substeps) << rule << " " << s.flags;
+      EXPECT_EQ(o.procedural.iterations, s.options.procedural.iterations) << rule << " " << s.flags;
+      EXPECT_EQ(o.procedural.rule, base.options.procedural.rule);
     }
   }
   for (const char* solver : {"bullet-multibody", "mujoco"}) {

@@ -154,7 +154,7 @@ TEST(Session, AdvanceTakesWholeStepsAndCarriesTheRest) {
 // the arm's weight on the spring, and the solvers agree where (the same system, solved twice).
 TEST(Session, TheMouseGrabsWithTheVerdictsGrab) {
   SessionConfig c;
-  c.options.rule = procedural::Rule::kTree;
+  c.options.procedural.rule = procedural::Rule::kTree;
   c.ghost = "bullet-multibody";
   Session session(c);
   Environment air = session.scenario().environment;
@@ -221,7 +221,7 @@ TEST(Session, AGrabTakesOverTheScenarioPinOfItsSegment) {
     SessionConfig c;
     c.scenario = "marionette";
     c.grab_pin = true;
-    c.options.rule = *procedural::parse_rule(rule);
+    c.options.procedural.rule = *procedural::parse_rule(rule);
     c.ghost = "bullet-multibody";
     Session session(c);
     ASSERT_EQ(session.pins().size(), 2u);  // head and hand
@@ -261,7 +261,7 @@ TEST(Session, AGrabTakesOverTheScenarioPinOfItsSegment) {
 // weight alone would stretch the spring (the string holds the rest), and both agree
 TEST(Session, ACompliantGrabHangsTheHandBelowTheCursorInEverySolver) {
   SessionConfig c;
-  c.options.rule = procedural::Rule::kTree;
+  c.options.procedural.rule = procedural::Rule::kTree;
   c.ghost = "bullet-multibody";
   c.grab_pin = true;
   c.grab_compliance = 1e-3;  // m/N
@@ -294,7 +294,7 @@ TEST(Session, ACompliantGrabHangsTheHandBelowTheCursorInEverySolver) {
 TEST(Session, TheGrabAnchorsTheProceduralPass) {
   SessionConfig c;
   c.grab_pin = true;
-  c.options.rule = procedural::Rule::kLiteral;
+  c.options.procedural.rule = procedural::Rule::kLiteral;
   Session session(c);
   const auto [forearm, tip, held] = grab_the_hand(session);
   EXPECT_EQ(session.grab_index(), 0);
@@ -306,7 +306,7 @@ TEST(Session, TheGrabAnchorsTheProceduralPass) {
   EXPECT_GT(session.run(0).pin_gap_max, 1e-3);  // the head's string, left open
 
   // the rotating rules keep the scenario's anchor by default; either can be asked for
-  c.options.rule = procedural::Rule::kRelaxed;
+  c.options.procedural.rule = procedural::Rule::kRelaxed;
   session.configure(c);
   EXPECT_EQ(session.grab_index(), 1);
   EXPECT_EQ(session.pins()[1].segment, forearm);
@@ -346,7 +346,7 @@ TEST(Session, ReconfiguringKeepsTheStateAndANewScenarioStartsOver) {
   run_for(session, 0.5);
   const std::vector<BodyState> before = session.run(0).bodies;
   const double t = session.time();
-  c.options.rule = procedural::Rule::kLiteral;
+  c.options.procedural.rule = procedural::Rule::kLiteral;
   c.ghost = "bullet-rigid";
   session.configure(c);
   EXPECT_EQ(session.run(0).label, "procedural (literal)");
@@ -408,7 +408,7 @@ TEST(Session, TheEnvironmentChangesMidRun) {
 TEST(Session, EachRunReportsItsOwnDivergence) {
   SessionConfig c;
   c.scenario = "yank";
-  c.options.rule = procedural::Rule::kLiteral;
+  c.options.procedural.rule = procedural::Rule::kLiteral;
   c.ghost = "bullet-rigid";
   c.dt = 1.0 / 50.0;
   Session session(c);

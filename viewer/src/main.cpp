@@ -276,7 +276,7 @@ int main(int argc, char** argv) {
   for (const procedural::Rule rule : procedural::kAllRules) {
     rule_names.emplace_back(procedural::rule_name(rule));
   }
-  std::string rule_text(procedural::rule_name(config.options.rule));
+  std::string rule_text(procedural::rule_name(config.options.procedural.rule));
   app.add_option("--rule", rule_text, "the procedural solver's adjust rule")
       ->check(CLI::IsMember(rule_names))
       ->capture_default_str();
@@ -287,7 +287,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--dt", dt_text, "time step (s); fractions such as 1/240 are accepted")
       ->capture_default_str();
-  app.add_option("--substeps", config.options.substeps, compare::procedural_substeps_help());
+  app.add_option("--substeps", config.options.procedural.substeps,
+                 compare::procedural_substeps_help());
   app.add_option("--start", config.start,
                  "SEED:INDEX: a random start of testbed robustness (its worst.csv lists them)");
   app.add_option("--grab-hz", config.grab_spring.hz,
@@ -321,7 +322,7 @@ int main(int argc, char** argv) {
     std::cerr << one_line(std::string("viewer: ") + e.what(), 400) << '\n';
     return kBadInput;
   }
-  config.options.rule = *procedural::parse_rule(rule_text);  // --rule checked it
+  config.options.procedural.rule = *procedural::parse_rule(rule_text);  // --rule checked it
 
   auto bad = [](const std::string& message) {
     std::cerr << one_line("viewer: " + message, 400) << '\n';

@@ -46,11 +46,12 @@ void configure(Session& session, const SessionConfig& config, PanelState& state)
 // a slider over a count that may still be the rule's default: it shows the value in force
 bool rule_count_slider(const char* label, const SessionConfig& config, int* count, int lo, int hi) {
   procedural::Settings settings;
-  settings.rule = config.options.rule;
-  settings.iterations = config.options.iterations;
-  settings.substeps = config.options.substeps;
+  settings.rule = config.options.procedural.rule;
+  settings.iterations = config.options.procedural.iterations;
+  settings.substeps = config.options.procedural.substeps;
   settings = procedural::rule_defaults(settings);
-  int shown = count == &config.options.iterations ? settings.iterations : settings.substeps;
+  int shown =
+      count == &config.options.procedural.iterations ? settings.iterations : settings.substeps;
   if (!ImGui::SliderInt(label, &shown, lo, hi)) return false;
   *count = shown;
   return true;
@@ -64,20 +65,22 @@ void solver_section(Session& session, PanelState& state) {
     for (const procedural::Rule r : procedural::kAllRules) {
       rules.emplace_back(procedural::rule_name(r));
     }
-    std::string rule(procedural::rule_name(config.options.rule));
+    std::string rule(procedural::rule_name(config.options.procedural.rule));
     if (combo("rule", rule, rules)) {
-      config.options.rule = *procedural::parse_rule(rule);  // one of the combo's names
+      config.options.procedural.rule = *procedural::parse_rule(rule);  // one of the combo's names
       // a new rule starts from its own sweeps and substeps
-      config.options.iterations = procedural::kRuleDefault;
-      config.options.substeps = procedural::kRuleDefault;
+      config.options.procedural.iterations = procedural::kRuleDefault;
+      config.options.procedural.substeps = procedural::kRuleDefault;
       changed = true;
     }
     // a rule that reads its iterations gets a slider, labelled with what they count (its row
     // in the rule catalogue: "two-sided sweeps per substep" reads "two-sided sweeps")
-    const std::string_view counts = procedural::rule_info(config.options.rule).iterations_are;
+    const std::string_view counts =
+        procedural::rule_info(config.options.procedural.rule).iterations_are;
     if (!counts.empty()) {
       const std::string label(counts.substr(0, counts.find(" per ")));
-      changed |= rule_count_slider(label.c_str(), config, &config.options.iterations, 1, 16);
+      changed |=
+          rule_count_slider(label.c_str(), config, &config.options.procedural.iterations, 1, 16);
     }
   }
   changed |= combo("anchor", config.anchor, {"auto", "grab", "scenario"});
@@ -155,7 +158,7 @@ void time_section(Session& session, Controller& controller, PanelState& state) {
     ImGui::EndCombo();
   }
   if (compare::has_rules(config.solver) || compare::has_rules(config.ghost)) {
-    changed |= rule_count_slider("substeps", config, &config.options.substeps, 1, 32);
+    changed |= rule_count_slider("substeps", config, &config.options.procedural.substeps, 1, 32);
   }
   // the mouse: the judged scenarios' grab (a capped spring–damper), or a pin on the cursor
   changed |= ImGui::Checkbox("grab with a pin", &config.grab_pin);

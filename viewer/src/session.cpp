@@ -239,7 +239,8 @@ void Session::judge(Run& run, double t) {
 
 bool Session::grab_anchors() const {
   return config_.anchor == "grab" ||
-         (config_.anchor == "auto" && procedural::rule_info(config_.options.rule).grab_anchors);
+         (config_.anchor == "auto" &&
+          procedural::rule_info(config_.options.procedural.rule).grab_anchors);
 }
 
 int Session::grab_index() const {

@@ -75,17 +75,7 @@ class ProceduralSimulator : public Simulator {
 };
 
 procedural::Settings settings_from(const SolverOptions& options) {
-  procedural::Settings settings;
-  settings.tremble = options.position_tremble;
-  settings.rule = options.rule;
-  settings.iterations = options.iterations;
-  settings.substeps = options.substeps;
-  settings.derive_velocities = options.derive_velocities;
-  settings.start_lever_arms = options.start_lever_arms;
-  settings.limit_functions = options.limit_functions;
-  settings.limits_before_joints = options.limits_before_joints;
-  settings.limit_velocity_pass = options.limit_velocity_pass;
-  settings.limit_restitution = options.limit_restitution;
+  const procedural::Settings& settings = options.procedural;
   const std::string problem = procedural::validate(settings);
   if (!problem.empty()) throw ScenarioError(problem);
   return procedural::rule_defaults(settings);
@@ -122,32 +112,32 @@ std::string iterations_help() {
 }
 
 void add_flags(CLI::App& command, SolverOptions& options) {
-  command.add_option("--iterations", options.iterations, iterations_help())
+  command.add_option("--iterations", options.procedural.iterations, iterations_help())
       ->check(whole_number_check())
       ->check(CLI::Range(0, procedural::kMaxIterations));
-  command.add_option("--substeps", options.substeps, procedural_substeps_help())
+  command.add_option("--substeps", options.procedural.substeps, procedural_substeps_help())
       ->check(whole_number_check())
       ->check(CLI::Range(1, procedural::kMaxSubsteps));
   command.add_flag_callback(
-      "--no-velocities", [&options] { options.derive_velocities = false; },
+      "--no-velocities", [&options] { options.procedural.derive_velocities = false; },
       "procedural: do not derive velocities from poses");
   command.add_flag_callback(
-      "--current-lever-arms", [&options] { options.start_lever_arms = false; },
+      "--current-lever-arms", [&options] { options.procedural.start_lever_arms = false; },
       "xpbd: turn a correction through the lever arms of the pose being corrected "
       "(position-based dynamics' own), not the substep's start");
   command.add_flag_callback(
-      "--limit-clamp", [&options] { options.limit_functions = false; },
+      "--limit-clamp", [&options] { options.procedural.limit_functions = false; },
       "xpbd: correct a ball's limits by the clamp's rotation (a box's per-angle clamp), not by "
       "its limit functions");
   command.add_flag_callback(
-      "--joints-before-limits", [&options] { options.limits_before_joints = false; },
+      "--joints-before-limits", [&options] { options.procedural.limits_before_joints = false; },
       "xpbd: correct every joint's point before every limit in a sweep");
   command.add_flag_callback(
-      "--no-limit-pass", [&options] { options.limit_velocity_pass = false; },
+      "--no-limit-pass", [&options] { options.procedural.limit_velocity_pass = false; },
       "xpbd, tree: leave out the limits' velocity pass (the rate a limit's correction "
       "leaves is kept)");
   command
-      .add_option("--limit-restitution", options.limit_restitution,
+      .add_option("--limit-restitution", options.procedural.limit_restitution,
                   "xpbd, tree: the rate a limit gives back over the one it came in "
                   "with (default 0)")
       ->check(CLI::Validator(
@@ -161,31 +151,31 @@ void add_flags(CLI::App& command, SolverOptions& options) {
 
 void replay_flags(const SolverOptions& options, std::string& out) {
   const SolverOptions defaults;
-  if (options.iterations != defaults.iterations) {
-    out += " --iterations " + std::to_string(options.iterations);
+  if (options.procedural.iterations != defaults.procedural.iterations) {
+    out += " --iterations " + std::to_string(options.procedural.iterations);
   }
-  if (options.substeps != defaults.substeps) {
-    out += " --substeps " + std::to_string(options.substeps);
+  if (options.procedural.substeps != defaults.procedural.substeps) {
+    out += " --substeps " + std::to_string(options.procedural.substeps);
   }
-  if (!options.derive_velocities) out += " --no-velocities";
-  if (!options.start_lever_arms) out += " --current-lever-arms";
-  if (!options.limit_functions) out += " --limit-clamp";
-  if (!options.limits_before_joints) out += " --joints-before-limits";
-  if (!options.limit_velocity_pass) out += " --no-limit-pass";
-  if (options.limit_restitution != defaults.limit_restitution) {
-    out += " --limit-restitution " + csv_number(options.limit_restitution);
+  if (!options.procedural.derive_velocities) out += " --no-velocities";
+  if (!options.procedural.start_lever_arms) out += " --current-lever-arms";
+  if (!options.procedural.limit_functions) out += " --limit-clamp";
+  if (!options.procedural.limits_before_joints) out += " --joints-before-limits";
+  if (!options.procedural.limit_velocity_pass) out += " --no-limit-pass";
+  if (options.procedural.limit_restitution != defaults.procedural.limit_restitution) {
+    out += " --limit-restitution " + csv_number(options.procedural.limit_restitution);
   }
 }
 
 // the rule's own search (its row in the rule catalogue): its substeps or its sweeps
 void search(const SolverOptions& base, std::vector<Setting>& out) {
-  const procedural::RuleSearch grid = procedural::rule_info(base.rule).search;
+  const procedural::RuleSearch grid = procedural::rule_info(base.procedural.rule).search;
   if (grid.knob == procedural::RuleKnob::kNone) return;
   const bool substeps = grid.knob == procedural::RuleKnob::kSubsteps;
   for (const int n : grid.values) {
     Setting s{(substeps ? "--substeps " : "--iterations ") + std::to_string(n),
               std::to_string(n) + " " + std::string(grid.noun) + (n == 1 ? "" : "s"), base};
-    (substeps ? s.options.substeps : s.options.iterations) = n;
+    (substeps ? s.options.procedural.substeps : s.options.procedural.iterations) = n;
     out.push_back(std::move(s));
   }
 }

@@ -62,21 +62,14 @@ class Simulator {
   virtual std::vector<double> stage_seconds() const { return {}; }
 };
 
-// options a solver may use: the procedural rule and its settings, and each reference engine's
-// own settings (an engine's row in engines.h adds its flags for its part)
+// options a solver may use: the procedural solver's settings (its rule, iteration counts and
+// switches, as procedural::Solver takes them) and each reference engine's own settings (an
+// engine's row in engines.h adds its flags for its part)
 struct SolverOptions {
-  procedural::Rule rule = procedural::Rule::kRelaxed;
-  int iterations = procedural::kRuleDefault;  // relaxed, xpbd: sweeps per substep; tree: Newton
-  int substeps = procedural::kRuleDefault;    // procedural: substeps per step
-  bool derive_velocities = true;
-  bool start_lever_arms = true;      // procedural: xpbd's lever arms (Settings)
-  bool limit_functions = true;       // procedural: xpbd's limits as functions (Settings)
-  bool limits_before_joints = true;  // procedural: xpbd's sweep order (Settings)
-  bool limit_velocity_pass = true;   // procedural: the limits' velocity pass (Settings)
-  double limit_restitution = 0.0;    // and the restitution it gives the limits
-  // procedural: the seed's tremble read as position noise in the update (Settings::tremble), in
-  // any scenario; the tremble scenario's is a force every engine feels (environment.tremble)
-  bool position_tremble = false;
+  // procedural: Settings::tremble is the seed's tremble read as position noise in the update, in
+  // any scenario (--position-tremble); the tremble scenario's is a force every engine feels
+  // (environment.tremble). time_stages is the run's to set (Simulator::set_stage_timing).
+  procedural::Settings procedural;
   // bullet-multibody and bullet-rigid: sequential-impulse sweeps (Bullet's default 10), ERP, and
   // Bullet's own Euler-box ball limits
   reference::Settings bullet;
