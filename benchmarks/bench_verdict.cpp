@@ -19,6 +19,7 @@
 #include "puppet/compare/engines.h"
 #include "puppet/compare/output.h"
 #include "puppet/compare/verdict.h"
+#include "puppet/results_layout.h"
 
 using namespace puppet;
 using namespace puppet::bench;
@@ -67,7 +68,7 @@ std::vector<Choice> read_choices(const std::string& path, std::string* model) {
 int main(int argc, char** argv) {
   std::string path =
       (std::filesystem::path(compare::builtin_model_path()).parent_path().parent_path() /
-       "results" / "verdict" / "verdict.csv")
+       kResultsRoot / kResultsVerdict / "verdict.csv")
           .string();
   std::vector<char*> args{argv[0]};
   for (int i = 1; i < argc; ++i) {

@@ -10,6 +10,8 @@
 # Exit status: the gate's (0 pass, 1 a ratio below its threshold, 2 bad input).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/results_layout.sh
+thresholds=results/$GATE_THRESHOLDS
 mode=full
 if [ "${1:-}" = "--quick" ]; then mode=quick; fi
 scripts/setup.sh
@@ -28,9 +30,9 @@ if [ "$mode" = quick ]; then
   quick=(--benchmark_min_time=0.05)
   # what results/gate.json reads, and nothing else (scripts/gate_filters.py; an assignment, so
   # that a failure stops here instead of timing everything)
-  step=$(/usr/bin/python3 scripts/gate_filters.py results/gate.json step)
-  stages=$(/usr/bin/python3 scripts/gate_filters.py results/gate.json stages)
-  scaling=$(/usr/bin/python3 scripts/gate_filters.py results/gate.json scaling)
+  step=$(/usr/bin/python3 scripts/gate_filters.py "$thresholds" step)
+  stages=$(/usr/bin/python3 scripts/gate_filters.py "$thresholds" stages)
+  scaling=$(/usr/bin/python3 scripts/gate_filters.py "$thresholds" scaling)
   "$bin/bench_step" "${common[@]}" "${quick[@]}" --benchmark_out="$out/bench_step.json" \
     --benchmark_filter="$step"
   "$bin/bench_stages" "${common[@]}" "${quick[@]}" --benchmark_out="$out/bench_stages.json" \
@@ -41,7 +43,7 @@ if [ "$mode" = quick ]; then
   # the cheapest reference per scenario and budget
   "$bin/bench_verdict" "${common[@]}" "${quick[@]}" --benchmark_out="$out/bench_verdict.json"
   ./build/release/testbed gate "$out"/bench_step.json "$out"/bench_stages.json \
-    "$out"/bench_scaling.json "$out"/bench_verdict.json --thresholds results/gate.json
+    "$out"/bench_scaling.json "$out"/bench_verdict.json --thresholds "$thresholds"
 else
   out=results/bench
   mkdir -p "$out"
@@ -50,7 +52,7 @@ else
   done
   status=0
   ./build/release/testbed gate "$out"/bench_step.json "$out"/bench_stages.json \
-    "$out"/bench_scaling.json "$out"/bench_verdict.json --thresholds results/gate.json \
+    "$out"/bench_scaling.json "$out"/bench_verdict.json --thresholds "$thresholds" \
     --csv "$out/$machine.csv" || status=$?
   # docs/performance.md's tables are generated blocks that name a machine's CSV
   /usr/bin/python3 scripts/docs_tables.py

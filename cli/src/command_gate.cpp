@@ -8,6 +8,7 @@
 #include "puppet/compare/gate.h"
 #include "puppet/compare/output.h"
 #include "puppet/model/text.h"
+#include "puppet/results_layout.h"
 
 namespace puppet::testbed {
 namespace {
@@ -42,7 +43,7 @@ int gate(const std::vector<std::string>& bench_files, const std::string& thresho
 Command add_gate_command(CLI::App& app) {
   struct Args {
     std::vector<std::string> files;
-    std::string thresholds = "results/gate.json", csv;
+    std::string thresholds = std::string(kResultsRoot) + "/" + kResultsGateThresholds, csv;
   };
   auto args = std::make_shared<Args>();
   CLI::App* command = app.add_subcommand(

@@ -16,6 +16,7 @@
 #include "puppet/compare/start.h"
 #include "puppet/compare/verdict.h"
 #include "puppet/model/text.h"
+#include "puppet/results_layout.h"
 #include "tables.h"
 
 namespace puppet::testbed {
@@ -108,8 +109,8 @@ int verdict(const Flags& f) {
 
 Command add_verdict_command(CLI::App& app) {
   auto f = std::make_shared<Flags>();
-  f->dt = "1/30,1/60,1/120,1/240,1/480,1/960";
-  f->out = "results/verdict";
+  f->dt = compare::dt_flag();
+  f->out = std::string(kResultsRoot) + "/" + kResultsVerdict;
   f->starts = "32";
   CLI::App* command = app.add_subcommand(
       "verdict",

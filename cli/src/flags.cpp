@@ -7,6 +7,7 @@
 #include "puppet/compare/robustness.h"
 #include "puppet/model/text.h"
 #include "puppet/procedural/rule.h"
+#include "puppet/results_layout.h"
 
 namespace puppet::testbed {
 
@@ -139,7 +140,7 @@ void add_starts_flags(CLI::App* command, Flags& f, const char* starts_help) {
 Flags robustness_defaults() {
   Flags f;
   f.dt = "1/240";
-  f.out = "results/robustness";
+  f.out = std::string(kResultsRoot) + "/" + kResultsRobustness;
   f.solver = compare::kProceduralEngine;
   return f;
 }

@@ -13,6 +13,7 @@
 #include "puppet/compare/simulator.h"
 #include "puppet/compare/sweep.h"
 #include "puppet/model/model.h"
+#include "puppet/results_layout.h"
 
 namespace puppet::testbed {
 
@@ -21,8 +22,8 @@ namespace puppet::testbed {
 // and choices are CLI11's, typed and checked
 struct Flags {
   std::string model = "pinocchio", scenario = "all", solver = "all", rule = "all";
-  std::string dt = "1/30,1/60,1/120,1/240,1/480", duration, out = "results", pin, grab, gravity,
-              air_drag, ground;
+  std::string dt = compare::dt_flag(compare::kSweepStepRates), duration, out = kResultsRoot, pin,
+              grab, gravity, air_drag, ground;
   std::string tilt = "30", hz = "0.5", sample_hz = "30", grab_compliance;
   // the grab's law (compare::GrabSettings); empty: its defaults
   std::string grab_hz, grab_ratio, grab_cap;

@@ -74,9 +74,12 @@ std::vector<SolverConfig> solver_configs(const std::vector<std::string>& solvers
   return out;
 }
 
-const std::vector<double>& sweep_dts() {
-  static const std::vector<double> dts{1.0 / 30, 1.0 / 60, 1.0 / 120, 1.0 / 240, 1.0 / 480};
-  return dts;
+std::string dt_flag(size_t count) {
+  std::string out;
+  for (size_t k = 0; k < count && k < kStepRates.size(); ++k) {
+    out += (k == 0 ? "1/" : ",1/") + std::to_string(kStepRates[k]);
+  }
+  return out;
 }
 
 void parallel_for(size_t count, int threads, const std::function<void(size_t)>& job,

@@ -3,6 +3,7 @@
 // (docs/design.md, "Metrics": accuracy, step_us).
 #pragma once
 
+#include <array>
 #include <functional>
 #include <span>
 #include <string>
@@ -45,8 +46,12 @@ std::vector<Truth> truths_for(const Model& model);
 inline constexpr const char* kPairwiseSolver = "bullet-multibody";
 inline constexpr const char* kPairwiseReference = "pairwise";  // its rows' reference column
 
-// the dts of the default sweep
-const std::vector<double>& sweep_dts();
+// The step rates the studies search, coarsest first, each twice the last (1/30 s to 1/960 s):
+// a sweep (testbed run) runs all but the finest unless told, the verdict runs them all
+inline constexpr std::array<int, 6> kStepRates{30, 60, 120, 240, 480, 960};
+inline constexpr size_t kSweepStepRates = 5;
+// the first `count` step rates as a --dt flag writes them: "1/30,1/60,..."
+std::string dt_flag(size_t count = kStepRates.size());
 
 // a solver and its options (for procedural, the rule among them)
 struct SolverConfig {
