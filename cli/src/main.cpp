@@ -10,14 +10,14 @@
 #include <cstring>
 #include <iostream>
 
+#include "cli.h"
+#include "commands.h"
 #include "puppet/compare/cancel.h"
 #include "puppet/compare/gate.h"
 #include "puppet/compare/output_folder.h"
 #include "puppet/compare/scenario.h"
 #include "puppet/compare/shard.h"
 #include "puppet/model/text.h"
-#include "cli.h"
-#include "commands.h"
 
 namespace {
 
