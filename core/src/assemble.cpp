@@ -6,7 +6,6 @@
 #include <cmath>
 #include <map>
 #include <set>
-#include <sstream>
 
 #include "model_builder.h"
 
@@ -22,12 +21,6 @@ struct Failure {
     throw ModelError(locate(part, index) + ": " + problem);
   }
 };
-
-std::string centimetres(double metres) {
-  std::ostringstream out;
-  out << std::round(metres * 1000.0) / 10.0;
-  return out.str();
-}
 
 // every segment valid and named once: each name's index
 std::map<std::string, int> index_segments(const std::vector<Segment>& segments,
@@ -146,8 +139,8 @@ Joint place_joint(const RawJoint& raw, int ji, const Model& model, int parent_in
     const double distance = signed_distance(*seg, local);
     if (distance > kAnchorTolerance) {
       fail(Part::kJoint, ji,
-           "anchor is " + centimetres(distance) + " cm from the surface of segment \"" + seg->name +
-               "\" (at most 5 cm allowed)");
+           "anchor is " + number(std::round(distance * 1000.0) / 10.0) +
+               " cm from the surface of segment \"" + seg->name + "\" (at most 5 cm allowed)");
     }
   }
   j.frame_in_parent = parent.rest_orientation.conjugate() * j.frame_world;

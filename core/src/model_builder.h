@@ -25,6 +25,9 @@ inline constexpr size_t kMaxFileBytes = size_t{16} << 20;         // a model fil
 
 using puppet::printable;
 using puppet::shown;
+// the shortest text that reads back as exactly x: a value just outside a range never prints as
+// its bound ("a mass of 9.9999999999999995e-07 kg", not "1e-06")
+std::string number(double x);
 // what is wrong with a name (empty when nothing): 1 to 64 bytes of letters, digits, _ - . :
 std::string name_problem(std::string_view name);
 // what keeps a model file's bytes from being read as UTF-8 text (a UTF-16 or UTF-32 byte-order

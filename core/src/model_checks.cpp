@@ -73,15 +73,14 @@ std::string shown(std::string_view text) {
 }
 
 namespace detail {
-namespace {
 
-// the shortest text that reads back as exactly x: a value just outside a range never prints as
-// its bound ("a mass of 9.9999999999999995e-07 kg", not "1e-06")
 std::string number(double x) {
   char text[32];
   const auto result = std::to_chars(text, text + sizeof text, x);
   return std::string(text, result.ptr);
 }
+
+namespace {
 
 bool within(double x, double lo, double hi) { return x >= lo && x <= hi; }  // false for NaN
 

@@ -4,20 +4,15 @@
 #include <time.h>
 
 #include <algorithm>
-#include <cstdio>
-#include <map>
 #include <memory>
 #include <numeric>
 #include <sstream>
-#include <tuple>
 
 #include "puppet/compare/accuracy.h"
 #include "puppet/compare/cancel.h"
-#include "puppet/compare/number.h"
 #include "puppet/compare/robustness.h"
 #include "puppet/compare/run.h"
 #include "puppet/compare/start.h"
-#include "puppet/compare/summary_metrics.h"
 #include "verdict_contact.h"
 
 namespace puppet::compare {
@@ -264,8 +259,8 @@ std::vector<size_t> jobs_of(const Search& search, size_t s, size_t k = SIZE_MAX)
 // Cost: one thread, one scenario at a time, every candidate of it alive at once and stepped
 // through the scenario in slices of kSlice simulated seconds taken in turn, so that whatever
 // slows the machine for a while slows them all alike. A candidate that meets a non-finite value
-// is not timed further (its cost is left unknown: it is not a candidate).
-void time_scenario(Search& search, size_t s) {
+// is not timed further (its cost is left unknown: it is not a candidate). Returns its job count.
+size_t time_scenario_candidates(Search& search, size_t s) {
   constexpr double kSlice = 0.25;
   const Scenario& scenario = search.scenarios[s];
   const std::vector<size_t> mine = jobs_of(search, s);
@@ -302,14 +297,14 @@ void time_scenario(Search& search, size_t s) {
       search.out.candidates[mine[m]].cost_us_per_s = 1e6 * seconds[m] / scenario.duration;
     }
   }
+  return mine.size();
 }
 
 void time_candidates(Search& search) {
   auto tick = search.progress("cost");
   size_t done = 0;
   for (size_t s = 0; s < search.scenario_count(); ++s) {
-    time_scenario(search, s);
-    done += jobs_of(search, s).size();
+    done += time_scenario_candidates(search, s);
     tick(done, search.jobs.size());
   }
 }

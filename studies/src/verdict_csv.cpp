@@ -1,10 +1,10 @@
 // The verdict's files: verdict.csv, candidates.csv and contact.csv as it writes them, and the
 // truths' floors read back from a summary.csv (--floors-from)
 #include <algorithm>
-#include <cstdio>
 #include <map>
 #include <numeric>
 #include <sstream>
+#include <tuple>
 
 #include "puppet/compare/number.h"
 #include "puppet/compare/summary_metrics.h"
