@@ -11,6 +11,7 @@ packages=(
   libcli11-dev       # the testbed command line
   libbullet-dev      # the references (its bullet-float64 variant: double precision)
   libmujoco-dev      # the mujoco reference (MuJoCo 2.2)
+  libode-dev         # the ode reference (ODE 0.16, double precision)
   pkg-config         # finds bullet-float64
   libgtest-dev       # tests
   libbenchmark-dev   # benchmarks/ and the performance gate

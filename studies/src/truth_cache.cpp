@@ -110,6 +110,7 @@ void add_options(KeyBytes& key, const SolverOptions& o) {
       .add(static_cast<int64_t>(o.procedural.tremble_seed));  // time_stages moves nothing
   key.add(o.bullet.iterations).add(o.bullet.erp).add(o.bullet.euler_ball_limits);
   key.add(o.mujoco.integrator).add(o.mujoco.constraint_time_constant);
+  key.add(o.ode.stepper).add(o.ode.iterations).add(o.ode.erp).add(o.ode.cfm);
 }
 
 // the running program, as its executable's size and modification time (a rebuild changes both)

@@ -48,10 +48,10 @@ TEST(Engines, TheNamesAreTheBuiltRowsInOrder) {
 }
 
 TEST(Engines, AnUnknownNameIsRefused) {
-  EXPECT_EQ(find_engine("ode"), nullptr);
-  EXPECT_THROW(make_simulator("ode", {}), ScenarioError);
+  EXPECT_EQ(find_engine("physx"), nullptr);
+  EXPECT_THROW(make_simulator("physx", {}), ScenarioError);
   const Model model = load_named_model("pinocchio");
-  EXPECT_NE(engine_model_problem("ode", model).find("unknown solver"), std::string::npos);
+  EXPECT_NE(engine_model_problem("physx", model).find("unknown solver"), std::string::npos);
 }
 
 // options that differ from the defaults in every field a flag sets

@@ -18,6 +18,7 @@
 #include "puppet/procedural/solver.h"
 #include "puppet/reference/bullet.h"
 #include "puppet/reference/mujoco.h"
+#include "puppet/reference/ode.h"
 #include "support/box_faces.h"
 #include "support/source_dir.h"
 
@@ -52,6 +53,15 @@ std::vector<Engine> engines() {
   if (have_mujoco()) {
     out.push_back({"mujoco", [](const Model& model, const Environment& environment) {
                      return make_mujoco(model, environment);
+                   }});
+  }
+  if (have_ode()) {
+    // the exact LCP, and Gauss–Seidel run to convergence
+    out.push_back({"ode", [](const Model& model, const Environment& environment) {
+                     return make_ode(model, environment, {.stepper = OdeStepper::kStep});
+                   }});
+    out.push_back({"ode-quick", [](const Model& model, const Environment& environment) {
+                     return make_ode(model, environment, {.iterations = kIterations});
                    }});
   }
   return out;

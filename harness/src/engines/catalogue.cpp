@@ -15,10 +15,12 @@ Engine procedural_engine();
 Engine bullet_multibody_engine();
 Engine bullet_rigid_engine();
 Engine mujoco_engine();
+Engine ode_engine();
 
 std::span<const Engine> engines() {
   static const std::vector<Engine> rows = {procedural_engine(), bullet_multibody_engine(),
-                                           bullet_rigid_engine(), mujoco_engine()};
+                                           bullet_rigid_engine(), mujoco_engine(),
+                                           ode_engine()};
   return rows;
 }
 

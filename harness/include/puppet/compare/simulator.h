@@ -14,6 +14,7 @@
 #include "puppet/procedural/solver.h"
 #include "puppet/reference/bullet.h"
 #include "puppet/reference/mujoco.h"
+#include "puppet/reference/ode.h"
 
 namespace puppet::compare {
 
@@ -75,6 +76,8 @@ struct SolverOptions {
   reference::Settings bullet;
   // mujoco: the integrator and the constraints' time constant (0: 2·dt)
   reference::MujocoSettings mujoco;
+  // ode: dWorldQuickStep (and its sweeps) or dWorldStep, ERP and CFM
+  reference::OdeSettings ode;
 };
 // the names of the engines this build has, in the catalogue's order (engines.h)
 const std::vector<std::string>& solver_names();
