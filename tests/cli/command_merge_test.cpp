@@ -81,7 +81,7 @@ TEST(TestbedCli, MergeVerifiesEveryShardBeforeWriting) {
       {[](const fs::path& s) { edit_manifest(s, "rows", "12"); }, "rows: 12"},
       {[](const fs::path& s) { edit_manifest(s, "starts", "0"); }, "starts: "},
       {[](const fs::path& s) { edit_manifest(s, "scenarios", "hang,swim"); }, "\"swim\" is not"},
-      {[](const fs::path& s) { edit_manifest(s, "configs", "procedural:xpbd,ode"); }, "\"ode\""},
+      {[](const fs::path& s) { edit_manifest(s, "configs", "procedural:xpbd,physx"); }, "\"physx\""},
       {[](const fs::path& s) { edit_manifest(s, "dts", "1/60,1/120"); }, "dts: "},
       {[](const fs::path& s) { edit_manifest(s, "seed", "2"); }, "another sweep"},
       {[](const fs::path& s) { edit_manifest(s, "replay", " --duration 0.5; touch x"); },

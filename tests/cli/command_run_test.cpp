@@ -42,7 +42,7 @@ TEST(TestbedCli, AModelAnEngineRefusesIsJudgedBeforeAnyRun) {
   write_text(model, json);
   const Outcome validate = testbed("validate " + model.string());
   EXPECT_EQ(validate.status, 0) << validate.output;
-  EXPECT_NE(validate.output.find("engines: procedural, bullet-multibody, bullet-rigid\n"),
+  EXPECT_NE(validate.output.find("engines: procedural, bullet-multibody, bullet-rigid, ode\n"),
             std::string::npos)
       << validate.output;
   EXPECT_NE(validate.output.find("not mujoco: the compiler rejected the model"), std::string::npos);
@@ -64,7 +64,7 @@ TEST(TestbedCli, AModelAnEngineRefusesIsJudgedBeforeAnyRun) {
   const Outcome shown_box = testbed("validate " + box);
   EXPECT_NE(shown_box.output.find("box zxy [-50, 70] [-30, 40] [-20, 25]"), std::string::npos)
       << shown_box.output;
-  EXPECT_NE(shown_box.output.find("engines: procedural, bullet-multibody, bullet-rigid, mujoco\n"),
+  EXPECT_NE(shown_box.output.find("engines: procedural, bullet-multibody, bullet-rigid, mujoco, ode\n"),
             std::string::npos)
       << shown_box.output;
   const Outcome box_all = testbed("run --model " + box +
@@ -74,7 +74,7 @@ TEST(TestbedCli, AModelAnEngineRefusesIsJudgedBeforeAnyRun) {
   EXPECT_EQ(box_all.status, 0) << box_all.output;
   EXPECT_EQ(box_all.output.find("note:"), std::string::npos) << box_all.output;
   const std::string box_summary = slurp(folder / "out" / "summary.csv");
-  for (const char* solver : {"procedural,tree", "bullet-multibody", "bullet-rigid", "mujoco"}) {
+  for (const char* solver : {"procedural,tree", "bullet-multibody", "bullet-rigid", "mujoco", "ode"}) {
     EXPECT_NE(box_summary.find(std::string("hang,") + solver + ","), std::string::npos) << solver;
   }
   fs::remove_all(folder);

@@ -8,7 +8,7 @@ TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
   const fs::path out = fresh_folder("bad");
   const std::string o = " --out " + out.string();
   expect_bad("run --scenario swim" + o, "--scenario");
-  expect_bad("run --solver ode" + o, "--solver");
+  expect_bad("run --solver physx" + o, "--solver");
   expect_bad("run --rule magic" + o, "--rule");
   expect_bad("run --dt 0" + o, "--dt");
   expect_bad("run --dt -0.01" + o, "--dt");
@@ -38,7 +38,7 @@ TEST(TestbedCli, BadFlagsExitTwoBeforeWritingAnything) {
   expect_bad("run --jobs 0x10" + o, "--jobs");
   expect_bad("run --jobs 010" + o, "--jobs");
   expect_bad("run --substeps -1" + o, "--substeps");
-  expect_bad("frontier --solver ode" + o, "--solver");
+  expect_bad("frontier --solver physx" + o, "--solver");
   expect_bad("frontier --grab tail" + o, "--grab");
   expect_bad("robustness --shard 3/3" + o, "--shard");
   expect_bad("robustness --shard 1" + o, "--shard");

@@ -4,6 +4,8 @@
 // within 2e-5 m; MuJoCo's soft contacts and Bullet's speculative ones sink least at rest).
 #include <gtest/gtest.h>
 
+#include "puppet/compare/engines.h"
+
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -95,6 +97,11 @@ TEST(Shapes, AnEllipsoidRestsOnItsShortestAxisInEverySolver) {
                                 "egg");
   for (const std::string& solver : solver_names()) {
     SCOPED_TRACE(solver);
+    if (const std::string problem = engine_model_problem(solver, egg); !problem.empty()) {
+      // an engine without the shape refuses it up front, naming it (ODE has no ellipsoid geom)
+      EXPECT_NE(problem.find("ellipsoid"), std::string::npos) << problem;
+      continue;
+    }
     const BodyState rest = settled(
         solver, egg, 0.1, Quaterniond(Eigen::AngleAxisd(std::numbers::pi / 2, Vector3d::UnitY())));
     std::printf("[ shapes ] %s: ellipsoid at %.5f m (0.05)\n", solver.c_str(), rest.x.z());

@@ -433,7 +433,13 @@ TEST(Rooting, AHingeBuiltFromItsChildsSideKeepsItsRange) {
                               : std::min(furthest, limited_angle(model, bodies));
       }
       EXPECT_NEAR(furthest, end, 1.0 * kDeg);
-      EXPECT_NEAR(limited_angle(model, bodies), end, 1.0 * kDeg);
+      // ODE's stop removes the step's overshoot d as a velocity, ERP·d/dt, which stays (its
+      // Baumgarte rows have no split impulse): up to ERP (0.2) of the 1 rad/s impact comes back,
+      // and drifts the rod off the end for the rest of the run (measured 3.1° of the 5.7° that
+      // allows; docs/references.md)
+      const double rebound_drift =
+          engine.name.starts_with("ode") ? 0.2 * 1.0 * (120 * kImpactDt) : 0.0;
+      EXPECT_NEAR(limited_angle(model, bodies), end, 1.0 * kDeg + rebound_drift);
     }
   }
 }

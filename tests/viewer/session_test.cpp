@@ -359,7 +359,7 @@ TEST(Session, ReconfiguringKeepsTheStateAndANewScenarioStartsOver) {
   }
   // bad input leaves everything as it was
   SessionConfig bad = c;
-  bad.solver = "ode";
+  bad.solver = "physx";
   EXPECT_THROW(session.configure(bad), compare::ScenarioError);
   EXPECT_EQ(session.config().solver, "procedural");
   EXPECT_EQ(session.run_count(), 2);

@@ -136,7 +136,7 @@ TEST(ViewerScreenshot, BadInputExitsTwoAndWritesNothing) {
   const fs::path path = scratch() / "never.png";
   fs::remove(path);
   for (const std::string arguments :
-       {"--dt 0", "--dt nan", "--frames -1", "--script wave", "--solver ode", "--ghost havok",
+       {"--dt 0", "--dt nan", "--frames -1", "--script wave", "--solver physx", "--ghost havok",
         "--rule fastest", "--model /nonexistent/model.json", "--scenario float", "--width 10",
         "--msaa 17", "--anchor head", "--frames 2 --bogus", "--dt 1e-300", "--dt 1/3/4",
         "--model /dev/zero", "--model chain:150 --solver mujoco"}) {
