@@ -3,7 +3,8 @@
 //
 // Each body's frame is its segment frame (COM, principal axes), so state needs no conversion.
 // ODE measures a joint's angles as the first body's rotation relative to the second (measured:
-// its hinge angle and Euler angles are minus the model's, tests/reference/ode_test.cpp), so
+// its hinge angle and Euler angles are minus the model's; Ode.AnEulerMotorStopsAtEachBoxFace
+// holds it for each sign of the middle axis), so
 //   dHingeJoint            stops [−upper, −lower] about the model's axis
 //   AMotor, Euler mode     axis 0 the box's first axis on the parent, axis 2 its last on the
 //                          child, axis 1 their cross product (a₂ × a₀, ± the middle axis): angle

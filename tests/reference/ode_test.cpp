@@ -1,7 +1,7 @@
 // The ODE reference against the model it was built from, the analytic pendulum, the static
-// deflection of a compliant pin and its own determinism; and the models it refuses, by its own
-// check, before anything runs. Its limits (the Euler motor's stops on every face and corner of a
-// box, a hinge's stops, their rebound) are held with every engine's in limit_test.cpp, in both
+// deflection of a compliant pin, the Euler motor's signs, and its own determinism; and the models
+// it refuses, by its own check, before anything runs. Its limits are also held with every
+// engine's in limit_test.cpp (a box's faces and corners, a hinge's stops, their rebound), in both
 // steppers, and a swing–twist limb's stop in bullet_test.cpp's Limits test.
 #include "puppet/reference/ode.h"
 
@@ -138,6 +138,53 @@ TEST(Ode, EveryScenarioEndsOrIsReportedDiverged) {
       }
       EXPECT_NEAR(result.trace.back().t, compare::make_scenario(name, model).duration, 1e-9);
       for (const auto& m : result.trace) ASSERT_TRUE(m.finite);
+    }
+  }
+}
+
+// ODE's Euler motor measures the box's own angles, each negated, its middle axis a₂ × a₀: the
+// stops are right only if those signs are. A limb spun at 2 rad/s, without gravity, towards
+// each face of a box (orders yxz, Pinocchio's, whose ODE middle axis is −x; xyz, whose is +y;
+// zyx, −y) reaches that face and goes no further than a step's travel (0.48°) past it
+TEST(Ode, AnEulerMotorStopsAtEachBoxFace) {
+  for (const char* order : {"yxz", "xyz", "zyx"}) {
+    const Model model = parse_model(std::string(R"({"name":"box","segments":[
+      {"name":"base","mass":5,"position":[0,0,1],"shape":{"type":"box","half_extents":[0.1,0.1,0.1]}},
+      {"name":"rod","mass":1,"position":[0,0,0.75],"shape":{"type":"capsule","radius":0.03,"half_length":0.1}}],
+     "joints":[{"name":"j","parent":"base","child":"rod","anchor":[0,0,0.9],"type":"ball",
+      "box_deg":{"order":")") + order +
+                                        R"(","lower":[-20,-30,-10],"upper":[40,15,25]}}]})",
+                                    "box");
+    const Joint& joint = model.joints[0];
+    for (int axis = 0; axis < 3; ++axis) {
+      for (const double sign : {-1.0, 1.0}) {
+        SCOPED_TRACE(std::string(order) + " axis " + std::to_string(axis) +
+                     (sign > 0 ? " upper" : " lower"));
+        auto solver = make_ode(model, Environment{.gravity = Vector3d::Zero()},
+                               {.stepper = OdeStepper::kStep});
+        std::vector<BodyState> bodies = rest_pose(model);
+        const Vector3d base = bodies[0].x;
+        const Pin pins[] = {{0, Vector3d(0, 0, 0), base},
+                            {0, Vector3d(0.1, 0, 0), base + Vector3d(0.1, 0, 0)},
+                            {0, Vector3d(0, 0.1, 0), base + Vector3d(0, 0.1, 0)}};
+        solver->set_pins(pins);
+        const Vector3d w = 2.0 * sign *
+                           (bodies[0].q * joint.frame_in_parent *
+                            Vector3d::Unit(joint.box_order.axes[axis]));
+        bodies[1].w = w;
+        bodies[1].v = w.cross(bodies[1].x - joint.anchor_world);
+        solver->set_state(bodies);
+        double furthest = 0.0;
+        for (int k = 0; k < 240; ++k) {
+          solver->step(kDt);
+          solver->read_state(bodies);
+          const Vector3d angles = euler_angles(
+              joint.box_order, joint_relative_rotation(joint, bodies[0].q, bodies[1].q));
+          furthest = sign > 0 ? std::max(furthest, angles[axis]) : std::min(furthest, angles[axis]);
+        }
+        const double bound = sign > 0 ? joint.box_upper[axis] : joint.box_lower[axis];
+        EXPECT_NEAR(furthest * 180 / M_PI, bound * 180 / M_PI, 0.5);
+      }
     }
   }
 }
