@@ -378,15 +378,16 @@ void OdeSolver::set_pin_targets(std::span<const Vector3d> targets) {
       return;
     }
     const int hard = springs_.retarget(k, targets[k]);
-    if (hard >= 0) dJointSetBallAnchor2(pins_[hard], targets[k].x(), targets[k].y(), targets[k].z());
+    if (hard >= 0)
+      dJointSetBallAnchor2(pins_[hard], targets[k].x(), targets[k].y(), targets[k].z());
   }
 }
 
 void OdeSolver::collide_with_ground() {
   dJointGroupEmpty(contacts_);
   for (dGeomID geom : geoms_) {
-    const int n = dCollide(geom, ground_, kMaxContactsPerGeom, contact_scratch_.data(),
-                           sizeof(dContactGeom));
+    const int n =
+        dCollide(geom, ground_, kMaxContactsPerGeom, contact_scratch_.data(), sizeof(dContactGeom));
     for (int i = 0; i < n; ++i) {
       dContact contact{};
       // Coulomb's pyramid with the bound μ·(normal force): without dContactApprox1, ODE reads μ
@@ -467,7 +468,8 @@ void OdeSolver::set_state(std::span<const BodyState> bodies) {
 std::vector<double> OdeSolver::save() const {
   std::vector<double> saved;
   for (dBodyID body : bodies_) {
-    for (const dReal* v : {dBodyGetPosition(body), dBodyGetLinearVel(body), dBodyGetAngularVel(body)})
+    for (const dReal* v :
+         {dBodyGetPosition(body), dBodyGetLinearVel(body), dBodyGetAngularVel(body)})
       saved.insert(saved.end(), v, v + 3);
     const dReal* q = dBodyGetQuaternion(body);
     saved.insert(saved.end(), q, q + 4);

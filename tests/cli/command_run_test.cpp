@@ -64,8 +64,9 @@ TEST(TestbedCli, AModelAnEngineRefusesIsJudgedBeforeAnyRun) {
   const Outcome shown_box = testbed("validate " + box);
   EXPECT_NE(shown_box.output.find("box zxy [-50, 70] [-30, 40] [-20, 25]"), std::string::npos)
       << shown_box.output;
-  EXPECT_NE(shown_box.output.find("engines: procedural, bullet-multibody, bullet-rigid, mujoco, ode\n"),
-            std::string::npos)
+  EXPECT_NE(
+      shown_box.output.find("engines: procedural, bullet-multibody, bullet-rigid, mujoco, ode\n"),
+      std::string::npos)
       << shown_box.output;
   const Outcome box_all = testbed("run --model " + box +
                                   " --scenario hang --dt 1/240 --duration 0.2 --no-timing"
@@ -74,7 +75,8 @@ TEST(TestbedCli, AModelAnEngineRefusesIsJudgedBeforeAnyRun) {
   EXPECT_EQ(box_all.status, 0) << box_all.output;
   EXPECT_EQ(box_all.output.find("note:"), std::string::npos) << box_all.output;
   const std::string box_summary = slurp(folder / "out" / "summary.csv");
-  for (const char* solver : {"procedural,tree", "bullet-multibody", "bullet-rigid", "mujoco", "ode"}) {
+  for (const char* solver :
+       {"procedural,tree", "bullet-multibody", "bullet-rigid", "mujoco", "ode"}) {
     EXPECT_NE(box_summary.find(std::string("hang,") + solver + ","), std::string::npos) << solver;
   }
   fs::remove_all(folder);

@@ -79,8 +79,8 @@ TEST(Ode, PendulumPeriodWithinATenthOfAPercent) {
   for (const Stepper& stepper : kSteppers) {
     auto solver = make_ode(model, Environment{}, stepper.settings);
     const double period = test::released_rod_period(*solver, kDt);
-    std::printf("[ period   ] ode %-5s %.6f s vs analytic %.6f s: %+.4f %%\n", stepper.name,
-                period, expected, 100 * (period / expected - 1));
+    std::printf("[ period   ] ode %-5s %.6f s vs analytic %.6f s: %+.4f %%\n", stepper.name, period,
+                expected, 100 * (period / expected - 1));
     EXPECT_NEAR(period / expected, 1.0, 0.001) << stepper.name;
   }
 }
@@ -95,8 +95,8 @@ TEST(Ode, CompliantGrabSettlesAtTheStaticDeflection) {
   for (const Stepper& stepper : kSteppers) {
     auto solver = make_ode(model, air, stepper.settings);
     const double ratio = test::compliant_sag_ratio(*solver, kCompliance, kDt);
-    std::printf("[ grab     ] ode %-5s static deflection / (weight x C): %+.2f %%\n",
-                stepper.name, 100 * (ratio - 1));
+    std::printf("[ grab     ] ode %-5s static deflection / (weight x C): %+.2f %%\n", stepper.name,
+                100 * (ratio - 1));
     EXPECT_NEAR(ratio, 1.0, 0.01) << stepper.name;
   }
 }
@@ -127,7 +127,8 @@ TEST(Ode, HangJointGapBelowAMillimetre) {
 // every scenario on both models runs to its end with finite values, or is reported as diverged
 // with its time
 TEST(Ode, EveryScenarioEndsOrIsReportedDiverged) {
-  for (const std::string& path : {kPinocchio, std::string(PUPPET_SOURCE_DIR) + "/models/humanoid.xml"}) {
+  for (const std::string& path :
+       {kPinocchio, std::string(PUPPET_SOURCE_DIR) + "/models/humanoid.xml"}) {
     const Model model = load_model(path);
     for (const std::string& name : compare::scenario_names()) {
       const auto result = run({}, model, name);
@@ -152,8 +153,7 @@ TEST(Ode, AnEulerMotorStopsAtEachBoxFace) {
       {"name":"base","mass":5,"position":[0,0,1],"shape":{"type":"box","half_extents":[0.1,0.1,0.1]}},
       {"name":"rod","mass":1,"position":[0,0,0.75],"shape":{"type":"capsule","radius":0.03,"half_length":0.1}}],
      "joints":[{"name":"j","parent":"base","child":"rod","anchor":[0,0,0.9],"type":"ball",
-      "box_deg":{"order":")") + order +
-                                        R"(","lower":[-20,-30,-10],"upper":[40,15,25]}}]})",
+      "box_deg":{"order":")") + order + R"(","lower":[-20,-30,-10],"upper":[40,15,25]}}]})",
                                     "box");
     const Joint& joint = model.joints[0];
     for (int axis = 0; axis < 3; ++axis) {
@@ -168,9 +168,9 @@ TEST(Ode, AnEulerMotorStopsAtEachBoxFace) {
                             {0, Vector3d(0.1, 0, 0), base + Vector3d(0.1, 0, 0)},
                             {0, Vector3d(0, 0.1, 0), base + Vector3d(0, 0.1, 0)}};
         solver->set_pins(pins);
-        const Vector3d w = 2.0 * sign *
-                           (bodies[0].q * joint.frame_in_parent *
-                            Vector3d::Unit(joint.box_order.axes[axis]));
+        const Vector3d w =
+            2.0 * sign *
+            (bodies[0].q * joint.frame_in_parent * Vector3d::Unit(joint.box_order.axes[axis]));
         bodies[1].w = w;
         bodies[1].v = w.cross(bodies[1].x - joint.anchor_world);
         solver->set_state(bodies);

@@ -19,8 +19,7 @@ Engine ode_engine();
 
 std::span<const Engine> engines() {
   static const std::vector<Engine> rows = {procedural_engine(), bullet_multibody_engine(),
-                                           bullet_rigid_engine(), mujoco_engine(),
-                                           ode_engine()};
+                                           bullet_rigid_engine(), mujoco_engine(), ode_engine()};
   return rows;
 }
 

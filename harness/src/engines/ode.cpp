@@ -82,15 +82,19 @@ void search(const SolverOptions& base, std::vector<Setting>& out) {
 }
 
 // Measured on the reference machine (docs/reliability.md, "Engines bounded by what they can
-// step"): dWorldQuickStep is linear in its rows per sweep, as a btRigidBody ragdoll; dWorldStep
-// factors the dense matrix of all rows, rows³
+// step"): chains of ball joints with 1° box limits, all acting, 20 steps in shake at 1/240 s.
+// dWorldStep factors the dense matrix of all rows: 200, 400 and 800 links (1,194, 2,394 and 4,794
+// rows) took 9, 81 and 623 ms a step, 6e-12 s per row³. dWorldQuickStep is linear in its rows
+// per sweep: 1.2 and 3.3 ms a step at 400 and 800 links and 20 sweeps, 25–35 ns per row and
+// sweep (40 taken). The rest is about 1 µs a body.
 double ode_cost(const Model& model, const SolverOptions& options) {
   const ModelSize n = model_size(model);
   const double rows = 3.0 * static_cast<double>(model.joints.size()) + n.limit_rows;
+  const double bodies = 1e-6 * n.segments;
   if (options.ode.stepper == OdeStepper::kStep) {
-    return (1e-6 * n.segments + 1e-9 * rows * rows * rows) / kBudgetDt;
+    return (bodies + 6e-12 * rows * rows * rows) / kBudgetDt;
   }
-  return (1e-6 * n.segments + 0.1e-6 * rows * std::max(1, options.ode.iterations)) / kBudgetDt;
+  return (bodies + 40e-9 * rows * std::max(1, options.ode.iterations)) / kBudgetDt;
 }
 
 }  // namespace
