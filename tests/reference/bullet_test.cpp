@@ -68,26 +68,14 @@ compare::RunResult run(const std::string& solver, const Model& model,
 // what Bullet holds is what the model says: masses, inertias, rest poses, joint anchors
 TEST(Correspondence, BulletHoldsTheModel) {
   for (const Model& model : test_models()) {
-    const std::vector<BodyState> rest = rest_pose(model);
     for (Kind kind : kKinds) {
       SCOPED_TRACE(model.name + " in " + kind_name(kind));
       const auto solver = make_solver(kind, model, Environment{});
+      test::expect_holds_the_model(*solver, model);
       std::vector<BodyState> read(model.segment_count());
       solver->read_state(read);
       for (int s = 0; s < model.segment_count(); ++s) {
-        const Segment& segment = model.segments[s];
-        EXPECT_NEAR(solver->segment_mass(s), segment.mass, 1e-12 * segment.mass);
-        EXPECT_LE((solver->segment_inertia(s) - segment.inertia).cwiseAbs().maxCoeff(),
-                  1e-12 * segment.inertia.maxCoeff());
-        EXPECT_LE((read[s].x - rest[s].x).norm(), 1e-12) << segment.name;
-        EXPECT_LE(angle_between(read[s].q, rest[s].q), 1e-12) << segment.name;
-        EXPECT_LE(read[s].v.norm() + read[s].w.norm(), 1e-12) << segment.name;
-      }
-      for (int j = 0; j < model.joint_count(); ++j) {
-        Vector3d on_parent, on_child;
-        solver->joint_anchors(j, &on_parent, &on_child);
-        EXPECT_LE((on_parent - model.joints[j].anchor_world).norm(), 1e-12) << j;
-        EXPECT_LE((on_child - model.joints[j].anchor_world).norm(), 1e-12) << j;
+        EXPECT_LE(read[s].v.norm() + read[s].w.norm(), 1e-12) << model.segments[s].name;
       }
     }
   }
@@ -435,15 +423,6 @@ TEST(SetState, RoundTripInEverySolver) {
   }
 }
 
-bool bitwise_equal(const std::vector<BodyState>& a, const std::vector<BodyState>& b) {
-  for (size_t i = 0; i < a.size(); ++i) {
-    if (a[i].x != b[i].x || a[i].q.coeffs() != b[i].q.coeffs() || a[i].v != b[i].v ||
-        a[i].w != b[i].w)
-      return false;
-  }
-  return true;
-}
-
 // a point grabbed mid-run (the viewer's drag): the state carries over, the point follows its
 // target, and letting go leaves the arm to fall
 TEST(SetPins, AGrabAddedMidRunHoldsItsPointInEverySolver) {
@@ -473,7 +452,7 @@ TEST(SetPins, AGrabAddedMidRunHoldsItsPointInEverySolver) {
     pins.push_back({forearm, tip, grabbed});
     simulator->set_pins(pins);
     simulator->read_state(after);
-    EXPECT_TRUE(bitwise_equal(before, after));
+    EXPECT_TRUE(test::bitwise_equal(before, after));
 
     // lifted 0.15 m forward and up, and held there for a second
     const Vector3d lifted = grabbed + Vector3d(0.15, 0, 0.15);
@@ -515,10 +494,12 @@ TEST(Determinism, RepeatedRunsAndRestoredSnapshotsAgreeBitwise) {
       run(*a, 0, 100);
       const auto snapshot = a->snapshot();
       const auto first = run(*a, 100, 200);
-      EXPECT_TRUE(bitwise_equal(first, run(*b, 0, 200))) << solver << " " << name << ": two runs";
+      EXPECT_TRUE(test::bitwise_equal(first, run(*b, 0, 200)))
+          << solver << " " << name << ": two runs";
       a->restore(*snapshot);
       const auto again = run(*a, 100, 200);
-      EXPECT_TRUE(bitwise_equal(first, again)) << solver << " " << name << ": restored snapshot";
+      EXPECT_TRUE(test::bitwise_equal(first, again))
+          << solver << " " << name << ": restored snapshot";
     }
   }
 }

@@ -22,12 +22,13 @@
 #include "puppet/model/rotation.h"
 #include "support/pendulum.h"
 #include "support/reference_runs.h"
+#include "support/rule_runs.h"
 #include "support/source_dir.h"
 
 namespace puppet::reference {
 namespace {
 
-const std::string kPinocchio = std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json";
+const std::string& kPinocchio = test::kPinocchioPath;
 const std::string kSwingTwist =
     std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio-swing-twist.json";
 constexpr double kDt = 1.0 / 240.0;
@@ -49,24 +50,7 @@ compare::SolverOptions options_for(const OdeSettings& settings) {
 TEST(Ode, HoldsTheModel) {
   for (const Model& model : {load_model(kPinocchio), load_model(kSwingTwist), make_chain(5)}) {
     SCOPED_TRACE(model.name);
-    const std::vector<BodyState> rest = rest_pose(model);
-    const auto solver = make_ode(model, Environment{});
-    std::vector<BodyState> read(model.segment_count());
-    solver->read_state(read);
-    for (int s = 0; s < model.segment_count(); ++s) {
-      const Segment& segment = model.segments[s];
-      EXPECT_NEAR(solver->segment_mass(s), segment.mass, 1e-12 * segment.mass);
-      EXPECT_LE((solver->segment_inertia(s) - segment.inertia).cwiseAbs().maxCoeff(),
-                1e-12 * segment.inertia.maxCoeff());
-      EXPECT_LE((read[s].x - rest[s].x).norm(), 1e-12) << segment.name;
-      EXPECT_LE(angle_between(read[s].q, rest[s].q), 1e-12) << segment.name;
-    }
-    for (int j = 0; j < model.joint_count(); ++j) {
-      Vector3d on_parent, on_child;
-      solver->joint_anchors(j, &on_parent, &on_child);
-      EXPECT_LE((on_parent - model.joints[j].anchor_world).norm(), 1e-12) << j;
-      EXPECT_LE((on_child - model.joints[j].anchor_world).norm(), 1e-12) << j;
-    }
+    test::expect_holds_the_model(*make_ode(model, Environment{}), model);
   }
 }
 
@@ -189,15 +173,6 @@ TEST(Ode, AnEulerMotorStopsAtEachBoxFace) {
   }
 }
 
-bool bitwise_equal(const std::vector<BodyState>& a, const std::vector<BodyState>& b) {
-  for (size_t i = 0; i < a.size(); ++i) {
-    if (a[i].x != b[i].x || a[i].q.coeffs() != b[i].q.coeffs() || a[i].v != b[i].v ||
-        a[i].w != b[i].w)
-      return false;
-  }
-  return true;
-}
-
 // The same inputs give the same bits, a restored snapshot repeats the steps that followed it,
 // and a run beside another on a second thread is the run alone: dWorldQuickStep shuffles its
 // rows with ODE's one process-wide random generator, which each solver keeps for itself
@@ -228,9 +203,9 @@ TEST(Ode, RunsAgreeBitwiseAloneBesideAnotherAndFromASnapshot) {
       const auto snapshot = a->snapshot();
       const auto first = run_steps(*a, 100, 200);
       auto b = fresh();
-      EXPECT_TRUE(bitwise_equal(first, run_steps(*b, 0, 200))) << "two runs";
+      EXPECT_TRUE(test::bitwise_equal(first, run_steps(*b, 0, 200))) << "two runs";
       a->restore(*snapshot);
-      EXPECT_TRUE(bitwise_equal(first, run_steps(*a, 100, 200))) << "restored snapshot";
+      EXPECT_TRUE(test::bitwise_equal(first, run_steps(*a, 100, 200))) << "restored snapshot";
       std::vector<BodyState> beside;
       std::thread other([&] {
         auto c = fresh();
@@ -239,8 +214,8 @@ TEST(Ode, RunsAgreeBitwiseAloneBesideAnotherAndFromASnapshot) {
       auto d = fresh();
       const auto here = run_steps(*d, 0, 200);
       other.join();
-      EXPECT_TRUE(bitwise_equal(first, here)) << "beside another";
-      EXPECT_TRUE(bitwise_equal(first, beside)) << "on a second thread";
+      EXPECT_TRUE(test::bitwise_equal(first, here)) << "beside another";
+      EXPECT_TRUE(test::bitwise_equal(first, beside)) << "on a second thread";
     }
   }
 }

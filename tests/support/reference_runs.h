@@ -1,10 +1,14 @@
-// Runs that every reference (Bullet's and MuJoCo's, all behind reference::Solver) is put
-// through, on the rods of pendulum.h, so that each is held to the same independent answer.
+// Runs and checks that every reference (Bullet's, MuJoCo's and ODE's, all behind
+// reference::Solver) is put through, on the rods of pendulum.h and on the model it was built
+// from, so that each is held to the same independent answer.
 #pragma once
+
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
+#include "puppet/model/rotation.h"
 #include "puppet/reference/bullet.h"
 #include "support/pendulum.h"
 
@@ -38,6 +42,38 @@ inline double compliant_sag_ratio(reference::Solver& solver, double compliance, 
   solver.read_state(bodies);
   const double sag = -(bodies[0].x + bodies[0].q * pin.local_point).z();
   return sag / (2.0 * 9.81 * compliance);
+}
+
+// the same bits in every pose and velocity
+inline bool bitwise_equal(const std::vector<BodyState>& a, const std::vector<BodyState>& b) {
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a[i].x != b[i].x || a[i].q.coeffs() != b[i].q.coeffs() || a[i].v != b[i].v ||
+        a[i].w != b[i].w)
+      return false;
+  }
+  return true;
+}
+
+// What the engine holds is what the model says, read back from its own objects: each segment's
+// mass, inertia and rest pose, and each joint's anchor as both its segments carry it (to 1e-12)
+inline void expect_holds_the_model(const reference::Solver& solver, const Model& model) {
+  const std::vector<BodyState> rest = rest_pose(model);
+  std::vector<BodyState> read(model.segment_count());
+  solver.read_state(read);
+  for (int s = 0; s < model.segment_count(); ++s) {
+    const Segment& segment = model.segments[s];
+    EXPECT_NEAR(solver.segment_mass(s), segment.mass, 1e-12 * segment.mass);
+    EXPECT_LE((solver.segment_inertia(s) - segment.inertia).cwiseAbs().maxCoeff(),
+              1e-12 * segment.inertia.maxCoeff());
+    EXPECT_LE((read[s].x - rest[s].x).norm(), 1e-12) << segment.name;
+    EXPECT_LE(angle_between(read[s].q, rest[s].q), 1e-12) << segment.name;
+  }
+  for (int j = 0; j < model.joint_count(); ++j) {
+    Vector3d on_parent, on_child;
+    solver.joint_anchors(j, &on_parent, &on_child);
+    EXPECT_LE((on_parent - model.joints[j].anchor_world).norm(), 1e-12) << j;
+    EXPECT_LE((on_child - model.joints[j].anchor_world).norm(), 1e-12) << j;
+  }
 }
 
 }  // namespace puppet::test
