@@ -52,6 +52,8 @@ int list_json() {
                            {"summary", engine.summary},
                            {"constraints", engine.constraints},
                            {"built", engine.built},
+                           {"missing", engine.built || !engine.missing ? "" : engine.missing()},
+                           {"native", engine.native},
                            {"rules", engine.has_rules}});
   }
   auto& rules = out["rules"] = nlohmann::ordered_json::array();

@@ -213,6 +213,13 @@ std::vector<SolverConfig> parse_solver_configs(const Flags& f) {
   for (const auto& rule : expand("--rule", f.rule, all_rules())) {
     rules.push_back(*procedural::parse_rule(rule));  // expand() accepted only rule names
   }
+  std::vector<std::string> all_engines;
+  for (const compare::Engine& engine : compare::engines()) all_engines.emplace_back(engine.name);
+  if (f.solver != "all") {
+    const std::string missing =
+        compare::unbuilt_engine_problem(expand("--solver", f.solver, all_engines));
+    if (!missing.empty()) throw UsageError("--solver: " + missing);
+  }
   return compare::solver_configs(expand("--solver", f.solver, compare::solver_names()), rules,
                                  options);
 }

@@ -16,11 +16,23 @@ Engine bullet_multibody_engine();
 Engine bullet_rigid_engine();
 Engine mujoco_engine();
 Engine ode_engine();
+Engine jolt_engine();
 
 std::span<const Engine> engines() {
-  static const std::vector<Engine> rows = {procedural_engine(), bullet_multibody_engine(),
-                                           bullet_rigid_engine(), mujoco_engine(), ode_engine()};
+  static const std::vector<Engine> rows = {procedural_engine(),    bullet_multibody_engine(),
+                                           bullet_rigid_engine(),  mujoco_engine(),
+                                           ode_engine(),           jolt_engine()};
   return rows;
+}
+
+std::string unbuilt_engine_problem(const std::vector<std::string>& names) {
+  for (const std::string& name : names) {
+    for (const Engine& engine : engines()) {
+      if (engine.name != name || engine.built) continue;
+      return name + " is not built here: " + (engine.missing ? engine.missing() : "");
+    }
+  }
+  return {};
 }
 
 const Engine* find_engine(std::string_view name) {

@@ -37,7 +37,12 @@ struct Engine {
   // engines' answers differ
   std::string_view constraints;
   bool built = true;       // false: this build lacks the library (MuJoCo without libmujoco-dev)
+  // why it is not built and how to get it, in one line (null: it always is)
+  std::string (*missing)() = nullptr;
   bool has_rules = false;  // true: a sweep runs it once per --rule (procedural)
+  // false: its cost is measured in WebAssembly (jolt), reported in a column of its own and never
+  // ranked against native code's
+  bool native = true;
   // why it cannot run the model (empty when it can), decided before anything runs
   std::string (*model_problem)(const Model& model) = nullptr;
   // an estimate of the CPU seconds it takes to step one simulated second of the model at
@@ -67,6 +72,9 @@ std::span<const Engine> engines();
 const Engine* find_engine(std::string_view name);
 // the names of the engines this build has
 const std::vector<std::string>& solver_names();
+// the check of a --solver list against the catalogue: an engine this build lacks is named with
+// why (its row's missing), in one line; empty when every name is built or unknown
+std::string unbuilt_engine_problem(const std::vector<std::string>& names);
 // --substeps' help, from the rule catalogue: "procedural substeps per step (default: the rule's:
 // xpbd 8, tree 8, the others 1)" (the testbed's flag and the viewer's)
 std::string procedural_substeps_help();

@@ -57,10 +57,22 @@ class Simulator {
   // the solver itself met a non-finite value
   virtual bool diverged() const = 0;
 
+  // the seconds the engine itself timed its last step (< 0: none; the caller times step()). An
+  // engine that steps a whole run ahead of the calls (jolt) times each step where it runs it
+  virtual double own_step_seconds() const { return -1.0; }
+
   // per-stage wall time of the last step (empty when the solver has no stages)
   virtual std::vector<std::string_view> stage_names() const { return {}; }
   virtual void set_stage_timing(bool /*on*/) {}
   virtual std::vector<double> stage_seconds() const { return {}; }
+};
+
+// jolt (harness/src/engines/jolt.cpp): Jolt's solver settings, its defaults (velocity and
+// position sweeps per step, and the fraction of a position error removed per position sweep)
+struct JoltSettings {
+  int velocity_steps = 10;
+  int position_steps = 2;
+  double baumgarte = 0.2;
 };
 
 // options a solver may use: the procedural solver's settings (its rule, iteration counts and
@@ -78,6 +90,8 @@ struct SolverOptions {
   reference::MujocoSettings mujoco;
   // ode: dWorldQuickStep (and its sweeps) or dWorldStep, ERP and CFM
   reference::OdeSettings ode;
+  // jolt: Jolt's velocity and position sweeps and Baumgarte factor
+  JoltSettings jolt;
 };
 // the names of the engines this build has, in the catalogue's order (engines.h)
 const std::vector<std::string>& solver_names();

@@ -1,0 +1,650 @@
+// The engine `jolt`: Jolt Physics in its own WebAssembly build (the npm package jolt-physics at
+// the version reference/jolt/package.json pins), stepped by Node.js in a driver process
+// (reference/jolt/server.mjs; docs/references.md, "The Jolt reference"). The driver steps ahead
+// of the calls, on the pin targets the scenario will ask for, so that a run costs a few round
+// trips and not one a step; a step whose targets differ from those it guessed sends the driver
+// back to that step, by building the world again and replaying what was asked since (Jolt is
+// deterministic). Its cost is WebAssembly's: the driver times each step inside Jolt.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "jolt_box.h"
+#include "jolt_driver.h"
+#include "node_process.h"
+#include "puppet/compare/engines.h"
+
+namespace puppet::compare {
+namespace {
+
+using nlohmann::json;
+
+constexpr const char* kPackageVersion = "1.1.0";  // as reference/jolt/package.json pins it
+constexpr int kStateWidth = 13;                   // x, q (x, y, z, w), v, ω
+constexpr int kRecordWidth = 19;                  // the state and the user's wrench
+constexpr int kFirstChunk = 8;                    // steps stepped ahead: doubling to kLastChunk
+constexpr int kLastChunk = 512;
+constexpr double kRunaway = 1e6;  // m/s or rad/s: a divergence, as the driver reads it too
+
+std::string node_path() { return PUPPET_NODE; }
+std::string driver_dir() { return PUPPET_JOLT_DIR; }
+
+// why the engine cannot run here (empty when it can): Node.js and the pinned package
+std::string absent_reason() {
+  if (node_path().empty() || access(node_path().c_str(), X_OK) != 0) {
+    return "Node.js is missing (Debian: nodejs; scripts/setup.sh installs it)";
+  }
+  std::ifstream file(driver_dir() + "/node_modules/jolt-physics/package.json");
+  std::stringstream text;
+  text << file.rdbuf();
+  if (!file || text.str().find(std::string("\"version\": \"") + kPackageVersion + "\"") ==
+                   std::string::npos) {
+    return std::string("the npm package jolt-physics ") + kPackageVersion +
+           " is missing from reference/jolt (scripts/setup.sh installs it)";
+  }
+  return {};
+}
+
+bool available() {
+  static const bool yes = absent_reason().empty();
+  return yes;
+}
+
+// Drivers kept between simulators (starting Node and Jolt costs about 0.2 s)
+class DriverPool {
+ public:
+  std::unique_ptr<NodeProcess> take() {
+    {
+      std::lock_guard lock(mutex_);
+      if (!idle_.empty()) {
+        std::unique_ptr<NodeProcess> out = std::move(idle_.back());
+        idle_.pop_back();
+        return out;
+      }
+    }
+    return std::make_unique<NodeProcess>(node_path(), driver_dir() + "/server.mjs");
+  }
+  void give_back(std::unique_ptr<NodeProcess> process) {
+    if (!process || !process->healthy()) return;
+    std::lock_guard lock(mutex_);
+    idle_.push_back(std::move(process));
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::unique_ptr<NodeProcess>> idle_;
+};
+
+DriverPool& pool() {
+  static DriverPool* drivers = new DriverPool;  // outlives every simulator; ends with the process
+  return *drivers;
+}
+
+json vec(const Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
+json quat(const Quaterniond& q) { return json::array({q.x(), q.y(), q.z(), q.w()}); }
+// a limit angle as Jolt takes it: within [−π, π], where ±π means free
+double angle(double a) { return std::clamp(a, -M_PI, M_PI); }
+
+json shape_json(const Shape& shape) {
+  return {{"type", shape_type_name(shape.type)},
+          {"radius", shape.radius},
+          {"half_length", shape.half_length},
+          {"half_extents", vec(shape.half_extents)},
+          {"position", vec(shape.position)},
+          {"orientation", quat(shape.orientation)}};
+}
+
+json model_json(const Model& model) {
+  json segments = json::array();
+  for (const Segment& s : model.segments) {
+    json shapes = json::array();
+    for (const Shape& shape : s.shapes) shapes.push_back(shape_json(shape));
+    segments.push_back({{"mass", s.mass},
+                        {"inertia", vec(s.inertia)},
+                        {"inv_mass", s.inv_mass},
+                        {"inv_inertia", vec(s.inv_inertia)},
+                        {"volume", segment_volume(s)},
+                        {"lone_shape", lone_shape(s)},
+                        {"shapes", shapes}});
+  }
+  json joints = json::array();
+  for (const Joint& j : model.joints) {
+    const char* type = j.type == JointType::kBall    ? "ball"
+                       : j.type == JointType::kHinge ? "hinge"
+                                                     : "fixed";
+    json pyramid;
+    if (j.type == JointType::kBall && j.ball_limit == BallLimit::kEulerBox) {
+      const JoltPyramid p = nearest_jolt_pyramid(j);
+      pyramid = {{"twist_first", p.twist_first},
+                 {"x", p.x},
+                 {"y", p.y},
+                 {"z", p.z},
+                 {"y_sign", p.y_sign},
+                 {"lower", {angle(p.lower[0]), angle(p.lower[1]), angle(p.lower[2])}},
+                 {"upper", {angle(p.upper[0]), angle(p.upper[1]), angle(p.upper[2])}}};
+    }
+    joints.push_back(
+        {{"type", type},
+         {"parent", j.parent},
+         {"child", j.child},
+         {"anchor_in_parent", vec(j.anchor_in_parent)},
+         {"anchor_in_child", vec(j.anchor_in_child)},
+         {"frame_in_parent", quat(j.frame_in_parent)},
+         {"frame_in_child", quat(j.frame_in_child)},
+         {"ball_limit", j.ball_limit == BallLimit::kEulerBox ? "box" : "swing-twist"},
+         {"swing_x", std::min(j.swing_x, M_PI)},
+         {"swing_y", std::min(j.swing_y, M_PI)},
+         {"twist", std::min(j.twist, M_PI)},
+         {"pyramid", pyramid},
+         {"hinge_axis", vec(j.hinge_axis)},
+         {"lower", angle(j.lower)},
+         {"upper", angle(j.upper)}});
+  }
+  return {{"segments", segments}, {"joints", joints}};
+}
+
+json environment_json(const Environment& e) {
+  return {{"gravity", vec(e.gravity)},
+          {"tremble", e.tremble},
+          {"tremble_seed", std::to_string(e.tremble_seed)},
+          {"air_drag", e.air_drag},
+          {"water", e.water},
+          {"water_level", e.water_level},
+          {"water_density", e.water_density},
+          {"water_drag", e.water_drag},
+          {"ground", e.ground},
+          {"friction", e.friction}};
+}
+
+json pins_json(std::span<const Pin> pins) {
+  json out = json::array();
+  for (const Pin& p : pins) {
+    out.push_back({{"segment", p.segment},
+                   {"local_point", vec(p.local_point)},
+                   {"target", vec(p.target)},
+                   {"compliance", p.compliance},
+                   {"grab",
+                    {{"hz", p.grab.hz},
+                     {"damping_ratio", p.grab.damping_ratio},
+                     {"max_force", p.grab.max_force}}}});
+  }
+  return out;
+}
+
+json states_json(std::span<const BodyState> bodies) {
+  json out = json::array();
+  for (const BodyState& b : bodies) {
+    for (double v : {b.x.x(), b.x.y(), b.x.z(), b.q.x(), b.q.y(), b.q.z(), b.q.w(), b.v.x(),
+                     b.v.y(), b.v.z(), b.w.x(), b.w.y(), b.w.z()}) {
+      out.push_back(v);
+    }
+  }
+  return out;
+}
+
+// Everything that decides the driver's world: what it was built from, and each step asked of
+// it since, with its dt and its targets (flat). A snapshot is one: replaying it in a new world
+// repeats the same bits.
+struct Course {
+  std::string build;  // the build request
+  std::vector<double> dts;
+  std::vector<double> targets;
+};
+
+// the simulator's logical state: the course, and what the harness last set or read
+struct JoltState {
+  Course course;
+  bool needs_build = true;  // the state was placed: the next step builds a world from it
+  std::vector<Pin> pins;
+  std::vector<Vector3d> targets;  // for the next step
+  std::vector<BodyState> bodies;
+  std::vector<Wrench> user;
+  double time = 0.0;
+  double anchor_time = 0.0;  // the clock at the last reset or set_time
+  long since_anchor = 0;     // steps taken since
+  double own_seconds = -1.0;
+  bool diverged = false;
+};
+
+class JoltSnapshot : public Snapshot {
+ public:
+  explicit JoltSnapshot(JoltState s) : state(std::move(s)) {}
+  JoltState state;
+};
+
+class JoltSimulator : public Simulator {
+ public:
+  explicit JoltSimulator(const JoltSettings& settings) : settings_(settings) {}
+  ~JoltSimulator() override { pool().give_back(std::move(driver_)); }
+
+  std::string name() const override { return "jolt"; }
+
+  void reset(const Model& model, const Scenario& scenario) override {
+    model_ = &model;
+    scenario_ = scenario;
+    model_json_ = model_json(model);
+    environment_json_ = environment_json(scenario.environment);
+    s_ = JoltState{};
+    s_.pins = scenario.initial_pins();
+    s_.bodies = scenario.initial;
+    s_.user.assign(scenario.initial.size(), Wrench{});
+    s_.targets.clear();
+    for (const Pin& p : s_.pins) s_.targets.push_back(p.target);
+    guessing_ = true;
+    drop_ahead();
+  }
+  void set_pins(std::span<const Pin> pins) override {
+    s_.pins.assign(pins.begin(), pins.end());
+    s_.targets.clear();
+    for (const Pin& p : s_.pins) s_.targets.push_back(p.target);
+    s_.needs_build = true;
+    drop_ahead();
+  }
+  void set_pin_targets(std::span<const Vector3d> targets) override {
+    s_.targets.assign(targets.begin(), targets.end());
+  }
+  void set_time(double time) override {
+    s_.time = s_.anchor_time = time;
+    s_.since_anchor = 0;
+    s_.needs_build = true;
+    drop_ahead();
+  }
+  void set_state(std::span<const BodyState> bodies) override {
+    s_.bodies.assign(bodies.begin(), bodies.end());
+    s_.needs_build = true;
+    drop_ahead();
+  }
+  void read_state(std::span<BodyState> out) const override {
+    std::copy(s_.bodies.begin(), s_.bodies.end(), out.begin());
+  }
+  std::span<const Wrench> user_wrenches() const override { return s_.user; }
+  bool diverged() const override { return s_.diverged; }
+  double own_step_seconds() const override { return s_.own_seconds; }
+  std::unique_ptr<Snapshot> snapshot() const override {
+    return std::make_unique<JoltSnapshot>(s_);
+  }
+  void restore(const Snapshot& snapshot) override {
+    s_ = static_cast<const JoltSnapshot&>(snapshot).state;
+    drop_ahead();
+    world_steps_ = -1;  // the driver's world is elsewhere: the next step replays the course
+  }
+
+  void step(double dt) override {
+    if (s_.diverged) return;
+    // JSON has no NaN or infinity, and Jolt must never see them: such an input is a divergence
+    if (!finite_input(dt)) {
+      s_.diverged = true;
+      return;
+    }
+    if (!ahead_matches(dt)) {
+      // a guess that was wrong: from here each step is asked for alone, with its own targets
+      if (ahead_next_ < ahead_count_) guessing_ = false;
+      if (!bring_world_here() || !advance(dt)) {
+        s_.diverged = true;  // a driver that fails is never a run that holds
+        return;
+      }
+    }
+    consume(dt);
+  }
+
+ private:
+  size_t pin_width() const { return 3 * s_.targets.size(); }
+
+  bool finite_input(double dt) const {
+    if (!std::isfinite(dt) || !all_finite(s_.bodies)) return false;
+    for (const Vector3d& t : s_.targets) {
+      if (!t.allFinite()) return false;
+    }
+    for (const BodyState& b : s_.bodies) {
+      if (b.v.norm() > kRunaway || b.w.norm() > kRunaway) return false;
+    }
+    return true;
+  }
+
+  void drop_ahead() {
+    ahead_.clear();
+    ahead_targets_.clear();
+    ahead_next_ = 0;
+    ahead_count_ = 0;
+    chunk_ = kFirstChunk;
+  }
+
+  // the next step is stepped already, with this dt and these targets
+  bool ahead_matches(double dt) const {
+    if (ahead_next_ >= ahead_count_ || dt != ahead_dt_) return false;
+    const size_t w = pin_width();
+    if (ahead_targets_.size() < (ahead_next_ + 1) * w) return false;
+    for (size_t k = 0; k < s_.targets.size(); ++k) {
+      for (int a = 0; a < 3; ++a) {
+        if (ahead_targets_[ahead_next_ * w + 3 * k + a] != s_.targets[k][a]) return false;
+      }
+    }
+    return true;
+  }
+
+  bool fail(const std::string& why) {
+    if (!failure_reported_) std::fprintf(stderr, "jolt: %s\n", why.c_str());
+    failure_reported_ = true;
+    return false;
+  }
+
+  bool ask(const json& request, json& answer) {
+    if (!driver_) {
+      try {
+        driver_ = pool().take();
+      } catch (const std::exception& e) {
+        return fail(e.what());
+      }
+    }
+    std::string line;
+    if (!driver_->request(request.dump(), line, std::chrono::seconds(120))) {
+      return fail(driver_->error());
+    }
+    answer = json::parse(line, nullptr, false);
+    if (answer.is_discarded() || !answer.is_object()) return fail("the driver answered \"" + line.substr(0, 80) + "\"");
+    if (answer.contains("error")) return fail(answer["error"].get<std::string>());
+    return true;
+  }
+
+  // builds the world the course starts from and replays the course (the driver's world is then
+  // at this step); or, when the state was placed, a new course from it
+  bool bring_world_here() {
+    if (s_.needs_build) {
+      std::vector<Pin> pins = s_.pins;
+      for (size_t k = 0; k < pins.size() && k < s_.targets.size(); ++k) pins[k].target = s_.targets[k];
+      json build = {{"op", "build"},
+                    {"model", model_json_},
+                    {"environment", environment_json_},
+                    {"pins", pins_json(pins)},
+                    {"settings",
+                     {{"velocity_steps", settings_.velocity_steps},
+                      {"position_steps", settings_.position_steps},
+                      {"baumgarte", settings_.baumgarte}}},
+                    {"start", states_json(s_.bodies)},
+                    {"time", s_.time}};
+      s_.course = Course{build.dump(), {}, {}};
+      s_.needs_build = false;
+      world_steps_ = -1;
+    }
+    if (world_steps_ == static_cast<long>(s_.course.dts.size())) return true;
+    json answer;
+    if (!ask(json::parse(s_.course.build), answer)) return false;
+    world_steps_ = 0;
+    // replay, one request per run of equal dt
+    const size_t steps = s_.course.dts.size();
+    const size_t w = pin_width();
+    size_t k = 0;
+    std::vector<char> bytes;
+    while (k < steps) {
+      size_t end = k;
+      while (end < steps && s_.course.dts[end] == s_.course.dts[k]) ++end;
+      json request = {{"op", "advance"},
+                      {"dt", s_.course.dts[k]},
+                      {"steps", end - k},
+                      {"targets", std::vector<double>(s_.course.targets.begin() + k * w,
+                                                      s_.course.targets.begin() + end * w)}};
+      if (!ask(request, answer)) return false;
+      if (!driver_->read_bytes(answer["bytes"].get<size_t>(), bytes, std::chrono::seconds(120))) {
+        return fail(driver_->error());
+      }
+      if (answer["steps"].get<size_t>() != end - k) return fail("a replay diverged where the run had not");
+      k = end;
+    }
+    world_steps_ = static_cast<long>(steps);
+    return true;
+  }
+
+  // steps the driver ahead from here: this step with the targets asked, the next ones with the
+  // scenario's (while the pins are the scenario's)
+  bool advance(double dt) {
+    drop_ahead_keep_chunk();
+    const bool predictable = guessing_ && s_.pins.size() == scenario_.pins.size();
+    const int steps = predictable ? chunk_ : 1;
+    chunk_ = std::min(2 * chunk_, kLastChunk);
+    std::vector<Vector3d> predicted;
+    ahead_targets_.reserve(static_cast<size_t>(steps) * pin_width());
+    for (int j = 0; j < steps; ++j) {
+      if (j == 0) {
+        predicted = s_.targets;
+      } else {
+        scenario_.targets_at(s_.anchor_time + static_cast<double>(s_.since_anchor + 1 + j) * dt,
+                             predicted);
+      }
+      for (const Vector3d& t : predicted) ahead_targets_.insert(ahead_targets_.end(), {t.x(), t.y(), t.z()});
+    }
+    json request = {{"op", "advance"}, {"dt", dt}, {"steps", steps}, {"targets", ahead_targets_}};
+    json answer;
+    if (!ask(request, answer)) return false;
+    const size_t bytes = answer["bytes"].get<size_t>();
+    std::vector<char> raw;
+    if (!driver_->read_bytes(bytes, raw, std::chrono::seconds(120))) return fail(driver_->error());
+    ahead_.resize(bytes / sizeof(double));
+    std::memcpy(ahead_.data(), raw.data(), bytes);
+    ahead_count_ = answer["steps"].get<size_t>();
+    ahead_diverged_ = answer["diverged"].get<bool>();
+    ahead_dt_ = dt;
+    ahead_next_ = 0;
+    world_steps_ += static_cast<long>(ahead_count_);
+    return true;
+  }
+
+  void drop_ahead_keep_chunk() {
+    ahead_.clear();
+    ahead_targets_.clear();
+    ahead_next_ = 0;
+    ahead_count_ = 0;
+  }
+
+  void consume(double dt) {
+    const size_t n = s_.bodies.size();
+    const double* r = ahead_.data() + ahead_next_ * (kRecordWidth * n + 1);
+    for (size_t i = 0; i < n; ++i, r += kStateWidth) {
+      BodyState& b = s_.bodies[i];
+      b.x = Vector3d(r[0], r[1], r[2]);
+      b.q = Quaterniond(r[6], r[3], r[4], r[5]);
+      b.v = Vector3d(r[7], r[8], r[9]);
+      b.w = Vector3d(r[10], r[11], r[12]);
+    }
+    for (size_t i = 0; i < n; ++i, r += 6) {
+      s_.user[i].force = Vector3d(r[0], r[1], r[2]);
+      s_.user[i].torque = Vector3d(r[3], r[4], r[5]);
+    }
+    s_.own_seconds = *r;
+    s_.course.dts.push_back(dt);
+    for (const Vector3d& t : s_.targets) s_.course.targets.insert(s_.course.targets.end(), {t.x(), t.y(), t.z()});
+    s_.time += dt;
+    ++s_.since_anchor;
+    ++ahead_next_;
+    if (ahead_diverged_ && ahead_next_ == ahead_count_) s_.diverged = true;
+  }
+
+  JoltSettings settings_;
+  const Model* model_ = nullptr;
+  Scenario scenario_;
+  json model_json_, environment_json_;
+  JoltState s_;
+  std::unique_ptr<NodeProcess> driver_;
+  long world_steps_ = -1;  // steps the driver's world has taken along s_.course (−1: none built)
+  // the steps stepped ahead: records (kRecordWidth per segment, then the seconds), their targets
+  std::vector<double> ahead_, ahead_targets_;
+  size_t ahead_next_ = 0, ahead_count_ = 0;
+  double ahead_dt_ = 0.0;
+  bool ahead_diverged_ = false;
+  int chunk_ = kFirstChunk;
+  bool guessing_ = true;  // steps ahead on the scenario's targets (until a guess is wrong)
+  bool failure_reported_ = false;
+};
+
+std::string jolt_model_problem(const Model& model) {
+  for (const Segment& segment : model.segments) {
+    for (const Shape& shape : segment.shapes) {
+      if (shape.type == ShapeType::kEllipsoid) {
+        return "segment \"" + segment.name + "\" has an ellipsoid, for which Jolt has no shape";
+      }
+    }
+  }
+  for (const Joint& joint : model.joints) {
+    if (joint.type == JointType::kHinge && (joint.lower > 0.0 || joint.upper < 0.0)) {
+      return "joint \"" + joint.name + "\": Jolt's hinge limits must hold the rest angle 0";
+    }
+  }
+  return {};
+}
+
+std::string validate(const JoltSettings& s) {
+  if (s.velocity_steps < 1 || s.velocity_steps > 1000) return "must be 1 to 1000";
+  if (s.position_steps < 0 || s.position_steps > 1000) return "must be 0 to 1000";
+  if (!(s.baumgarte >= 0.0 && s.baumgarte <= 1.0)) return "must be 0 to 1";
+  return {};
+}
+
+std::unique_ptr<Simulator> make(const SolverOptions& options) {
+  const std::string problem = validate(options.jolt);
+  if (!problem.empty()) throw ScenarioError(problem, "jolt_velocity_steps");
+  return std::make_unique<JoltSimulator>(options.jolt);
+}
+
+void add_flags(CLI::App& command, SolverOptions& options) {
+  command
+      .add_option("--jolt-velocity-steps", options.jolt.velocity_steps,
+                  "jolt: velocity sweeps per step (Jolt's default 10)")
+      ->check(whole_number_check())
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  command
+      .add_option("--jolt-position-steps", options.jolt.position_steps,
+                  "jolt: position sweeps per step (Jolt's default 2)")
+      ->check(whole_number_check())
+      ->check(CLI::Range(0, 1000))
+      ->capture_default_str();
+}
+
+void replay_flags(const SolverOptions& options, std::string& out) {
+  const SolverOptions defaults;
+  if (options.jolt.velocity_steps != defaults.jolt.velocity_steps) {
+    out += " --jolt-velocity-steps " + std::to_string(options.jolt.velocity_steps);
+  }
+  if (options.jolt.position_steps != defaults.jolt.position_steps) {
+    out += " --jolt-position-steps " + std::to_string(options.jolt.position_steps);
+  }
+}
+
+// Jolt's defaults, as a game ships them, and sweeps enough for its limits to converge further
+void search(const SolverOptions& base, std::vector<Setting>& out) {
+  out.push_back({"", "10 + 2 sweeps", base});
+  Setting more{"--jolt-velocity-steps 40 --jolt-position-steps 8", "40 + 8 sweeps", base};
+  more.options.jolt.velocity_steps = 40;
+  more.options.jolt.position_steps = 8;
+  out.push_back(std::move(more));
+}
+
+// Jolt's sweeps are linear in the constraints' rows; WebAssembly adds its own factor. An
+// estimate for the budget only: measured on the reference machine at 1/240 s, Pinocchio takes
+// about 60 µs a step with 10 + 2 sweeps.
+double jolt_cost(const Model& model, const SolverOptions& options) {
+  const ModelSize n = model_size(model);
+  const double rows = 3.0 * static_cast<double>(model.joints.size()) + n.limit_rows;
+  const double sweeps = options.jolt.velocity_steps + options.jolt.position_steps;
+  return (3e-6 * n.segments + 60e-9 * rows * sweeps) / kBudgetDt;
+}
+
+}  // namespace
+
+bool jolt_driver_forces(const Model& model, const Environment& environment,
+                        std::span<const Pin> pins, std::span<const BodyState> bodies, double time,
+                        double h, std::vector<Wrench>& applied, std::vector<Wrench>& user,
+                        std::string& error) {
+  std::unique_ptr<NodeProcess> driver;
+  try {
+    driver = pool().take();
+  } catch (const std::exception& e) {
+    error = e.what();
+    return false;
+  }
+  const json request = {{"op", "forces"},        {"model", model_json(model)},
+                        {"environment", environment_json(environment)},
+                        {"pins", pins_json(pins)}, {"states", states_json(bodies)},
+                        {"time", time},            {"h", h}};
+  std::string line;
+  if (!driver->request(request.dump(), line, std::chrono::seconds(60))) {
+    error = driver->error();
+    return false;
+  }
+  const json answer = json::parse(line, nullptr, false);
+  if (answer.is_discarded() || !answer.contains("applied")) {
+    error = line.substr(0, 200);
+    return false;
+  }
+  const auto unpack = [](const json& flat, std::vector<Wrench>& out) {
+    out.resize(flat.size() / 6);
+    for (size_t i = 0; i < out.size(); ++i) {
+      out[i].force = Vector3d(flat[6 * i], flat[6 * i + 1], flat[6 * i + 2]);
+      out[i].torque = Vector3d(flat[6 * i + 3], flat[6 * i + 4], flat[6 * i + 5]);
+    }
+  };
+  unpack(answer["applied"], applied);
+  unpack(answer["user"], user);
+  pool().give_back(std::move(driver));
+  return true;
+}
+
+bool jolt_driver_heap_after_builds(const Model& model, int builds, std::vector<double>& used,
+                                   std::string& error) {
+  NodeProcess driver(node_path(), driver_dir() + "/server.mjs");
+  const json build = {{"op", "build"},
+                      {"model", model_json(model)},
+                      {"environment", environment_json(Environment{.ground = true})},
+                      {"pins", pins_json({})},
+                      {"settings", {{"velocity_steps", 10}, {"position_steps", 2}, {"baumgarte", 0.2}}},
+                      {"start", states_json(rest_pose(model))},
+                      {"time", 0.0}};
+  const std::string line = build.dump();
+  std::string answer;
+  for (int k = 0; k < builds; ++k) {
+    if (!driver.request(line, answer, std::chrono::seconds(60)) ||
+        !driver.request(R"({"op":"memory"})", answer, std::chrono::seconds(60))) {
+      error = driver.error();
+      return false;
+    }
+    const json memory = json::parse(answer, nullptr, false);
+    if (memory.is_discarded() || !memory.contains("used")) {
+      error = answer.substr(0, 200);
+      return false;
+    }
+    used.push_back(memory["used"].get<double>());
+  }
+  return true;
+}
+
+Engine jolt_engine() {
+  return {.name = "jolt",
+          .summary =
+              "Jolt Physics (its WebAssembly build, single precision, in Node.js): a game "
+              "engine's ragdoll",
+          .constraints =
+              "each joint is rows between two free bodies solved by sequential impulses on "
+              "velocities, then on positions (Baumgarte 0.2); a swing–twist limit is Jolt's "
+              "elliptic cone in quaternion space, a box limit its swing–twist pyramid (not the "
+              "Euler box); contact allows 2 cm of penetration",
+          .built = available(),
+          .missing = absent_reason,
+          .native = false,
+          .model_problem = jolt_model_problem,
+          .second_cost = jolt_cost,
+          .make = make,
+          .add_flags = add_flags,
+          .replay_flags = replay_flags,
+          .search = search};
+}
+
+}  // namespace puppet::compare

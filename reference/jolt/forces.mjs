@@ -1,0 +1,263 @@
+// The environment's and the user's forces on the puppet, as core/src/environment.cpp and
+// core/src/user_forces.cpp compute them, for the jolt engine, whose whole run is stepped here
+// (docs/references.md, "The Jolt reference"). The same formulas in double precision; a test
+// (tests/reference/jolt_test.cpp, "ForcesAgreeWithTheTestbeds") compares them with the C++ on
+// the same states. Vectors are [x, y, z] arrays, quaternions [x, y, z, w].
+
+export const kTrembleHz = 8.0;
+export const kTrembleAmplitude = 0.003;
+export const kStandardGravity = 9.81;
+
+const add = (a, b) => [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
+const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+const scale = (s, a) => [s * a[0], s * a[1], s * a[2]];
+const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+const cross = (a, b) => [
+  a[1] * b[2] - a[2] * b[1],
+  a[2] * b[0] - a[0] * b[2],
+  a[0] * b[1] - a[1] * b[0],
+];
+const norm = (a) => Math.sqrt(dot(a, a));
+
+// q·v·q⁻¹
+export function rotate(q, v) {
+  const [x, y, z, w] = q;
+  const u = [x, y, z];
+  const t = scale(2.0, cross(u, v));
+  return add(add(v, scale(w, t)), cross(u, t));
+}
+export function conjugate(q) {
+  return [-q[0], -q[1], -q[2], q[3]];
+}
+
+// the world's up (+z) in a body's frame: the third row of its rotation matrix
+function upInFrame(q) {
+  const [x, y, z, w] = q;
+  return [2.0 * (x * z - w * y), 2.0 * (y * z + w * x), 1.0 - 2.0 * (x * x + y * y)];
+}
+
+function halfHeight(shape, up) {
+  switch (shape.type) {
+    case 'sphere':
+      return shape.radius;
+    case 'capsule':
+      return Math.abs(up[2]) * shape.half_length + shape.radius;
+    case 'box':
+      return dot(up.map(Math.abs), shape.half_extents);
+    case 'cylinder':
+      return (
+        Math.abs(up[2]) * shape.half_length +
+        shape.radius * Math.sqrt(Math.max(0.0, 1.0 - up[2] * up[2]))
+      );
+    default:
+      throw new Error(`shape "${shape.type}" has no height here`);
+  }
+}
+
+// the segment's lowest and highest z (core: vertical_extent)
+function verticalExtent(segment, q, x) {
+  const up = upInFrame(q);
+  if (segment.lone_shape) {
+    const half = halfHeight(segment.shapes[0], up);
+    return [x[2] - half, x[2] + half];
+  }
+  let below = -Infinity;
+  let above = -Infinity;
+  for (const shape of segment.shapes) {
+    const centre = dot(shape.position, up);
+    const half = halfHeight(shape, rotate(conjugate(shape.orientation), up));
+    below = Math.max(below, half - centre);
+    above = Math.max(above, half + centre);
+  }
+  return [x[2] - below, x[2] + above];
+}
+
+function submergedFraction(segment, environment, body) {
+  if (!environment.water) return 0.0;
+  const [low, high] = verticalExtent(segment, body.q, body.x);
+  return Math.min(Math.max((environment.water_level - low) / (high - low), 0.0), 1.0);
+}
+
+// the rate that decays v by exactly e^(−c·h) over a step of h (core: step_drag_rate)
+function stepDragRate(c, h) {
+  return h > 0.0 && c !== 0.0 ? -Math.expm1(-c * h) / h : c;
+}
+
+// gravity, drag and buoyancy on one segment over a step of h (core: environment_wrench)
+export function environmentWrench(segment, environment, body, h) {
+  const f = submergedFraction(segment, environment, body);
+  const g = environment.gravity;
+  let drag;
+  let force;
+  if (!(f > 0.0)) {
+    drag = stepDragRate(environment.air_drag, h);
+    force = sub(scale(segment.mass, g), scale(drag * segment.mass, body.v));
+  } else {
+    drag = stepDragRate(environment.air_drag + environment.water_drag * f, h);
+    force = sub(scale(segment.mass, g), scale(drag * segment.mass, body.v));
+    force = sub(force, scale(environment.water_density * segment.volume * f, g));
+  }
+  let torque = [0, 0, 0];
+  if (drag !== 0.0) {
+    const wBody = rotate(conjugate(body.q), body.w);
+    const iw = [segment.inertia[0] * wBody[0], segment.inertia[1] * wBody[1], segment.inertia[2] * wBody[2]];
+    torque = scale(-drag, rotate(body.q, iw));
+  }
+  return { force, torque };
+}
+
+// a compliant pin's spring (core: pin_spring_wrench)
+export function pinSpringWrench(pin, body) {
+  const arm = rotate(body.q, pin.local_point);
+  const force = scale(1.0 / pin.compliance, sub(pin.target, add(body.x, arm)));
+  return { force, torque: cross(arm, force) };
+}
+
+// the 3×3 symmetric system K f = a, by its adjugate
+function solveSymmetric3(k, a) {
+  const [[a00, a01, a02], [, a11, a12], [, , a22]] = k;
+  const c00 = a11 * a22 - a12 * a12;
+  const c01 = a02 * a12 - a01 * a22;
+  const c02 = a01 * a12 - a02 * a11;
+  const c11 = a00 * a22 - a02 * a02;
+  const c12 = a01 * a02 - a00 * a12;
+  const c22 = a00 * a11 - a01 * a01;
+  const det = a00 * c00 + a01 * c01 + a02 * c02;
+  return [
+    (c00 * a[0] + c01 * a[1] + c02 * a[2]) / det,
+    (c01 * a[0] + c11 * a[1] + c12 * a[2]) / det,
+    (c02 * a[0] + c12 * a[1] + c22 * a[2]) / det,
+  ];
+}
+
+// R diag(d) Rᵀ for the body's rotation
+function worldInverseInertia(segment, q) {
+  const d = segment.inv_inertia;
+  const e = [rotate(q, [1, 0, 0]), rotate(q, [0, 1, 0]), rotate(q, [0, 0, 1])];
+  const out = [[0, 0, 0], [0, 0, 0], [0, 0, 0]];
+  for (let i = 0; i < 3; ++i) {
+    for (let j = 0; j < 3; ++j) {
+      out[i][j] = e[0][i] * d[0] * e[0][j] + e[1][i] * d[1] * e[1][j] + e[2][i] * d[2] * e[2][j];
+    }
+  }
+  return out;
+}
+
+// a grab's capped spring–damper at its point (core: grab_force)
+export function grabForce(pin, segment, body) {
+  const arm = rotate(body.q, pin.local_point);
+  const point = add(body.x, arm);
+  const pointVelocity = add(body.v, cross(body.w, arm));
+  const omega = 2.0 * Math.PI * pin.grab.hz;
+  // K = (1/m) E − [r]× I⁻¹ [r]×
+  const c = [
+    [0.0, -arm[2], arm[1]],
+    [arm[2], 0.0, -arm[0]],
+    [-arm[1], arm[0], 0.0],
+  ];
+  const inv = worldInverseInertia(segment, body.q);
+  const k = [[0, 0, 0], [0, 0, 0], [0, 0, 0]];
+  for (let i = 0; i < 3; ++i) {
+    for (let j = 0; j < 3; ++j) {
+      let s = 0.0;
+      for (let a = 0; a < 3; ++a) {
+        for (let b = 0; b < 3; ++b) s += c[i][a] * inv[a][b] * c[b][j];
+      }
+      k[i][j] = (i === j ? segment.inv_mass : 0.0) - s;
+    }
+  }
+  const acceleration = sub(
+    scale(omega * omega, sub(pin.target, point)),
+    scale(2.0 * pin.grab.damping_ratio * omega, pointVelocity),
+  );
+  let force = solveSymmetric3(k, acceleration);
+  const length = norm(force);
+  if (length > pin.grab.max_force) force = scale(pin.grab.max_force / length, force);
+  return force;
+}
+
+// splitmix64's finaliser, in 64-bit unsigned arithmetic (core: mix_bits)
+const kMask = (1n << 64n) - 1n;
+export function mixBits(x) {
+  x = (x + 0x9e3779b97f4a7c15n) & kMask;
+  x = ((x ^ (x >> 30n)) * 0xbf58476d1ce4e5b9n) & kMask;
+  x = ((x ^ (x >> 27n)) * 0x94d049bb133111ebn) & kMask;
+  return x ^ (x >> 31n);
+}
+
+function gradient(seed, lattice) {
+  const bits = mixBits(seed ^ mixBits(BigInt.asUintN(64, BigInt(lattice))));
+  return Number(bits >> 11n) * (2.0 / 9007199254740992.0) - 1.0;
+}
+
+// 1-D gradient noise in about [−½, ½] (core: gradient_noise)
+export function gradientNoise(seed, t) {
+  const cell = Math.floor(t);
+  const f = t - cell;
+  const g0 = gradient(seed, cell) * f;
+  const g1 = gradient(seed, cell + 1) * (f - 1.0);
+  const fade = f * f * f * (f * (f * 6.0 - 15.0) + 10.0);
+  return g0 + fade * (g1 - g0);
+}
+
+// the seed's tremble on segment i (core: tremble_force); seed a BigInt
+export function trembleForce(mass, i, body, time, pull, seed) {
+  const omega = 2.0 * Math.PI * kTrembleHz;
+  const acceleration = omega * omega * kTrembleAmplitude;
+  const gamma = pull * norm(body.v);
+  const size = mass * acceleration * Math.abs(Math.sin(gamma)) * Math.exp(-pull);
+  if (size === 0.0) return [0, 0, 0];
+  const gt = gamma * time;
+  const sinc = Math.abs(gt) > 1e-8 ? Math.sin(gt) / gt : 1.0;
+  const phase = kTrembleHz * time * (1.0 + 0.5 * sinc);
+  const force = [0, 0, 0];
+  for (let axis = 0; axis < 3; ++axis) {
+    const key = mixBits((seed + 3n * BigInt(i) + BigInt(axis)) & kMask);
+    force[axis] = 2.0 * size * gradientNoise(key, phase);
+  }
+  return force;
+}
+
+// the user's forces on every segment (core: user_wrenches): each grab at its point, and with
+// environment.tremble the tremble; written over `out` (one {force, torque} per segment)
+export function userWrenches(model, environment, pins, bodies, time, out) {
+  for (let i = 0; i < out.length; ++i) out[i] = { force: [0, 0, 0], torque: [0, 0, 0] };
+  let pull = 0.0;
+  for (const pin of pins) {
+    if (!(pin.grab.hz > 0.0)) continue;
+    const segment = model.segments[pin.segment];
+    const body = bodies[pin.segment];
+    const force = grabForce(pin, segment, body);
+    const w = out[pin.segment];
+    w.force = add(w.force, force);
+    w.torque = add(w.torque, cross(rotate(body.q, pin.local_point), force));
+    pull += norm(force) / (segment.mass * kStandardGravity);
+  }
+  if (environment.tremble) {
+    const seed = BigInt(environment.tremble_seed);
+    for (let i = 0; i < model.segments.length; ++i) {
+      const f = trembleForce(model.segments[i].mass, i, bodies[i], time, pull, seed);
+      out[i].force = add(out[i].force, f);
+    }
+  }
+  return pull;
+}
+
+// every segment's external wrench for a step of h from `bodies`: the environment's, the user's
+// and the compliant pins' springs (reference/src/pin_springs.h, PinSprings::wrenches)
+export function allWrenches(model, environment, pins, bodies, time, h, user) {
+  userWrenches(model, environment, pins, bodies, time, user);
+  const applied = [];
+  for (let s = 0; s < model.segments.length; ++s) {
+    const w = environmentWrench(model.segments[s], environment, bodies[s], h);
+    applied.push({ force: add(w.force, user[s].force), torque: add(w.torque, user[s].torque) });
+  }
+  for (const pin of pins) {
+    if (pin.grab.hz > 0.0 || !(pin.compliance > 0.0)) continue;
+    const pull = pinSpringWrench(pin, bodies[pin.segment]);
+    const a = applied[pin.segment];
+    a.force = add(a.force, pull.force);
+    a.torque = add(a.torque, pull.torque);
+  }
+  return applied;
+}
