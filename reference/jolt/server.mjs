@@ -340,9 +340,13 @@ class World {
       const q = body.GetRotation();
       const v = body.GetLinearVelocity();
       const w = body.GetAngularVelocity();
+      // Jolt's single-precision quaternion is unit to its last bits: read as the unit one (the
+      // testbed does the same operations on a state it places: jolt.cpp, unit_as_the_driver)
+      const [qx, qy, qz, qw] = [q.GetX(), q.GetY(), q.GetZ(), q.GetW()];
+      const n = Math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw);
       out.push({
         x: [x.GetX(), x.GetY(), x.GetZ()],
-        q: [q.GetX(), q.GetY(), q.GetZ(), q.GetW()],
+        q: [qx / n, qy / n, qz / n, qw / n],
         v: [v.GetX(), v.GetY(), v.GetZ()],
         w: [w.GetX(), w.GetY(), w.GetZ()],
       });

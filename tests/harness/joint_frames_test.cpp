@@ -14,6 +14,7 @@
 #include "puppet/compare/metrics.h"
 #include "puppet/compare/run.h"
 #include "puppet/compare/scenario.h"
+#include "puppet/compare/engines.h"
 #include "puppet/compare/simulator.h"
 
 namespace puppet::compare {
@@ -120,7 +121,10 @@ TEST(JointFrames, TurnedFramesMoveAsAlignedOnesInEverySolver) {
     const auto a = after_one_second(solver, aligned);
     const auto t = after_one_second(solver, turned);
     const auto f = after_one_second(solver, free);
-    EXPECT_LT(pose_error(t, a), 1e-7);
+    // single precision (jolt): a position's last bit is 6e-8 m near 1 m, and the two runs'
+    // roundings grow over the same 480 steps (measured 2.2e-5 m); a frame read wrongly moves the
+    // boxes by centimetres
+    EXPECT_LT(pose_error(t, a), find_engine(solver)->single_precision ? 1e-4 : 1e-7);
     EXPECT_GT(pose_error(f, a), 0.01);
   }
 }

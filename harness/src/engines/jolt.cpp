@@ -192,6 +192,28 @@ json states_json(std::span<const BodyState> bodies) {
   return out;
 }
 
+// a quaternion made unit as the driver makes Jolt's (server.mjs, read): the same operations in
+// the same order, so that both sides hold the same bits
+Quaterniond unit_as_the_driver(const Quaterniond& q) {
+  const double n = std::sqrt(q.x() * q.x() + q.y() * q.y() + q.z() * q.z() + q.w() * q.w());
+  return Quaterniond(q.w() / n, q.x() / n, q.y() / n, q.z() / n);
+}
+
+// what Jolt holds of a placed state: each number in single precision (its wasm build's)
+std::vector<BodyState> as_jolt_holds(std::span<const BodyState> bodies) {
+  std::vector<BodyState> out(bodies.begin(), bodies.end());
+  const auto single = [](auto&& v) {
+    for (int k = 0; k < v.size(); ++k) v[k] = static_cast<float>(v[k]);
+  };
+  for (BodyState& b : out) {
+    single(b.x);
+    single(b.q.coeffs());
+    single(b.v);
+    single(b.w);
+  }
+  return out;
+}
+
 // Everything that decides the driver's world: what it was built from, and each step asked of
 // it since, with its dt and its targets (flat). A snapshot is one: replaying it in a new world
 // repeats the same bits.
@@ -205,6 +227,7 @@ struct Course {
 struct JoltState {
   Course course;
   bool needs_build = true;  // the state was placed: the next step builds a world from it
+  std::vector<BodyState> placed;  // the state placed, as Jolt holds it (the next build's start)
   std::vector<Pin> pins;
   std::vector<Vector3d> targets;  // for the next step
   std::vector<BodyState> bodies;
@@ -236,7 +259,7 @@ class JoltSimulator : public Simulator {
     environment_json_ = environment_json(scenario.environment);
     s_ = JoltState{};
     s_.pins = scenario.initial_pins();
-    s_.bodies = scenario.initial;
+    place(scenario.initial);
     s_.user.assign(scenario.initial.size(), Wrench{});
     s_.targets.clear();
     for (const Pin& p : s_.pins) s_.targets.push_back(p.target);
@@ -247,6 +270,7 @@ class JoltSimulator : public Simulator {
     s_.pins.assign(pins.begin(), pins.end());
     s_.targets.clear();
     for (const Pin& p : s_.pins) s_.targets.push_back(p.target);
+    place(std::vector<BodyState>(s_.bodies));  // a new world from where this one is
     s_.needs_build = true;
     drop_ahead();
   }
@@ -256,11 +280,12 @@ class JoltSimulator : public Simulator {
   void set_time(double time) override {
     s_.time = s_.anchor_time = time;
     s_.since_anchor = 0;
+    place(std::vector<BodyState>(s_.bodies));
     s_.needs_build = true;
     drop_ahead();
   }
   void set_state(std::span<const BodyState> bodies) override {
-    s_.bodies.assign(bodies.begin(), bodies.end());
+    place(bodies);
     s_.needs_build = true;
     drop_ahead();
   }
@@ -299,6 +324,13 @@ class JoltSimulator : public Simulator {
 
  private:
   size_t pin_width() const { return 3 * s_.targets.size(); }
+
+  // the state Jolt will start from, and what reading it back gives
+  void place(std::span<const BodyState> bodies) {
+    s_.placed = as_jolt_holds(bodies);
+    s_.bodies = s_.placed;
+    for (BodyState& b : s_.bodies) b.q = unit_as_the_driver(b.q);
+  }
 
   bool finite_input(double dt) const {
     if (!std::isfinite(dt) || !all_finite(s_.bodies)) return false;
@@ -370,7 +402,7 @@ class JoltSimulator : public Simulator {
                      {{"velocity_steps", settings_.velocity_steps},
                       {"position_steps", settings_.position_steps},
                       {"baumgarte", settings_.baumgarte}}},
-                    {"start", states_json(s_.bodies)},
+                    {"start", states_json(s_.placed)},
                     {"time", s_.time}};
       s_.course = Course{build.dump(), {}, {}};
       s_.needs_build = false;
@@ -639,6 +671,7 @@ Engine jolt_engine() {
           .built = available(),
           .missing = absent_reason,
           .native = false,
+          .single_precision = true,
           .model_problem = jolt_model_problem,
           .second_cost = jolt_cost,
           .make = make,

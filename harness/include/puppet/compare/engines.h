@@ -43,6 +43,9 @@ struct Engine {
   // false: its cost is measured in WebAssembly (jolt), reported in a column of its own and never
   // ranked against native code's
   bool native = true;
+  // true: its state is single precision (jolt): what it reads back is rounded to float, and the
+  // tests that compare two of its runs allow for it
+  bool single_precision = false;
   // why it cannot run the model (empty when it can), decided before anything runs
   std::string (*model_problem)(const Model& model) = nullptr;
   // an estimate of the CPU seconds it takes to step one simulated second of the model at
