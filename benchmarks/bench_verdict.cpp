@@ -98,6 +98,9 @@ int main(int argc, char** argv) {
   // per scenario and budget, the cheapest of each family
   std::map<std::pair<std::string, double>, std::map<std::string, Choice>> best;
   for (const Choice& c : choices) {
+    // a WebAssembly engine's cost is never ranked against native code's
+    const compare::Engine* engine = compare::find_engine(c.solver);
+    if (engine == nullptr || !engine->native) continue;
     const std::string family =
         compare::has_rules(c.solver) ? std::string(compare::kProceduralEngine) : "reference";
     auto& slot = best[{c.scenario, c.budget_m}];

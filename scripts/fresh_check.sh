@@ -66,6 +66,15 @@ unmount() { umount "$ROOT/dev/pts" "$ROOT/proc" "$ROOT/dev" 2>/dev/null; }
 unmount
 rm -rf "$ROOT" && cp -a "$BASE" "$ROOT" || { echo "fresh-check: could not copy the base root"; exit 1; }
 git clone -q "$SRC" "$ROOT/src" || { echo "fresh-check: clone failed"; exit 1; }
+# the certificate authorities this machine adds to Debian's (a network that inspects TLS signs
+# the npm registry's certificate with its own): a user's machine trusts its own network; the PEM
+# bundle goes where Debian's ca-certificates puts its own, which Node.js and npm then read
+# (and among its local ones, so that a later update-ca-certificates keeps them)
+if compgen -G "/usr/local/share/ca-certificates/*.crt" >/dev/null; then
+  mkdir -p "$ROOT/usr/local/share/ca-certificates"
+  cp /usr/local/share/ca-certificates/*.crt "$ROOT/usr/local/share/ca-certificates/"
+  cat /usr/local/share/ca-certificates/*.crt >>"$ROOT/etc/ssl/certs/ca-certificates.crt"
+fi
 # what the commands write is newer than this mark
 touch "$ROOT/fresh-check-start"
 sleep 1

@@ -14,6 +14,12 @@ scripts/setup.sh
 cmake --preset release >/dev/null
 # the testbed alone: the tests, benchmarks and viewer are the test command's to build
 cmake --build --preset release --target testbed
+# an engine this build lacks is left out of every table: said once, here
+./build/release/testbed list --json | /usr/bin/python3 -c '
+import json, sys
+for e in json.load(sys.stdin)["engines"]:
+    if not e["built"]:
+        print("main: %s is not built here (%s): its rows are left out" % (e["name"], e["missing"]))'
 # the truths' trajectories, kept for this job's runs on the same model and scenario (the
 # ablation's configurations judge against the main run's truth, the open-limits one against the
 # open-limits run's), and removed at the end

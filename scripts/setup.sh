@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Installs the Debian/Ubuntu packages the project needs, only those missing, and says which.
-# Idempotent: a second run installs nothing.
+# Installs the Debian/Ubuntu packages the project needs, only those missing, and says which;
+# then the jolt engine's npm package, at the version reference/jolt/package-lock.json pins, into
+# reference/jolt/node_modules (the project's own folder, never globally). Idempotent: a second run
+# installs nothing.
 set -euo pipefail
 
 packages=(
@@ -22,7 +24,10 @@ packages=(
   xvfb xauth         # the viewer's headless tests (xvfb-run)
   clang-14 libclang-rt-14-dev # the clang build and the loader's fuzzer (scripts/fuzz.sh)
   doxygen            # the API reference (scripts/api_docs.sh)
+  nodejs             # the jolt engine's driver (reference/jolt/server.mjs)
 )
+# npm installs the jolt engine's package: Debian's, unless a Node.js that brings its own is there
+if ! command -v npm >/dev/null; then packages+=(npm); fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -33,15 +38,32 @@ done
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "setup: all ${#packages[@]} packages already installed"
-  exit 0
+else
+  sudo=""
+  if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+  echo "setup: installing ${missing[*]}"
+  # wait for another apt (an unattended upgrade) instead of failing on its lock
+  wait_lock=(-o DPkg::Lock::Timeout=300)
+  $sudo apt-get "${wait_lock[@]}" update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get "${wait_lock[@]}" install -y -qq \
+    --no-install-recommends "${missing[@]}" >/dev/null
+  echo "setup: installed ${missing[*]}"
 fi
 
-sudo=""
-if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
-echo "setup: installing ${missing[*]}"
-# wait for another apt (an unattended upgrade) instead of failing on its lock
-wait_lock=(-o DPkg::Lock::Timeout=300)
-$sudo apt-get "${wait_lock[@]}" update -qq
-DEBIAN_FRONTEND=noninteractive $sudo apt-get "${wait_lock[@]}" install -y -qq \
-  --no-install-recommends "${missing[@]}" >/dev/null
-echo "setup: installed ${missing[*]}"
+# the jolt engine's package, as the lock file pins it (its version and checksum)
+jolt=reference/jolt
+cd "$(dirname "$0")/.."
+pinned=$(sed -n 's/^[[:space:]]*"jolt-physics": "\(.*\)"/\1/p' "$jolt/package.json")
+have=$(sed -n 's/^[[:space:]]*"version": "\(.*\)",*/\1/p' \
+  "$jolt/node_modules/jolt-physics/package.json" 2>/dev/null | head -n 1)
+if [ "$have" = "$pinned" ]; then
+  echo "setup: jolt-physics $pinned already installed"
+else
+  echo "setup: installing jolt-physics $pinned into $jolt/node_modules"
+  # without it (no registry) the project still builds and runs: the jolt engine reads as not built
+  if npm ci --prefix "$jolt" --no-audit --no-fund --loglevel=error >/dev/null; then
+    echo "setup: installed jolt-physics $pinned"
+  else
+    echo "setup: could not install jolt-physics $pinned (npm ci failed): the jolt engine is left out"
+  fi
+fi

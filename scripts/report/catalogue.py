@@ -48,6 +48,10 @@ TRUTH_REFINED = {truth["solver"]: truth["refined"] for truth in _CATALOGUE["trut
 CONSTRAINTS = {engine["name"]: engine["constraints"] for engine in _CATALOGUE["engines"]}
 # the engines the procedural solver is compared with
 REFERENCE_ENGINES = [engine["name"] for engine in _CATALOGUE["engines"] if not engine["rules"]]
+# the engines whose cost is WebAssembly's (jolt): shown in their own rows, labelled, and never
+# ranked against native code's
+WASM_ENGINES = [engine["name"] for engine in _CATALOGUE["engines"]
+                if not engine.get("native", True)]
 PAIRWISE = _CATALOGUE["pairwise"]["reference"]
 PAIRWISE_SOLVER = _CATALOGUE["pairwise"]["solver"]
 PAIRWISE_CONFIG = (PAIRWISE_SOLVER, "")
@@ -58,11 +62,12 @@ TABLES = {name: header.split(",") for name, header in _CATALOGUE["tables"].items
 TABLES["summary.csv"] = SUMMARY_HEADER
 
 # Plot styles by the catalogue's order: the rules from light to dark blue, then green and purple
-# for the two substepped ones; the other engines black, red and brown (orange rings mark diverged
+# for the two substepped ones; the other engines black, red, brown, cyan and pink (orange rings mark diverged
 # seeds). Anything past the palettes is grey.
 _RULE_STYLES = [("#9ecae1", "o"), ("#c6dbef", "v"), ("#6baed6", "s"), ("#3182bd", "D"),
                 ("#08519c", "^"), ("#2ca02c", "P"), ("#9467bd", "*")]
-_ENGINE_STYLES = [("#000000", "o"), ("#d62728", "s"), ("#8c564b", "X")]
+_ENGINE_STYLES = [("#000000", "o"), ("#d62728", "s"), ("#8c564b", "X"), ("#17becf", "d"),
+                  ("#e377c2", "p")]
 DEFAULT_STYLE = ("grey", "o")
 STYLE = dict(zip([c for c in CONFIGS if c[0] == RULES_ENGINE], _RULE_STYLES))
 STYLE.update(zip([c for c in CONFIGS if c[0] != RULES_ENGINE], _ENGINE_STYLES))

@@ -31,7 +31,11 @@ class ReportError(Exception):
 
 
 def label(config):
+    """a (solver, rule) as tables name it; an engine whose cost is WebAssembly's says so"""
+    from .catalogue import WASM_ENGINES  # the catalogue reads nothing from here
     solver, rule = config
+    if solver in WASM_ENGINES:
+        return f"{solver} (WebAssembly)"
     return f"{solver} {rule}" if rule else solver
 
 

@@ -4,7 +4,8 @@ import os
 
 from .catalogue import CANDIDATES_CSV as C
 from .catalogue import (CONFIGS, DIVERGED, M, MET, RULES_ENGINE, SCENARIOS, SECOND_TRUTH, ST,
-                        SUMMARY_HEADER, TABLES, TRUTH, TRUTHS, TRUTH_TEXT, VALUES, trace_stem)
+                        SUMMARY_HEADER, TABLES, TRUTH, TRUTHS, TRUTH_TEXT, VALUES, WASM_ENGINES,
+                        trace_stem)
 from .catalogue import ROBUSTNESS_CSV as R
 from .catalogue import SUMMARY_CSV as S
 from .catalogue import TRACE_CSV as T
@@ -230,10 +231,10 @@ class Verdict:
         return budget >= self.floor[scenario]
 
     def cheapest(self, scenario, view, budget, procedural):
-        """the met row of the cheapest procedural rule, or of the cheapest reference engine (any
-        other solver), or None"""
+        """the met row of the cheapest procedural rule, or of the cheapest native reference engine
+        (any other solver but a WebAssembly one), or None"""
         met = [self.row(scenario, c, view, budget) for c in self.configs
-               if (c[0] == RULES_ENGINE) == procedural]
+               if (c[0] == RULES_ENGINE) == procedural and c[0] not in WASM_ENGINES]
         met = [r for r in met if r and r[V.verdict] == MET]
         return min(met, key=lambda r: r[V.cost_us_per_s]) if met else None
 
