@@ -50,8 +50,7 @@ TEST(Drag, DecaysExactlyForAnyRate) {
       const double decay = std::exp(-c * kDt * kSteps);
       const Vector3d v = decay * scenario.initial[0].v, w = decay * scenario.initial[0].w;
       // in single precision (jolt) each step's decay rounds once: kSteps float epsilons at most
-      const double relative =
-          find_engine(solver)->single_precision ? kSteps * 1.2e-7 : 1e-9;
+      const double relative = find_engine(solver)->single_precision ? kSteps * 1.2e-7 : 1e-9;
       EXPECT_NEAR((state[0].v - v).norm(), 0.0, 1e-9 + relative * v.norm());
       EXPECT_NEAR((state[0].w - w).norm(), 0.0, 1e-9 + relative * w.norm());
       // and the ball went as far as ∫v dt of the discrete decay, bounded by the undamped path

@@ -11,10 +11,10 @@
 #include <numbers>
 #include <string>
 
+#include "puppet/compare/engines.h"
 #include "puppet/compare/metrics.h"
 #include "puppet/compare/run.h"
 #include "puppet/compare/scenario.h"
-#include "puppet/compare/engines.h"
 #include "puppet/compare/simulator.h"
 
 namespace puppet::compare {

@@ -34,9 +34,9 @@ namespace {
 const std::string& kPinocchio = test::kPinocchioPath;
 constexpr double kDt = 1.0 / 240.0;
 
-#define SKIP_WITHOUT_JOLT()                                                    \
-  if (!find_engine("jolt")) {                                                  \
-    GTEST_SKIP() << "jolt is not built here: " << find_missing_reason();       \
+#define SKIP_WITHOUT_JOLT()                                              \
+  if (!find_engine("jolt")) {                                            \
+    GTEST_SKIP() << "jolt is not built here: " << find_missing_reason(); \
   }
 
 std::string find_missing_reason() {
@@ -140,9 +140,10 @@ TEST(Jolt, ForcesAgreeWithTheTestbeds) {
     }
     Pin grab{.segment = 3, .local_point = Vector3d(0, 0, -0.1), .target = Vector3d(0.2, 0.1, 1)};
     grab.grab = {.hz = 2.0, .damping_ratio = 1.0, .max_force = 150.0 + 500.0 * (trial % 2)};
-    const Pin spring{
-        .segment = 5, .local_point = Vector3d(0.01, 0, 0), .target = Vector3d(0, 0.3, 1.2),
-        .compliance = 1e-3};
+    const Pin spring{.segment = 5,
+                     .local_point = Vector3d(0.01, 0, 0),
+                     .target = Vector3d(0, 0.3, 1.2),
+                     .compliance = 1e-3};
     const Pin pins[] = {grab, spring};
     const double time = 0.37 * trial;
     const double h = trial % 3 == 0 ? 1.0 / 30.0 : kDt;
@@ -287,8 +288,8 @@ std::vector<BodyState> spun_limb(const Model& model, const Vector3d& axis_in_fra
 }
 
 std::unique_ptr<test::SimulatorSolver> held_base(const Model& model) {
-  auto solver = std::make_unique<test::SimulatorSolver>(
-      "jolt", model, Environment{.gravity = Vector3d::Zero()});
+  auto solver = std::make_unique<test::SimulatorSolver>("jolt", model,
+                                                        Environment{.gravity = Vector3d::Zero()});
   const Vector3d base = model.segments[0].rest_position;
   const Pin pins[] = {{0, Vector3d(0, 0, 0), base},
                       {0, Vector3d(0.1, 0, 0), base + Vector3d(0.1, 0, 0)},
@@ -301,20 +302,19 @@ TEST(Jolt, ABoxStopsAtEachFace) {
   SKIP_WITHOUT_JOLT();
   for (const char* order : {"yxz", "xyz", "zyx"}) {
     const Model model = limb_on_a_box(std::string(R"("type":"ball","box_deg":{"order":")") + order +
-                                                 R"(","lower":[-20,-30,-10],"upper":[40,15,25]})");
+                                      R"(","lower":[-20,-30,-10],"upper":[40,15,25]})");
     const Joint& joint = model.joints[0];
     const JoltPyramid reading = nearest_jolt_pyramid(joint);
-    std::printf("[ box      ] %s: twist %s, the pyramid %.1f° outside the box, the box %.1f° "
-                "outside it\n",
-                order, reading.twist_first ? "first" : "last", reading.beyond_deg,
-                reading.cut_deg);
+    std::printf(
+        "[ box      ] %s: twist %s, the pyramid %.1f° outside the box, the box %.1f° "
+        "outside it\n",
+        order, reading.twist_first ? "first" : "last", reading.beyond_deg, reading.cut_deg);
     for (int axis = 0; axis < 3; ++axis) {
       for (const double sign : {-1.0, 1.0}) {
         SCOPED_TRACE(std::string(order) + " axis " + std::to_string(axis) +
                      (sign > 0 ? " upper" : " lower"));
         auto solver = held_base(model);
-        solver->set_state(
-            spun_limb(model, Vector3d::Unit(joint.box_order.axes[axis]), 2.0 * sign));
+        solver->set_state(spun_limb(model, Vector3d::Unit(joint.box_order.axes[axis]), 2.0 * sign));
         std::vector<BodyState> bodies(2);
         double furthest = 0.0;
         for (int k = 0; k < 240; ++k) {
@@ -342,8 +342,8 @@ TEST(Jolt, BoxReadingsAreTheNearerOfTwo) {
     const JoltPyramid last = jolt_pyramid(joint, false), first = jolt_pyramid(joint, true);
     const JoltPyramid taken = nearest_jolt_pyramid(joint);
     std::printf("[ box      ] %-14s twist last %5.1f° / %5.1f°, first %5.1f° / %5.1f°: %s\n",
-                joint.name.c_str(), last.beyond_deg, last.cut_deg, first.beyond_deg,
-                first.cut_deg, taken.twist_first ? "first" : "last");
+                joint.name.c_str(), last.beyond_deg, last.cut_deg, first.beyond_deg, first.cut_deg,
+                taken.twist_first ? "first" : "last");
     EXPECT_LE(std::max(taken.beyond_deg, taken.cut_deg),
               std::min(std::max(last.beyond_deg, last.cut_deg),
                        std::max(first.beyond_deg, first.cut_deg)));

@@ -19,9 +19,9 @@ Engine ode_engine();
 Engine jolt_engine();
 
 std::span<const Engine> engines() {
-  static const std::vector<Engine> rows = {procedural_engine(),    bullet_multibody_engine(),
-                                           bullet_rigid_engine(),  mujoco_engine(),
-                                           ode_engine(),           jolt_engine()};
+  static const std::vector<Engine> rows = {procedural_engine(),   bullet_multibody_engine(),
+                                           bullet_rigid_engine(), mujoco_engine(),
+                                           ode_engine(),          jolt_engine()};
   return rows;
 }
 

@@ -96,12 +96,9 @@ json quat(const Quaterniond& q) { return json::array({q.x(), q.y(), q.z(), q.w()
 double angle(double a) { return std::clamp(a, -M_PI, M_PI); }
 
 json shape_json(const Shape& shape) {
-  return {{"type", shape_type_name(shape.type)},
-          {"radius", shape.radius},
-          {"half_length", shape.half_length},
-          {"half_extents", vec(shape.half_extents)},
-          {"position", vec(shape.position)},
-          {"orientation", quat(shape.orientation)}};
+  return {{"type", shape_type_name(shape.type)}, {"radius", shape.radius},
+          {"half_length", shape.half_length},    {"half_extents", vec(shape.half_extents)},
+          {"position", vec(shape.position)},     {"orientation", quat(shape.orientation)}};
 }
 
 json model_json(const Model& model) {
@@ -133,22 +130,21 @@ json model_json(const Model& model) {
                  {"lower", {angle(p.lower[0]), angle(p.lower[1]), angle(p.lower[2])}},
                  {"upper", {angle(p.upper[0]), angle(p.upper[1]), angle(p.upper[2])}}};
     }
-    joints.push_back(
-        {{"type", type},
-         {"parent", j.parent},
-         {"child", j.child},
-         {"anchor_in_parent", vec(j.anchor_in_parent)},
-         {"anchor_in_child", vec(j.anchor_in_child)},
-         {"frame_in_parent", quat(j.frame_in_parent)},
-         {"frame_in_child", quat(j.frame_in_child)},
-         {"ball_limit", j.ball_limit == BallLimit::kEulerBox ? "box" : "swing-twist"},
-         {"swing_x", std::min(j.swing_x, M_PI)},
-         {"swing_y", std::min(j.swing_y, M_PI)},
-         {"twist", std::min(j.twist, M_PI)},
-         {"pyramid", pyramid},
-         {"hinge_axis", vec(j.hinge_axis)},
-         {"lower", angle(j.lower)},
-         {"upper", angle(j.upper)}});
+    joints.push_back({{"type", type},
+                      {"parent", j.parent},
+                      {"child", j.child},
+                      {"anchor_in_parent", vec(j.anchor_in_parent)},
+                      {"anchor_in_child", vec(j.anchor_in_child)},
+                      {"frame_in_parent", quat(j.frame_in_parent)},
+                      {"frame_in_child", quat(j.frame_in_child)},
+                      {"ball_limit", j.ball_limit == BallLimit::kEulerBox ? "box" : "swing-twist"},
+                      {"swing_x", std::min(j.swing_x, M_PI)},
+                      {"swing_y", std::min(j.swing_y, M_PI)},
+                      {"twist", std::min(j.twist, M_PI)},
+                      {"pyramid", pyramid},
+                      {"hinge_axis", vec(j.hinge_axis)},
+                      {"lower", angle(j.lower)},
+                      {"upper", angle(j.upper)}});
   }
   return {{"segments", segments}, {"joints", joints}};
 }
@@ -226,7 +222,7 @@ struct Course {
 // the simulator's logical state: the course, and what the harness last set or read
 struct JoltState {
   Course course;
-  bool needs_build = true;  // the state was placed: the next step builds a world from it
+  bool needs_build = true;        // the state was placed: the next step builds a world from it
   std::vector<BodyState> placed;  // the state placed, as Jolt holds it (the next build's start)
   std::vector<Pin> pins;
   std::vector<Vector3d> targets;  // for the next step
@@ -295,9 +291,7 @@ class JoltSimulator : public Simulator {
   std::span<const Wrench> user_wrenches() const override { return s_.user; }
   bool diverged() const override { return s_.diverged; }
   double own_step_seconds() const override { return s_.own_seconds; }
-  std::unique_ptr<Snapshot> snapshot() const override {
-    return std::make_unique<JoltSnapshot>(s_);
-  }
+  std::unique_ptr<Snapshot> snapshot() const override { return std::make_unique<JoltSnapshot>(s_); }
   void restore(const Snapshot& snapshot) override {
     s_ = static_cast<const JoltSnapshot&>(snapshot).state;
     drop_ahead();
@@ -383,7 +377,8 @@ class JoltSimulator : public Simulator {
       return fail(driver_->error());
     }
     answer = json::parse(line, nullptr, false);
-    if (answer.is_discarded() || !answer.is_object()) return fail("the driver answered \"" + line.substr(0, 80) + "\"");
+    if (answer.is_discarded() || !answer.is_object())
+      return fail("the driver answered \"" + line.substr(0, 80) + "\"");
     if (answer.contains("error")) return fail(answer["error"].get<std::string>());
     return true;
   }
@@ -393,7 +388,8 @@ class JoltSimulator : public Simulator {
   bool bring_world_here() {
     if (s_.needs_build) {
       std::vector<Pin> pins = s_.pins;
-      for (size_t k = 0; k < pins.size() && k < s_.targets.size(); ++k) pins[k].target = s_.targets[k];
+      for (size_t k = 0; k < pins.size() && k < s_.targets.size(); ++k)
+        pins[k].target = s_.targets[k];
       json build = {{"op", "build"},
                     {"model", model_json_},
                     {"environment", environment_json_},
@@ -429,7 +425,8 @@ class JoltSimulator : public Simulator {
       if (!driver_->read_bytes(answer["bytes"].get<size_t>(), bytes, std::chrono::seconds(120))) {
         return fail(driver_->error());
       }
-      if (answer["steps"].get<size_t>() != end - k) return fail("a replay diverged where the run had not");
+      if (answer["steps"].get<size_t>() != end - k)
+        return fail("a replay diverged where the run had not");
       k = end;
     }
     world_steps_ = static_cast<long>(steps);
@@ -452,7 +449,8 @@ class JoltSimulator : public Simulator {
         scenario_.targets_at(s_.anchor_time + static_cast<double>(s_.since_anchor + 1 + j) * dt,
                              predicted);
       }
-      for (const Vector3d& t : predicted) ahead_targets_.insert(ahead_targets_.end(), {t.x(), t.y(), t.z()});
+      for (const Vector3d& t : predicted)
+        ahead_targets_.insert(ahead_targets_.end(), {t.x(), t.y(), t.z()});
     }
     json request = {{"op", "advance"}, {"dt", dt}, {"steps", steps}, {"targets", ahead_targets_}};
     json answer;
@@ -493,7 +491,8 @@ class JoltSimulator : public Simulator {
     }
     s_.own_seconds = *r;
     s_.course.dts.push_back(dt);
-    for (const Vector3d& t : s_.targets) s_.course.targets.insert(s_.course.targets.end(), {t.x(), t.y(), t.z()});
+    for (const Vector3d& t : s_.targets)
+      s_.course.targets.insert(s_.course.targets.end(), {t.x(), t.y(), t.z()});
     s_.time += dt;
     ++s_.since_anchor;
     ++ahead_next_;
@@ -603,10 +602,13 @@ bool jolt_driver_forces(const Model& model, const Environment& environment,
     error = e.what();
     return false;
   }
-  const json request = {{"op", "forces"},        {"model", model_json(model)},
+  const json request = {{"op", "forces"},
+                        {"model", model_json(model)},
                         {"environment", environment_json(environment)},
-                        {"pins", pins_json(pins)}, {"states", states_json(bodies)},
-                        {"time", time},            {"h", h}};
+                        {"pins", pins_json(pins)},
+                        {"states", states_json(bodies)},
+                        {"time", time},
+                        {"h", h}};
   std::string line;
   if (!driver->request(request.dump(), line, std::chrono::seconds(60))) {
     error = driver->error();
@@ -633,13 +635,14 @@ bool jolt_driver_forces(const Model& model, const Environment& environment,
 bool jolt_driver_heap_after_builds(const Model& model, int builds, std::vector<double>& used,
                                    std::string& error) {
   NodeProcess driver(node_path(), driver_dir() + "/server.mjs");
-  const json build = {{"op", "build"},
-                      {"model", model_json(model)},
-                      {"environment", environment_json(Environment{.ground = true})},
-                      {"pins", pins_json({})},
-                      {"settings", {{"velocity_steps", 10}, {"position_steps", 2}, {"baumgarte", 0.2}}},
-                      {"start", states_json(rest_pose(model))},
-                      {"time", 0.0}};
+  const json build = {
+      {"op", "build"},
+      {"model", model_json(model)},
+      {"environment", environment_json(Environment{.ground = true})},
+      {"pins", pins_json({})},
+      {"settings", {{"velocity_steps", 10}, {"position_steps", 2}, {"baumgarte", 0.2}}},
+      {"start", states_json(rest_pose(model))},
+      {"time", 0.0}};
   const std::string line = build.dump();
   std::string answer;
   for (int k = 0; k < builds; ++k) {

@@ -37,8 +37,8 @@ Vector3d angles_of(const JoltPyramid& p, const Quaterniond& q_rel) {
   Quaterniond q = b.conjugate() * (p.twist_first ? q_rel.conjugate() : q_rel) * b;
   if (q.w() < 0.0) q.coeffs() = -q.coeffs();
   const double norm = std::hypot(q.x(), q.w());
-  const Quaterniond twist = norm > 0.0 ? Quaterniond(q.w() / norm, q.x() / norm, 0.0, 0.0)
-                                       : Quaterniond::Identity();
+  const Quaterniond twist =
+      norm > 0.0 ? Quaterniond(q.w() / norm, q.x() / norm, 0.0, 0.0) : Quaterniond::Identity();
   Quaterniond swing = q * twist.conjugate();
   if (swing.w() < 0.0) swing.coeffs() = -swing.coeffs();
   return {2.0 * std::atan2(twist.x(), twist.w()), 2.0 * std::atan2(swing.y(), swing.w()),

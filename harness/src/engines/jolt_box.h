@@ -11,9 +11,9 @@
 namespace puppet::compare {
 
 struct JoltPyramid {
-  bool twist_first = false;  // twist about a₀, the constraint from the child to the parent
-  int x = 2, y = 1, z = 0;   // the joint frame's axes that are the constraint's X, ±Y, Z
-  double y_sign = 1.0;       // Y = y_sign · e_y, so that X × Y = Z
+  bool twist_first = false;       // twist about a₀, the constraint from the child to the parent
+  int x = 2, y = 1, z = 0;        // the joint frame's axes that are the constraint's X, ±Y, Z
+  double y_sign = 1.0;            // Y = y_sign · e_y, so that X × Y = Z
   double lower[3]{}, upper[3]{};  // the ranges of τ, y, z (rad)
   // how far the pyramid reaches outside the box (the most an Euler angle of a rotation on the
   // pyramid's boundary is outside its range) and the box outside the pyramid (the most a

@@ -90,7 +90,12 @@ Engine mujoco_engine() {
               "2·dt, a limit damped at ratio 2 giving back about 1% of an impact's "
               "speed); a contact's friction cone is elliptic",
           .built = reference::have_mujoco(),
-          .missing = [] { return std::string("this build has no MuJoCo (Debian: libmujoco-dev; scripts/setup.sh installs it, then build again)"); },
+          .missing =
+              [] {
+                return std::string(
+                    "this build has no MuJoCo (Debian: libmujoco-dev; scripts/setup.sh installs "
+                    "it, then build again)");
+              },
           .model_problem = reference::mujoco_model_problem,
           .second_cost = mujoco_cost,
           .make = make,

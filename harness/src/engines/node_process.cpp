@@ -40,7 +40,8 @@ class SigpipeBlocked {
 
 NodeProcess::NodeProcess(const std::string& node, const std::string& script) {
   int in[2], out[2];
-  if (pipe2(in, O_CLOEXEC) != 0) throw std::runtime_error("jolt: pipe: " + std::string(strerror(errno)));
+  if (pipe2(in, O_CLOEXEC) != 0)
+    throw std::runtime_error("jolt: pipe: " + std::string(strerror(errno)));
   if (pipe2(out, O_CLOEXEC) != 0) {
     close(in[0]);
     close(in[1]);

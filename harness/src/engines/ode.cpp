@@ -108,7 +108,12 @@ Engine ode_engine() {
               "limit a user-mode motor's aimed each step; rows solved exactly (dWorldStep) or "
               "by Gauss–Seidel sweeps (dWorldQuickStep); a contact's friction is a pyramid",
           .built = reference::have_ode(),
-          .missing = [] { return std::string("this build has no ODE (Debian: libode-dev; scripts/setup.sh installs it, then build again)"); },
+          .missing =
+              [] {
+                return std::string(
+                    "this build has no ODE (Debian: libode-dev; scripts/setup.sh installs it, then "
+                    "build again)");
+              },
           .model_problem = reference::ode_model_problem,
           .second_cost = ode_cost,
           .make = make,

@@ -36,7 +36,7 @@ struct Engine {
   // how it holds joints, limits, pins and contacts, in a sentence the report quotes where two
   // engines' answers differ
   std::string_view constraints;
-  bool built = true;       // false: this build lacks the library (MuJoCo without libmujoco-dev)
+  bool built = true;  // false: this build lacks the library (MuJoCo without libmujoco-dev)
   // why it is not built and how to get it, in one line (null: it always is)
   std::string (*missing)() = nullptr;
   bool has_rules = false;  // true: a sweep runs it once per --rule (procedural)
