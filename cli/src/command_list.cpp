@@ -27,6 +27,12 @@ int list_text() {
   for (const auto& s : scenario_names()) std::cout << ' ' << s;
   std::cout << "\nsolvers:  ";
   for (const auto& s : solver_names()) std::cout << ' ' << s;
+  for (const Engine& engine : engines()) {
+    if (!engine.built) {
+      std::cout << "\n           not built: " << engine.name << " ("
+                << (engine.missing ? engine.missing() : std::string()) << ")";
+    }
+  }
   std::cout << "\nrules:    ";
   for (auto rule : procedural::kAllRules) std::cout << ' ' << procedural::rule_name(rule);
   std::cout << " (procedural only; default "

@@ -226,7 +226,13 @@ void runs_section(const Session& session) {
                      static_cast<int>(run.gap_mm.values().size()), run.gap_mm.offset(), overlay,
                      0.0f, std::max(1e-3f, run.gap_mm.max()),
                      ImVec2(ImGui::GetContentRegionAvail().x, 30));
-    std::snprintf(overlay, sizeof(overlay), "%.1f µs per step", run.step_us.latest());
+    if (run.own_step_us >= 0.0f) {
+      // jolt: Jolt's own step (WebAssembly), and what it costs here with the round trip
+      std::snprintf(overlay, sizeof(overlay), "%.1f µs per step (%.1f in Jolt)",
+                    run.step_us.latest(), run.own_step_us);
+    } else {
+      std::snprintf(overlay, sizeof(overlay), "%.1f µs per step", run.step_us.latest());
+    }
     ImGui::PlotLines("##us", run.step_us.values().data(),
                      static_cast<int>(run.step_us.values().size()), run.step_us.offset(), overlay,
                      0.0f, std::max(1.0f, run.step_us.max()),

@@ -184,7 +184,7 @@ int Session::advance(double seconds, int max_steps) {
 
 void Session::step_frame(int steps) {
   using Clock = std::chrono::steady_clock;
-  std::vector<double> seconds(runs_.size(), 0.0);
+  std::vector<double> seconds(runs_.size(), 0.0), own(runs_.size(), -1.0);
   // a move of the mouse is spread over the frame's steps, as a hand moves, not taken in one
   for (int k = 0; k < steps; ++k) {
     compute_targets(time_ + config_.dt, static_cast<double>(k + 1) / steps);
@@ -195,6 +195,8 @@ void Session::step_frame(int steps) {
       const auto start = Clock::now();
       run.simulator->step(config_.dt);
       seconds[i] += std::chrono::duration<double>(Clock::now() - start).count();
+      const double own_seconds = run.simulator->own_step_seconds();
+      if (own_seconds >= 0.0) own[i] = std::max(own[i], 0.0) + own_seconds;
       judge(run, time_ + config_.dt);
     }
     time_ += config_.dt;
@@ -208,6 +210,7 @@ void Session::step_frame(int steps) {
                            : *std::max_element(run.joint_gaps.begin(), run.joint_gaps.end());
     run.gap_mm.push(static_cast<float>(gap * 1e3));
     run.step_us.push(static_cast<float>(seconds[i] / steps * 1e6));
+    run.own_step_us = own[i] >= 0.0 ? static_cast<float>(own[i] / steps * 1e6) : -1.0f;
   }
 }
 

@@ -1,14 +1,34 @@
-// What the jolt engine's driver computes itself, asked directly (tests/reference/jolt_test.cpp
-// compares it with the testbed's own formulas).
+// The jolt engine's driver (reference/jolt/server.mjs) as the testbed reaches it, and what it
+// computes itself, asked directly (tests/reference/jolt_test.cpp compares that with the
+// testbed's own formulas).
 #pragma once
 
+#include <memory>
+#include <nlohmann/json.hpp>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "node_process.h"
 #include "puppet/model/environment.h"
 
 namespace puppet::compare {
+
+namespace jolt {
+// why the engine cannot run here (empty when it can): Node.js and the pinned package
+std::string absent_reason();
+bool available();
+// a running driver, from the pool or started (throws std::runtime_error when it cannot start),
+// and back to the pool when it is still healthy
+std::unique_ptr<NodeProcess> take_driver();
+void give_back(std::unique_ptr<NodeProcess> driver);
+// the requests' parts: the model (box limits as their Jolt pyramid, jolt_box.h), the
+// environment, the pins and states (per segment x, q (x, y, z, w), v, ω, flat)
+nlohmann::json model_json(const Model& model);
+nlohmann::json environment_json(const Environment& environment);
+nlohmann::json pins_json(std::span<const Pin> pins);
+nlohmann::json states_json(std::span<const BodyState> bodies);
+}  // namespace jolt
 
 // the forces one of the driver's steps of length h would apply from `bodies` at `time`
 // (reference/jolt/forces.mjs): per segment every external wrench (`applied`: the environment's,

@@ -79,6 +79,9 @@ struct Run {
   const char* diverged_reason = nullptr;  // "non-finite", "joint gap" or "energy"
   History gap_mm;                         // max joint gap after each frame
   History step_us;                        // mean wall time per step over each frame
+  // an engine that times its own steps (jolt, out of this process): their mean over the last
+  // frame (µs), < 0 for the others; step_us is then what a step costs with the round trip
+  float own_step_us = -1.0f;
 };
 
 class Session {
