@@ -4,7 +4,7 @@ import math
 from ..catalogue import FRONTIER_CSV as F
 from ..catalogue import ROBUSTNESS_CSV as R
 from ..catalogue import (CONFIGS, FRONTIER_SCENARIO, HZ, M, PAIRWISE_CONFIG, RULES_ENGINE, ST,
-                        TRUTH)
+                        TRUTH, WASM_ENGINES)
 from ..common import dt_text, fmt, geometric_mean, label, ordered
 from ..readers import read_robustness
 
@@ -88,7 +88,7 @@ def findings(s, frontier, dt, robustness=None):
               for c in s.configs}
     if multibody in speeds and not math.isnan(speeds[multibody]):
         parts = [f"{label(c)} {speeds[multibody] / v:.1f}x" for c, v in speeds.items()
-                 if c != multibody and not math.isnan(v)]
+                 if c != multibody and c[0] not in WASM_ENGINES and not math.isnan(v)]
         found.append(f"Time per step against {label(multibody)} ({fmt(speeds[multibody], 3)} µs, "
                      f"geometric mean over scenarios): {', '.join(parts)} faster.")
     found += robustness_findings(robustness)

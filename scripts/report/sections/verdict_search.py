@@ -15,6 +15,8 @@ def choices(settings):
     flags = [flag for flag, _ in settings if flag]
     if not flags:
         return "nothing: dt is the only choice"
+    # the engine's defaults among other settings (flags "", label "")
+    settings = [(flag, text or "its defaults") for flag, text in settings]
     if all(flag == text for flag, text in settings):  # not in the catalogue: its flags
         return or_list(f"`{flag}`" for flag in flags)
     words = [text.split(" ", 1) for _, text in settings]
