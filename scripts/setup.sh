@@ -54,16 +54,20 @@ fi
 jolt=reference/jolt
 cd "$(dirname "$0")/.."
 pinned=$(sed -n 's/^[[:space:]]*"jolt-physics": "\(.*\)"/\1/p' "$jolt/package.json")
-have=$(sed -n 's/^[[:space:]]*"version": "\(.*\)",*/\1/p' \
-  "$jolt/node_modules/jolt-physics/package.json" 2>/dev/null | head -n 1)
+have=""
+if [ -f "$jolt/node_modules/jolt-physics/package.json" ]; then
+  have=$(sed -n 's/^[[:space:]]*"version": "\(.*\)",*/\1/p' \
+    "$jolt/node_modules/jolt-physics/package.json" | head -n 1)
+fi
 if [ "$have" = "$pinned" ]; then
   echo "setup: jolt-physics $pinned already installed"
 else
   echo "setup: installing jolt-physics $pinned into $jolt/node_modules"
   # without it (no registry) the project still builds and runs: the jolt engine reads as not built
-  if npm ci --prefix "$jolt" --no-audit --no-fund --loglevel=error >/dev/null; then
+  log=${TMPDIR:-/tmp}/puppet-npm-ci.log
+  if npm ci --prefix "$jolt" --no-audit --no-fund --loglevel=error >/dev/null 2>"$log"; then
     echo "setup: installed jolt-physics $pinned"
   else
-    echo "setup: could not install jolt-physics $pinned (npm ci failed): the jolt engine is left out"
+    echo "setup: could not install jolt-physics $pinned (npm ci failed, $log): the jolt engine is left out"
   fi
 fi

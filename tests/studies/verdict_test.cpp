@@ -220,6 +220,9 @@ TEST(Verdict, TheCommittedCandidatesAreTheCataloguesSearch) {
   while (std::getline(in, line)) {
     const std::vector<std::string> f = test::split_csv_line(line);
     ASSERT_GT(f.size(), std::max({solver, rule, setting})) << line;
+    // an engine this build lacks (MuJoCo, ODE or Jolt left out) is not searched here
+    const auto& built = solver_names();
+    if (std::find(built.begin(), built.end(), f[solver]) == built.end()) continue;
     committed.insert({f[solver], f[rule], f[setting]});
   }
   std::set<Key> searched;
