@@ -15,6 +15,7 @@
 //   {"op":"forces", "states", "time", "h"}
 //       the forces a step from each state would apply (the cross-check of forces.mjs)
 //   {"op":"version"} → {"ok":true, "jolt":"1.1.0"}
+//   {"op":"memory"} → {"ok":true, "used":bytes}: Jolt's heap in use (a driver must not grow)
 // A request that fails answers {"error":"..."} and leaves the driver ready for the next.
 import { createInterface } from 'node:readline';
 import { readFileSync, writeSync } from 'node:fs';
