@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -64,6 +65,42 @@ class Solver {
     return out;
   }
 
+  // places every segment from (n, 3), (n, 4) (x, y, z, w), (n, 3) and (n, 3) arrays; a wrong
+  // shape or a non-finite value is refused before anything changes
+  void set_state(const py::array_t<double, py::array::c_style | py::array::forcecast>& x,
+                 const py::array_t<double, py::array::c_style | py::array::forcecast>& q,
+                 const py::array_t<double, py::array::c_style | py::array::forcecast>& v,
+                 const py::array_t<double, py::array::c_style | py::array::forcecast>& w) {
+    const auto n = static_cast<ssize_t>(model_->segment_count());
+    const auto check = [n](const auto& a, const char* name, ssize_t width) {
+      if (a.ndim() != 2 || a.shape(0) != n || a.shape(1) != width) {
+        throw py::value_error(std::string(name) + ": expected shape (" + std::to_string(n) +
+                              ", " + std::to_string(width) + ")");
+      }
+      for (ssize_t k = 0; k < a.size(); ++k) {
+        if (!std::isfinite(a.data()[k])) {
+          throw py::value_error(std::string(name) + ": a value is not finite");
+        }
+      }
+    };
+    check(x, "positions", 3);
+    check(q, "rotations", 4);
+    check(v, "velocities", 3);
+    check(w, "angular_velocities", 3);
+    std::vector<BodyState> bodies(static_cast<size_t>(n));
+    for (ssize_t i = 0; i < n; ++i) {
+      BodyState& b = bodies[static_cast<size_t>(i)];
+      b.x = Vector3d(x.at(i, 0), x.at(i, 1), x.at(i, 2));
+      b.q = Quaterniond(q.at(i, 3), q.at(i, 0), q.at(i, 1), q.at(i, 2));
+      if (std::abs(b.q.norm() - 1.0) > 1e-6) {
+        throw py::value_error("rotations: row " + std::to_string(i) + " is not a unit quaternion");
+      }
+      b.v = Vector3d(v.at(i, 0), v.at(i, 1), v.at(i, 2));
+      b.w = Vector3d(w.at(i, 0), w.at(i, 1), w.at(i, 2));
+    }
+    solver_->place(bodies);
+  }
+
   const Model& model() const { return *model_; }
   procedural::Solver& solver() { return *solver_; }
 
@@ -97,6 +134,9 @@ PYBIND11_MODULE(puppet, m) {
            py::keep_alive<1, 2>())
       .def("step", &Solver::step, py::arg("dt"))
       .def_property_readonly("diverged", &Solver::diverged)
+      .def("set_state", &Solver::set_state, py::arg("positions"), py::arg("rotations"),
+           py::arg("velocities"), py::arg("angular_velocities"),
+           "places every segment (copies the arrays; checks shapes, finiteness, unit rotations)")
       .def_property_readonly(
           "positions",
           [](py::object self) {
