@@ -57,8 +57,7 @@ class Solver {
   py::array view(py::handle owner, size_t offset, ssize_t width) const {
     const std::vector<BodyState>& bodies = solver_->state().bodies;
     const auto* base = reinterpret_cast<const char*>(bodies.data()) + offset;
-    py::array out(py::dtype::of<double>(),
-                  {static_cast<ssize_t>(bodies.size()), width},
+    py::array out(py::dtype::of<double>(), {static_cast<ssize_t>(bodies.size()), width},
                   {static_cast<ssize_t>(sizeof(BodyState)), static_cast<ssize_t>(sizeof(double))},
                   reinterpret_cast<const double*>(base), owner);
     py::detail::array_proxy(out.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
@@ -74,8 +73,8 @@ class Solver {
     const auto n = static_cast<ssize_t>(model_->segment_count());
     const auto check = [n](const auto& a, const char* name, ssize_t width) {
       if (a.ndim() != 2 || a.shape(0) != n || a.shape(1) != width) {
-        throw py::value_error(std::string(name) + ": expected shape (" + std::to_string(n) +
-                              ", " + std::to_string(width) + ")");
+        throw py::value_error(std::string(name) + ": expected shape (" + std::to_string(n) + ", " +
+                              std::to_string(width) + ")");
       }
       for (ssize_t k = 0; k < a.size(); ++k) {
         if (!std::isfinite(a.data()[k])) {
@@ -125,8 +124,7 @@ PYBIND11_MODULE(puppet, m) {
         for (const Segment& s : model.segments) names.push_back(s.name);
         return names;
       });
-  m.def("load_model", &load, py::arg("name"),
-        "pinocchio, chain:N, or a model file (JSON or MJCF)");
+  m.def("load_model", &load, py::arg("name"), "pinocchio, chain:N, or a model file (JSON or MJCF)");
 
   py::class_<Solver>(m, "Solver")
       .def(py::init<ModelPtr, const std::string&, int, int>(), py::arg("model"),
