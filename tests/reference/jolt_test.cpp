@@ -10,7 +10,6 @@
 #include <cstdio>
 #include <limits>
 #include <random>
-#include <thread>
 #include <vector>
 
 #include "jolt_box.h"
@@ -183,41 +182,15 @@ TEST(Jolt, RunsAgreeBitwiseAloneBesideAnotherAndFromASnapshot) {
   for (const std::string name : {"drag", "drop"}) {
     SCOPED_TRACE(name);
     const Scenario scenario = make_scenario(name, model);
-    auto run_steps = [&](Simulator& simulator, int from, int to, Vector3d offset = {0, 0, 0}) {
-      std::vector<Vector3d> targets;
-      for (int k = from; k < to; ++k) {
-        scenario.targets_at((k + 1) * kDt, targets);
-        for (Vector3d& t : targets) t += offset;
-        simulator.set_pin_targets(targets);
-        simulator.step(kDt);
-      }
-      std::vector<BodyState> bodies(model.segment_count());
-      simulator.read_state(bodies);
-      return bodies;
-    };
     const auto fresh = [&] {
       auto simulator = make_simulator("jolt", {});
       simulator->reset(model, scenario);
       return simulator;
     };
-    auto a = fresh();
-    run_steps(*a, 0, 100);
-    const auto snapshot = a->snapshot();
-    const auto first = run_steps(*a, 100, 200);
-    auto b = fresh();
-    EXPECT_TRUE(test::bitwise_equal(first, run_steps(*b, 0, 200))) << "two runs";
-    a->restore(*snapshot);
-    EXPECT_TRUE(test::bitwise_equal(first, run_steps(*a, 100, 200))) << "restored snapshot";
-    std::vector<BodyState> beside;
-    std::thread other([&] {
-      auto c = fresh();
-      beside = run_steps(*c, 0, 200);
-    });
-    auto d = fresh();
-    const auto here = run_steps(*d, 0, 200);
-    other.join();
-    EXPECT_TRUE(test::bitwise_equal(first, here)) << "beside another";
-    EXPECT_TRUE(test::bitwise_equal(first, beside)) << "on a second thread";
+    const auto first = test::expect_runs_agree_bitwise(fresh, scenario, kDt);
+    auto run_steps = [&](Simulator& simulator, int from, int to, Vector3d offset = {0, 0, 0}) {
+      return test::run_steps(simulator, scenario, from, to, kDt, offset);
+    };
     if (scenario.pins.empty()) continue;
     // off the scenario's targets by 1 mm from step 150: the guesses are dropped
     auto e = fresh();

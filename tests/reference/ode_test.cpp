@@ -10,7 +10,6 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <thread>
 #include <vector>
 
 #include "puppet/compare/engines.h"
@@ -182,40 +181,12 @@ TEST(Ode, RunsAgreeBitwiseAloneBesideAnotherAndFromASnapshot) {
     for (const std::string name : {"drag", "drop"}) {
       SCOPED_TRACE(std::string(stepper.name) + " " + name);
       const compare::Scenario scenario = compare::make_scenario(name, model);
-      auto run_steps = [&](compare::Simulator& simulator, int from, int to) {
-        std::vector<Vector3d> targets;
-        for (int k = from; k < to; ++k) {
-          scenario.targets_at((k + 1) * kDt, targets);
-          simulator.set_pin_targets(targets);
-          simulator.step(kDt);
-        }
-        std::vector<BodyState> bodies(model.segment_count());
-        simulator.read_state(bodies);
-        return bodies;
-      };
       const auto fresh = [&] {
         auto simulator = compare::make_simulator("ode", options_for(stepper.settings));
         simulator->reset(model, scenario);
         return simulator;
       };
-      auto a = fresh();
-      run_steps(*a, 0, 100);
-      const auto snapshot = a->snapshot();
-      const auto first = run_steps(*a, 100, 200);
-      auto b = fresh();
-      EXPECT_TRUE(test::bitwise_equal(first, run_steps(*b, 0, 200))) << "two runs";
-      a->restore(*snapshot);
-      EXPECT_TRUE(test::bitwise_equal(first, run_steps(*a, 100, 200))) << "restored snapshot";
-      std::vector<BodyState> beside;
-      std::thread other([&] {
-        auto c = fresh();
-        beside = run_steps(*c, 0, 200);
-      });
-      auto d = fresh();
-      const auto here = run_steps(*d, 0, 200);
-      other.join();
-      EXPECT_TRUE(test::bitwise_equal(first, here)) << "beside another";
-      EXPECT_TRUE(test::bitwise_equal(first, beside)) << "on a second thread";
+      test::expect_runs_agree_bitwise(fresh, scenario, kDt);
     }
   }
 }

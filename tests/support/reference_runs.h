@@ -1,13 +1,17 @@
-// Runs and checks that every reference (Bullet's, MuJoCo's and ODE's, all behind
-// reference::Solver) is put through, on the rods of pendulum.h and on the model it was built
-// from, so that each is held to the same independent answer.
+// Runs and checks that every reference (Bullet's, MuJoCo's and ODE's behind reference::Solver,
+// Jolt's behind a Simulator) is put through, on the rods of pendulum.h and on the model it was
+// built from, so that each is held to the same independent answer.
 #pragma once
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
+#include <thread>
 #include <vector>
 
+#include "puppet/compare/scenario.h"
+#include "puppet/compare/simulator.h"
 #include "puppet/model/rotation.h"
 #include "puppet/reference/bullet.h"
 #include "support/pendulum.h"
@@ -52,6 +56,50 @@ inline bool bitwise_equal(const std::vector<BodyState>& a, const std::vector<Bod
       return false;
   }
   return true;
+}
+
+// steps a simulator through steps [from, to) of the scenario at dt, its targets moved by `offset`,
+// and returns the state it ends in
+inline std::vector<BodyState> run_steps(compare::Simulator& simulator,
+                                        const compare::Scenario& scenario, int from, int to,
+                                        double dt, const Vector3d& offset = Vector3d::Zero()) {
+  std::vector<Vector3d> targets;
+  for (int k = from; k < to; ++k) {
+    scenario.targets_at((k + 1) * dt, targets);
+    for (Vector3d& t : targets) t += offset;
+    simulator.set_pin_targets(targets);
+    simulator.step(dt);
+  }
+  std::vector<BodyState> bodies(scenario.initial.size());
+  simulator.read_state(bodies);
+  return bodies;
+}
+
+// The same inputs give the same bits: 200 steps at dt from `fresh()` (a simulator reset to the
+// scenario) twice, the last 100 again from a snapshot restored at step 100, and a run beside
+// another on a second thread. Returns the state after the 200 steps.
+template <typename Fresh>
+std::vector<BodyState> expect_runs_agree_bitwise(Fresh&& fresh, const compare::Scenario& scenario,
+                                                 double dt) {
+  auto a = fresh();
+  run_steps(*a, scenario, 0, 100, dt);
+  const auto snapshot = a->snapshot();
+  const auto first = run_steps(*a, scenario, 100, 200, dt);
+  auto b = fresh();
+  EXPECT_TRUE(bitwise_equal(first, run_steps(*b, scenario, 0, 200, dt))) << "two runs";
+  a->restore(*snapshot);
+  EXPECT_TRUE(bitwise_equal(first, run_steps(*a, scenario, 100, 200, dt))) << "restored snapshot";
+  std::vector<BodyState> beside;
+  std::thread other([&] {
+    auto c = fresh();
+    beside = run_steps(*c, scenario, 0, 200, dt);
+  });
+  auto d = fresh();
+  const auto here = run_steps(*d, scenario, 0, 200, dt);
+  other.join();
+  EXPECT_TRUE(bitwise_equal(first, here)) << "beside another";
+  EXPECT_TRUE(bitwise_equal(first, beside)) << "on a second thread";
+  return first;
 }
 
 // What the engine holds is what the model says, read back from its own objects: each segment's

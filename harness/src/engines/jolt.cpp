@@ -179,11 +179,9 @@ class JoltSimulator : public Simulator {
     return true;
   }
 
+  // forgets the steps stepped ahead, and starts the chunks small again
   void drop_ahead() {
-    ahead_.clear();
-    ahead_targets_.clear();
-    ahead_next_ = 0;
-    ahead_count_ = 0;
+    drop_ahead_keep_chunk();
     chunk_ = kFirstChunk;
   }
 
