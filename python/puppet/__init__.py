@@ -1,0 +1,38 @@
+"""The procedural articulated-body solver of Bae et al. (2001), its family of rules, and the
+testbed that measures them against reference engines (docs/python.md).
+
+    model = puppet.load_model("pinocchio")
+    solver = puppet.Solver(model, "xpbd")
+    solver.step(1 / 240)
+    solver.positions            # (n, 3), a read-only view of the solver's state
+
+    rows = puppet.run(scenario="hang", rule="xpbd", dt="1/240")   # the testbed's summary rows
+"""
+from ._puppet import (  # noqa: F401
+    Crowd,
+    Environment,
+    GrabSpring,
+    Model,
+    Pin,
+    Snapshot,
+    Solver,
+    grab_spring,
+    load_model,
+)
+from .studies import read_table, robustness, run, verdict  # noqa: F401
+
+__all__ = [
+    "Crowd",
+    "Environment",
+    "GrabSpring",
+    "Model",
+    "Pin",
+    "Snapshot",
+    "Solver",
+    "grab_spring",
+    "load_model",
+    "read_table",
+    "robustness",
+    "run",
+    "verdict",
+]

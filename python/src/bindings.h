@@ -1,0 +1,31 @@
+// What the module's files share (docs/python.md): the model as Python holds it, and how a value
+// from Python is checked. Every check raises ValueError with one line naming the argument.
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+#include <memory>
+#include <string>
+
+#include "puppet/model/model.h"
+
+namespace puppet::python {
+
+namespace py = pybind11;
+
+/// a model the solvers made from it keep alive (a solver holds a reference to its model)
+using ModelPtr = std::shared_ptr<Model>;
+
+/// [[noreturn]] ValueError("<name>: <problem>")
+[[noreturn]] void refuse(const std::string& name, const std::string& problem);
+/// a finite number, else ValueError naming it
+double finite(const char* name, double value);
+/// three finite numbers from any sequence of three (a tuple, a list, an array)
+Vector3d vector3(const char* name, const py::handle& value);
+
+void bind_model(py::module_& m);
+void bind_solver(py::module_& m);
+void bind_crowd(py::module_& m);
+void bind_testbed(py::module_& m);
+
+}  // namespace puppet::python

@@ -1,0 +1,162 @@
+// The model, the checks every binding shares, the environment and a pin as Python sees them.
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "bindings.h"
+#include "puppet/compare/scenario.h"
+#include "puppet/model/environment.h"
+
+namespace puppet::python {
+
+void refuse(const std::string& name, const std::string& problem) {
+  throw py::value_error(name + ": " + problem);
+}
+
+double finite(const char* name, double value) {
+  if (!std::isfinite(value)) refuse(name, "not a finite number");
+  return value;
+}
+
+Vector3d vector3(const char* name, const py::handle& value) {
+  std::vector<double> v;
+  try {
+    v = value.cast<std::vector<double>>();
+  } catch (const py::cast_error&) {
+    refuse(name, "expected three numbers");
+  }
+  if (v.size() != 3) refuse(name, "expected three numbers, got " + std::to_string(v.size()));
+  for (double x : v) finite(name, x);
+  return {v[0], v[1], v[2]};
+}
+
+namespace {
+
+ModelPtr load(const std::string& name) {
+  try {
+    return std::make_shared<Model>(compare::load_named_model(name));
+  } catch (const std::exception& e) {
+    throw py::value_error(e.what());
+  }
+}
+
+double in_range(const char* name, double value, double lo, double hi) {
+  if (!(finite(name, value) >= lo && value <= hi)) {
+    refuse(name, std::to_string(value) + " is out of range (from " + std::to_string(lo) + " to " +
+                     std::to_string(hi) + ")");
+  }
+  return value;
+}
+
+// the ranges are the command line's (--gravity, --air-drag) and the model format's
+Environment make_environment(const py::handle& gravity, double air_drag, bool water,
+                             double water_level, double water_density, double water_drag,
+                             bool ground, double friction, bool tremble, uint64_t tremble_seed) {
+  Environment e;
+  e.gravity = vector3("gravity", gravity);
+  if (e.gravity.norm() > 1e3) refuse("gravity", "larger than 1000 m/s^2");
+  e.air_drag = in_range("air_drag", air_drag, 0.0, 1e9);
+  e.water = water;
+  e.water_level = in_range("water_level", water_level, -1e3, 1e3);
+  e.water_density = in_range("water_density", water_density, 0.0, 1e5);
+  e.water_drag = in_range("water_drag", water_drag, 0.0, 1e9);
+  e.ground = ground;
+  e.friction = in_range("friction", friction, 0.0, 1e3);
+  e.tremble = tremble;
+  e.tremble_seed = tremble_seed;
+  return e;
+}
+
+std::string vector_text(const Vector3d& v) {
+  return "(" + py::repr(py::float_(v.x())).cast<std::string>() + ", " +
+         py::repr(py::float_(v.y())).cast<std::string>() + ", " +
+         py::repr(py::float_(v.z())).cast<std::string>() + ")";
+}
+
+}  // namespace
+
+void bind_model(py::module_& m) {
+  py::class_<Model, ModelPtr>(m, "Model", "an articulated figure: segments joined in a tree")
+      .def_property_readonly("name", [](const Model& model) { return model.name; })
+      .def_property_readonly("segment_count", &Model::segment_count)
+      .def_property_readonly("segments",
+                             [](const Model& model) {
+                               std::vector<std::string> names;
+                               for (const Segment& s : model.segments) names.push_back(s.name);
+                               return names;
+                             })
+      .def_property_readonly("mass",
+                             [](const Model& model) {
+                               double mass = 0.0;
+                               for (const Segment& s : model.segments) mass += s.mass;
+                               return mass;
+                             })
+      .def(
+          "segment_index",
+          [](const Model& model, const std::string& name) {
+            const int index = model.find_segment(name);
+            if (index < 0) refuse("segment", "no segment \"" + name + "\" in " + model.name);
+            return index;
+          },
+          py::arg("name"))
+      .def("__repr__", [](const Model& model) {
+        return "<puppet.Model " + model.name + ": " + std::to_string(model.segment_count()) +
+               " segments>";
+      });
+  m.def("load_model", &load, py::arg("name"),
+        "pinocchio, chain:N, or a model file (JSON or MJCF); ValueError when it does not load");
+
+  py::class_<Environment>(m, "Environment",
+                          "the world: gravity, air drag, water, the ground and the tremble")
+      .def(py::init(&make_environment), py::kw_only(),
+           py::arg("gravity") = py::make_tuple(0.0, 0.0, -9.81), py::arg("air_drag") = 0.0,
+           py::arg("water") = false, py::arg("water_level") = 0.0,
+           py::arg("water_density") = 1000.0, py::arg("water_drag") = 0.0,
+           py::arg("ground") = false, py::arg("friction") = 0.8, py::arg("tremble") = false,
+           py::arg("tremble_seed") = 2001)
+      .def_property_readonly("gravity",
+                             [](const Environment& e) {
+                               return py::make_tuple(e.gravity.x(), e.gravity.y(), e.gravity.z());
+                             })
+      .def_readonly("air_drag", &Environment::air_drag)
+      .def_readonly("water", &Environment::water)
+      .def_readonly("water_level", &Environment::water_level)
+      .def_readonly("water_density", &Environment::water_density)
+      .def_readonly("water_drag", &Environment::water_drag)
+      .def_readonly("ground", &Environment::ground)
+      .def_readonly("friction", &Environment::friction)
+      .def_readonly("tremble", &Environment::tremble)
+      .def_readonly("tremble_seed", &Environment::tremble_seed)
+      .def("__repr__", [](const Environment& e) {
+        return "puppet.Environment(gravity=" + vector_text(e.gravity) +
+               ", air_drag=" + py::repr(py::float_(e.air_drag)).cast<std::string>() +
+               ", water=" + (e.water ? "True" : "False") +
+               ", ground=" + (e.ground ? "True" : "False") +
+               ", tremble=" + (e.tremble ? "True" : "False") + ")";
+      });
+
+  py::class_<GrabSpring>(m, "GrabSpring",
+                         "a user's grab: F = M (w^2 (t - p) - 2 zeta w v), w = 2 pi hz, |F| <= "
+                         "max_force (docs/design.md, \"The grab\")")
+      .def(py::init([](double hz, double damping_ratio, double max_force) {
+             if (!(finite("hz", hz) > 0.0)) refuse("hz", "must be positive");
+             if (!(finite("damping_ratio", damping_ratio) >= 0.0)) {
+               refuse("damping_ratio", "must not be negative");
+             }
+             if (!(finite("max_force", max_force) > 0.0)) refuse("max_force", "must be positive");
+             return GrabSpring{hz, damping_ratio, max_force};
+           }),
+           py::arg("hz"), py::arg("damping_ratio") = 1.0, py::arg("max_force"))
+      .def_readonly("hz", &GrabSpring::hz)
+      .def_readonly("damping_ratio", &GrabSpring::damping_ratio)
+      .def_readonly("max_force", &GrabSpring::max_force);
+  m.def(
+      "grab_spring",
+      [](const Model& model) { return compare::grab_spring(model, compare::GrabSettings{}); },
+      py::arg("model"),
+      "the testbed's grab for a model: 2 Hz, damping ratio 1, capped at the figure's weight");
+}
+
+}  // namespace puppet::python

@@ -1,0 +1,248 @@
+// The procedural solver from Python: stepping, pins and grabs, and the state as NumPy arrays that
+// view the solver's own memory (read-only: a state is written through set_state, which checks it).
+#include "solver.h"
+
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "puppet/procedural/rule.h"
+
+namespace puppet::python {
+
+procedural::Settings make_settings(const std::string& rule, std::optional<int> iterations,
+                                   std::optional<int> substeps, double joint_compliance,
+                                   double limit_compliance, double limit_restitution) {
+  const auto parsed = procedural::parse_rule(rule);
+  if (!parsed) {
+    std::string known;
+    for (auto r : procedural::kAllRules) {
+      known += (known.empty() ? "" : ", ") + std::string(procedural::rule_name(r));
+    }
+    refuse("rule", "unknown value \"" + rule + "\" (expected one of " + known + ")");
+  }
+  procedural::Settings settings;
+  settings.rule = *parsed;
+  if (iterations) settings.iterations = *iterations;
+  if (substeps) settings.substeps = *substeps;
+  settings.joint_compliance = finite("joint_compliance", joint_compliance);
+  settings.limit_compliance = finite("limit_compliance", limit_compliance);
+  settings.limit_restitution = finite("limit_restitution", limit_restitution);
+  const std::string problem = procedural::validate(settings);
+  if (!problem.empty()) throw py::value_error(problem);
+  return settings;
+}
+
+Solver::Solver(ModelPtr model, const procedural::Settings& settings, const Environment& environment)
+    : model_(std::move(model)) {
+  try {
+    own_ = std::make_unique<procedural::Solver>(*model_, settings, environment);
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(e.what());
+  }
+  solver_ = own_.get();
+  solver_->reset(rest_pose(*model_));
+}
+
+Solver::Solver(ModelPtr model, procedural::Solver* puppet, py::object owner)
+    : model_(std::move(model)), solver_(puppet), owner_(std::move(owner)) {}
+
+void Solver::step(double dt) {
+  if (!(dt > 0.0 && dt <= 1.0)) refuse("dt", "must be in (0, 1] s");
+  solver_->step(dt);
+}
+
+void Solver::reset() {
+  solver_->reset(rest_pose(*model_));
+  pin_count_ = 0;
+}
+
+void Solver::set_pins(const std::vector<PinSpec>& specs) {
+  if (specs.size() > static_cast<size_t>(procedural::kMaxPins)) {
+    refuse("pins", std::to_string(specs.size()) + " given, at most " +
+                       std::to_string(procedural::kMaxPins));
+  }
+  std::vector<Pin> pins;
+  for (const PinSpec& spec : specs) {
+    Pin pin;
+    if (py::isinstance<py::str>(spec.segment)) {
+      const auto name = spec.segment.cast<std::string>();
+      pin.segment = model_->find_segment(name);
+      if (pin.segment < 0) refuse("pin", "no segment \"" + name + "\" in " + model_->name);
+    } else {
+      pin.segment = spec.segment.cast<int>();
+      if (pin.segment < 0 || pin.segment >= model_->segment_count()) {
+        refuse("pin", "segment " + std::to_string(pin.segment) +
+                          " is out of range (the model has " +
+                          std::to_string(model_->segment_count()) + ")");
+      }
+    }
+    pin.local_point = spec.point;
+    pin.target = spec.target;
+    pin.compliance = spec.compliance;
+    pin.grab = spec.grab;
+    pins.push_back(pin);
+  }
+  solver_->set_pins(pins);
+  pin_count_ = static_cast<int>(pins.size());
+}
+
+namespace {
+
+// an array's shape is (rows, width) and every value is finite, else ValueError naming it
+void check_array(const Solver::Array& a, const char* name, ssize_t rows, ssize_t width) {
+  if (a.ndim() != 2 || a.shape(0) != rows || a.shape(1) != width) {
+    refuse(name, "expected shape (" + std::to_string(rows) + ", " + std::to_string(width) + ")");
+  }
+  for (ssize_t k = 0; k < a.size(); ++k) {
+    if (!std::isfinite(a.data()[k])) refuse(name, "a value is not finite");
+  }
+}
+
+}  // namespace
+
+void Solver::set_pin_targets(const Array& targets) {
+  check_array(targets, "targets", pin_count_, 3);
+  std::array<Vector3d, procedural::kMaxPins> moved;
+  for (int k = 0; k < pin_count_; ++k) {
+    moved[k] = Vector3d(targets.at(k, 0), targets.at(k, 1), targets.at(k, 2));
+  }
+  solver_->set_pin_targets(std::span(moved.data(), static_cast<size_t>(pin_count_)));
+}
+
+void Solver::set_state(const Array& x, const Array& q, const Array& v, const Array& w) {
+  const auto n = static_cast<ssize_t>(model_->segment_count());
+  check_array(x, "positions", n, 3);
+  check_array(q, "rotations", n, 4);
+  check_array(v, "velocities", n, 3);
+  check_array(w, "angular_velocities", n, 3);
+  std::vector<BodyState> bodies(static_cast<size_t>(n));
+  for (ssize_t i = 0; i < n; ++i) {
+    BodyState& b = bodies[static_cast<size_t>(i)];
+    b.x = Vector3d(x.at(i, 0), x.at(i, 1), x.at(i, 2));
+    b.q = Quaterniond(q.at(i, 3), q.at(i, 0), q.at(i, 1), q.at(i, 2));
+    if (std::abs(b.q.norm() - 1.0) > 1e-6) {
+      refuse("rotations", "row " + std::to_string(i) + " is not a unit quaternion");
+    }
+    b.v = Vector3d(v.at(i, 0), v.at(i, 1), v.at(i, 2));
+    b.w = Vector3d(w.at(i, 0), w.at(i, 1), w.at(i, 2));
+  }
+  solver_->place(bodies);
+}
+
+py::array Solver::view(py::handle owner, size_t offset, ssize_t width) const {
+  const std::vector<BodyState>& bodies = solver_->state().bodies;
+  const auto* base = reinterpret_cast<const char*>(bodies.data()) + offset;
+  py::array out(py::dtype::of<double>(), {static_cast<ssize_t>(bodies.size()), width},
+                {static_cast<ssize_t>(sizeof(BodyState)), static_cast<ssize_t>(sizeof(double))},
+                reinterpret_cast<const double*>(base), owner);
+  py::detail::array_proxy(out.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return out;
+}
+
+py::array Solver::user_forces() const {
+  const auto wrenches = solver_->user_wrenches();
+  py::array_t<double> out({static_cast<ssize_t>(wrenches.size()), ssize_t{6}});
+  auto o = out.mutable_unchecked<2>();
+  for (size_t i = 0; i < wrenches.size(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      o(i, k) = wrenches[i].force[k];
+      o(i, 3 + k) = wrenches[i].torque[k];
+    }
+  }
+  return out;
+}
+
+namespace {
+
+// a read-only view of member `offset` of the state, `width` doubles wide
+template <size_t kOffset, ssize_t kWidth>
+py::array member(py::object self) {
+  return self.cast<Solver&>().view(self, kOffset, kWidth);
+}
+
+}  // namespace
+
+void bind_solver(py::module_& m) {
+  py::class_<PinSpec>(m, "Pin",
+                      "a point of a segment held at a world target: a hard pin (compliance 0), "
+                      "a zero-length spring (compliance C > 0, m/N), or a grab (a GrabSpring)")
+      .def(py::init([](py::object segment, const py::object& point, const py::object& target,
+                       double compliance, const std::optional<GrabSpring>& grab) {
+             if (!py::isinstance<py::str>(segment) && !py::isinstance<py::int_>(segment)) {
+               refuse("segment", "expected a segment's name or index");
+             }
+             if (!(finite("compliance", compliance) >= 0.0)) {
+               refuse("compliance", "must not be negative");
+             }
+             return PinSpec{std::move(segment), vector3("point", point), vector3("target", target),
+                            compliance, grab.value_or(GrabSpring{})};
+           }),
+           py::arg("segment"), py::arg("point") = py::make_tuple(0.0, 0.0, 0.0), py::arg("target"),
+           py::arg("compliance") = 0.0, py::arg("grab") = py::none())
+      .def_readonly("segment", &PinSpec::segment)
+      .def_property_readonly(
+          "point",
+          [](const PinSpec& p) { return py::make_tuple(p.point.x(), p.point.y(), p.point.z()); })
+      .def_property_readonly(
+          "target",
+          [](const PinSpec& p) { return py::make_tuple(p.target.x(), p.target.y(), p.target.z()); })
+      .def_readonly("compliance", &PinSpec::compliance);
+
+  py::class_<procedural::State>(m, "Snapshot",
+                                "a solver's whole state (Solver.snapshot), to restore bit for bit");
+
+  py::class_<Solver>(m, "Solver", "the procedural solver: update, then adjust (docs/solver.md)")
+      .def(py::init([](ModelPtr model, const std::string& rule,
+                       std::optional<Environment> environment, std::optional<int> iterations,
+                       std::optional<int> substeps, double joint_compliance,
+                       double limit_compliance, double limit_restitution) {
+             const auto settings = make_settings(rule, iterations, substeps, joint_compliance,
+                                                 limit_compliance, limit_restitution);
+             return Solver(std::move(model), settings, environment.value_or(Environment{}));
+           }),
+           py::arg("model"), py::arg("rule") = "relaxed", py::kw_only(),
+           py::arg("environment") = py::none(), py::arg("iterations") = py::none(),
+           py::arg("substeps") = py::none(), py::arg("joint_compliance") = 0.0,
+           py::arg("limit_compliance") = 0.0, py::arg("limit_restitution") = 0.0)
+      .def("step", &Solver::step, py::arg("dt"), "one step of dt seconds, in (0, 1]")
+      .def_property_readonly("diverged", &Solver::diverged)
+      .def_property_readonly("time", &Solver::time, "simulated seconds since the last reset")
+      .def_property_readonly("model", &Solver::model)
+      .def_property_readonly(
+          "rule", [](const Solver& s) { return procedural::rule_name(s.solver().settings().rule); })
+      .def("reset", &Solver::reset, "every segment at its rest pose, at rest; no pins")
+      .def("set_pins", &Solver::set_pins, py::arg("pins"),
+           "replaces the pins and grabs (at most 4); the first hard pin anchors the adjust pass")
+      .def("set_pin_targets", &Solver::set_pin_targets, py::arg("targets"),
+           "(k, 3): the targets of the k pins for the end of the next step")
+      .def("set_state", &Solver::set_state, py::arg("positions"), py::arg("rotations"),
+           py::arg("velocities"), py::arg("angular_velocities"),
+           "places every segment (copies the arrays; checks shapes, finiteness, unit rotations)")
+      .def("snapshot", [](const Solver& s) { return s.solver().state(); })
+      .def(
+          "restore",
+          [](Solver& s, const procedural::State& state) {
+            try {
+              s.solver().restore(state);
+            } catch (const std::invalid_argument& e) {
+              throw py::value_error(e.what());
+            }
+          },
+          py::arg("snapshot"), "puts back a snapshot of a solver of the same model")
+      .def_property_readonly("positions", &member<offsetof(BodyState, x), 3>,
+                             "(n, 3) COM positions (m), a read-only view of the solver's state")
+      .def_property_readonly("rotations", &member<offsetof(BodyState, q), 4>,
+                             "(n, 4) orientations as quaternions (x, y, z, w), a read-only view")
+      .def_property_readonly("velocities", &member<offsetof(BodyState, v), 3>,
+                             "(n, 3) COM velocities (m/s), a read-only view")
+      .def_property_readonly("angular_velocities", &member<offsetof(BodyState, w), 3>,
+                             "(n, 3) angular velocities (rad/s, world), a read-only view")
+      .def_property_readonly("user_forces", &Solver::user_forces,
+                             "(n, 6): force (N) and torque (N m) the grabs and tremble applied "
+                             "in the last substep, per segment (a copy)");
+}
+
+}  // namespace puppet::python
