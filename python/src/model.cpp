@@ -87,12 +87,13 @@ void bind_model(py::module_& m) {
                                for (const Segment& s : model.segments) names.push_back(s.name);
                                return names;
                              })
-      .def_property_readonly("mass",
+      .def_property_readonly("masses",
                              [](const Model& model) {
-                               double mass = 0.0;
-                               for (const Segment& s : model.segments) mass += s.mass;
-                               return mass;
-                             })
+                               std::vector<double> masses;
+                               for (const Segment& s : model.segments) masses.push_back(s.mass);
+                               return masses;
+                             },
+                             "each segment's mass (kg), in the order of `segments`")
       .def(
           "segment_index",
           [](const Model& model, const std::string& name) {

@@ -213,6 +213,14 @@ void bind_solver(py::module_& m) {
       .def_property_readonly("model", &Solver::model)
       .def_property_readonly(
           "rule", [](const Solver& s) { return procedural::rule_name(s.solver().settings().rule); })
+      .def_property_readonly(
+          "iterations",
+          [](const Solver& s) { return rule_defaults(s.solver().settings()).iterations; },
+          "sweeps per substep (tree: Newton iterations), the rule's own unless given")
+      .def_property_readonly(
+          "substeps",
+          [](const Solver& s) { return rule_defaults(s.solver().settings()).substeps; },
+          "substeps per step, the rule's own unless given")
       .def("reset", &Solver::reset, "every segment at its rest pose, at rest; no pins")
       .def("set_pins", &Solver::set_pins, py::arg("pins"),
            "replaces the pins and grabs (at most 4); the first hard pin anchors the adjust pass")

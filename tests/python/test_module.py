@@ -1,6 +1,7 @@
-"""The Python module `puppet` (python/src/module.cpp): the state as arrays, its round trip, and
-bad input as exceptions with one-line messages. Run by pytest with the built module on
-sys.path (PUPPET_PYTHON_DIR)."""
+"""The Python package `puppet` (python/): the state as arrays and its round trip, the environment
+and pins checked against analytic answers, snapshots, the crowd, no leak over 10^6 steps, and bad
+input as exceptions with one-line messages. Run by pytest with the built package on sys.path
+(PUPPET_PYTHON_DIR)."""
 import math
 import os
 import sys
@@ -43,6 +44,24 @@ def test_bad_input_is_an_exception_with_one_line():
     cases = [
         (lambda: puppet.load_model("/nonexistent.json"), "cannot open"),
         (lambda: puppet.Solver(model, rule="nope"), 'unknown value "nope"'),
+        (lambda: puppet.Solver(model, iterations=-3), "iterations"),
+        (lambda: puppet.Environment(air_drag=-1.0), "air_drag"),
+        (lambda: puppet.Environment(gravity=(0, math.inf, 0)), "gravity: not a finite"),
+        (lambda: puppet.Environment(gravity=(0, 1)), "gravity: expected three numbers"),
+        (lambda: puppet.Environment(water_density=math.nan), "water_density"),
+        (lambda: puppet.GrabSpring(hz=0.0, max_force=1.0), "hz: must be positive"),
+        (lambda: puppet.Pin("head", target=(0, 0, math.nan)), "target: not a finite"),
+        (lambda: puppet.Pin("head", target=(0, 0, 1), compliance=-1.0), "compliance"),
+        (lambda: solver.set_pins([puppet.Pin("tail", target=(0, 0, 1))]), 'no segment "tail"'),
+        (lambda: solver.set_pins([puppet.Pin(14, target=(0, 0, 1))]), "segment 14 is out of range"),
+        (lambda: solver.set_pins([puppet.Pin(0, target=(0, 0, 1))] * 5), "at most 4"),
+        (lambda: solver.set_pin_targets(np.zeros((2, 3))), "targets: expected shape (0, 3)"),
+        (lambda: solver.restore(puppet.Solver(puppet.load_model("chain:3")).snapshot()),
+         "another model"),
+        (lambda: puppet.Crowd(model, 0), "puppets"),
+        (lambda: puppet.Crowd(model, 4, lanes="sixteen"), 'lanes: unknown value "sixteen"'),
+        (lambda: puppet.Crowd(model, 4).puppet(4), "k: 4 is out of range"),
+        (lambda: model.segment_index("tail"), 'no segment "tail"'),
         (lambda: solver.step(0.0), "dt"),
         (lambda: solver.step(math.nan), "dt"),
         (lambda: solver.set_state(np.zeros((n, 2)), *good[1:]), "positions: expected shape"),
@@ -56,3 +75,135 @@ def test_bad_input_is_an_exception_with_one_line():
             call()
         message = str(raised.value)
         assert words in message and "\n" not in message and len(message) < 300, message
+
+
+
+def com(solver):
+    masses = np.array(solver.model.masses)
+    return masses @ solver.positions / masses.sum()
+
+
+def test_a_free_figure_falls_as_gravity_says():
+    # no pins: the joints are internal forces, so the centre of mass moves as one body in the
+    # environment's gravity; positions integrate the updated velocities once per step
+    # (symplectic Euler), so after N substeps of h the fall is g h^2 N (N + 1) / 2
+    model = puppet.load_model("pinocchio")
+    gravity = np.array([0.5, 0.0, -3.0])
+    for rule in ("relaxed", "xpbd", "tree"):
+        solver = puppet.Solver(model, rule, environment=puppet.Environment(gravity=gravity))
+        n = 240 * solver.substeps
+        fall = 0.5 * n * (n + 1) / n ** 2
+        before = com(solver)
+        for _ in range(240):
+            solver.step(1 / 240)
+        assert np.allclose(com(solver) - before, gravity * fall, rtol=0, atol=1e-9), rule
+
+
+def test_air_drag_decays_a_free_figure_exactly():
+    # no gravity, every segment moving at 1 m/s: the testbed's drag decays a velocity by exactly
+    # e^(-k h) per step (environment.h: drag_rate), so the centre of mass moves at e^(-k t)
+    model = puppet.load_model("pinocchio")
+    solver = puppet.Solver(model, "xpbd",
+                           environment=puppet.Environment(gravity=(0, 0, 0), air_drag=2.0))
+    v = np.tile([1.0, 0.0, 0.0], (model.segment_count, 1))
+    solver.set_state(solver.positions, solver.rotations, v, solver.angular_velocities)
+    for _ in range(240):
+        solver.step(1 / 240)
+    masses = np.array(model.masses)
+    velocity = masses @ solver.velocities / masses.sum()
+    assert velocity[0] == pytest.approx(math.exp(-2.0), rel=1e-9)
+
+
+def test_a_hard_pin_holds_and_a_grab_pulls():
+    model = puppet.load_model("pinocchio")
+    head, hand = model.segment_index("head"), model.segment_index("r_forearm")
+    solver = puppet.Solver(model, "xpbd")
+    target = solver.positions[head].copy()
+    reach = solver.positions[hand] + [0.0, -0.3, 0.3]
+    solver.set_pins([puppet.Pin("head", target=target),
+                     puppet.Pin(hand, target=reach, grab=puppet.grab_spring(model))])
+    for _ in range(480):
+        solver.step(1 / 240)
+    assert not solver.diverged
+    assert np.linalg.norm(solver.positions[head] - target) < 1e-3  # measured 5e-5 m in hang
+    # the grab is a capped spring-damper at 2 Hz: after 2 s it has taken the hand most of the
+    # 0.42 m to its target (it sags below it: the spring holds the arm's weight, g / (2 pi 2 Hz)^2
+    # = 6 cm per unit of effective mass over the hand's own)
+    assert np.linalg.norm(solver.positions[hand] - reach) < 0.5 * math.hypot(0.3, 0.3)
+    force = solver.user_forces[hand, :3]
+    assert 0.0 < np.linalg.norm(force) <= puppet.grab_spring(model).max_force * (1 + 1e-12)
+    solver.set_pin_targets([target + [0, 0, 0.2], reach])
+    for _ in range(240):
+        solver.step(1 / 240)
+    assert np.linalg.norm(solver.positions[head] - target - [0, 0, 0.2]) < 1e-3
+
+
+def test_a_snapshot_restores_the_run_bit_for_bit():
+    model = puppet.load_model("pinocchio")
+    solver = puppet.Solver(model, "relaxed", environment=puppet.Environment(tremble=True))
+    solver.set_pins([puppet.Pin("l_forearm", target=(0.3, 0.2, 1.0),
+                                grab=puppet.grab_spring(model))])
+    for _ in range(30):
+        solver.step(1 / 240)
+    snapshot = solver.snapshot()
+    for _ in range(60):
+        solver.step(1 / 240)
+    first = solver.positions.copy()
+    solver.restore(snapshot)
+    for _ in range(60):
+        solver.step(1 / 240)
+    assert np.array_equal(solver.positions, first)
+
+
+def test_a_crowds_puppets_step_as_lone_solvers_do():
+    # one by one (relaxed) a crowd's puppet is a lone Solver bit for bit; in SIMD lanes (xpbd)
+    # to rounding (crowd.h)
+    model = puppet.load_model("pinocchio")
+    for rule, lanes, tolerance in (("relaxed", "widest", 0.0), ("xpbd", "widest", 1e-9)):
+        crowd = puppet.Crowd(model, 6, rule, threads=2, lanes=lanes)
+        lone = puppet.Solver(model, rule)
+        for solver in (crowd.puppet(4), lone):
+            solver.set_pins([puppet.Pin("head", target=solver.positions[3] + [0.1, 0, 0])])
+        for _ in range(120):
+            crowd.step(1 / 240)
+            lone.step(1 / 240)
+        assert not any(crowd.diverged())
+        assert np.max(np.abs(crowd.puppet(4).positions - lone.positions)) <= tolerance, rule
+        assert np.array_equal(crowd.positions()[4], crowd.puppet(4).positions)
+        # the others had no pin: they fell
+        assert crowd.positions()[0][3][2] < lone.positions[3][2] - 0.5
+
+
+def resident_bytes():
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+
+
+def test_a_million_steps_leak_nothing():
+    # every call a loop makes: targets in, a step, the state out as views, and now and then a
+    # snapshot, a restore and the user's forces. A leak of one small object per step would be
+    # tens of MB over 10^6 steps; the resident size may grow by at most 1 MiB
+    model = puppet.load_model("pinocchio")
+    solver = puppet.Solver(model, "literal")
+    hand = model.segment_index("l_forearm")
+    start = solver.positions[hand].copy()
+    solver.set_pins([puppet.Pin(hand, target=start, grab=puppet.grab_spring(model))])
+    snapshots = [solver.snapshot()]
+    targets = np.zeros((1, 3))
+
+    def steps(count):
+        for k in range(count):
+            targets[0] = start + [0.0, 0.0, 0.1 * (k % 100) / 100]
+            solver.set_pin_targets(targets)
+            solver.step(1 / 240)
+            x = solver.positions  # noqa: F841 (a view made and dropped each step)
+            if k % 1000 == 0:
+                solver.restore(snapshots[0])
+                snapshots[0] = solver.snapshot()
+                solver.user_forces
+
+    steps(100_000)
+    before = resident_bytes()
+    steps(900_000)
+    assert resident_bytes() - before <= 1 << 20
+    assert not solver.diverged
