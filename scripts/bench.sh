@@ -42,18 +42,21 @@ if [ "$mode" = quick ]; then
   # the verdict's choices (results/verdict/verdict.csv): the cheapest procedural rule against
   # the cheapest reference per scenario and budget
   "$bin/bench_verdict" "${common[@]}" "${quick[@]}" --benchmark_out="$out/bench_verdict.json"
+  # step() from Python against C++ (the Python package's cost)
+  "$bin/bench_python" "${common[@]}" "${quick[@]}" --benchmark_out="$out/bench_python.json"
   ./build/release/testbed gate "$out"/bench_step.json "$out"/bench_stages.json \
-    "$out"/bench_scaling.json "$out"/bench_verdict.json --thresholds "$thresholds"
+    "$out"/bench_scaling.json "$out"/bench_verdict.json "$out"/bench_python.json \
+    --thresholds "$thresholds"
 else
   out=results/bench
   mkdir -p "$out"
-  for b in bench_step bench_stages bench_scaling bench_verdict; do
+  for b in bench_step bench_stages bench_scaling bench_verdict bench_python; do
     "$bin/$b" "${common[@]}" --benchmark_min_time=0.2 --benchmark_out="$out/$b.json"
   done
   status=0
   ./build/release/testbed gate "$out"/bench_step.json "$out"/bench_stages.json \
-    "$out"/bench_scaling.json "$out"/bench_verdict.json --thresholds "$thresholds" \
-    --csv "$out/$machine.csv" || status=$?
+    "$out"/bench_scaling.json "$out"/bench_verdict.json "$out"/bench_python.json \
+    --thresholds "$thresholds" --csv "$out/$machine.csv" || status=$?
   # docs/performance.md's tables are generated blocks that name a machine's CSV
   /usr/bin/python3 scripts/docs_tables.py
   grep -q "results/bench/$machine.csv" docs/performance.md ||

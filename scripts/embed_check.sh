@@ -3,7 +3,9 @@
 # alone (find_package(puppet CONFIG)), from clean build folders that set no C++ standard:
 #   - builds examples/embed and runs it;
 #   - compiles every installed header on its own, one translation unit each, so that a header
-#     that uses what it does not include fails here.
+#     that uses what it does not include fails here;
+# and runs examples/python/tour.py on the installed Python package, from outside the source tree
+# with the package's folder alone on PYTHONPATH (where the build has the package).
 #   scripts/embed_check.sh [BUILD_DIR]     (default build/release, built already)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -38,5 +40,18 @@ CMAKE
 cmake -S "$work/headers" -B "$work/headers/build" -DCMAKE_PREFIX_PATH="$work/prefix" \
   -DCMAKE_CXX_FLAGS="-Wall -Wextra -Werror" >/dev/null
 cmake --build "$work/headers/build" >/dev/null
+python=""
+site=$(find "$work/prefix" -path '*/dist-packages/puppet' -type d -printf '%h\n' | head -1)
+if [ -n "$site" ]; then
+  (cd "$work" && PYTHONPATH="$site" /usr/bin/python3 "$OLDPWD/examples/python/tour.py" "$work" \
+    >"$work/tour.log" 2>&1) || {
+    cat "$work/tour.log" >&2
+    exit 1
+  }
+  grep -q "puppet/models/pinocchio.json" <(cd "$work" && PYTHONPATH="$site" /usr/bin/python3 -c \
+    'import puppet; puppet._puppet._testbed(["list"])') ||
+    { echo "embed_check: the installed package reads Pinocchio from elsewhere" >&2; exit 1; }
+  python="; the installed Python package runs examples/python/tour.py from ${site#"$work/prefix/"}"
+fi
 echo "embed_check: examples/embed builds against the installed package (no standard set) and" \
-  "runs; each of the $headers installed headers compiles on its own"
+  "runs; each of the $headers installed headers compiles on its own$python"

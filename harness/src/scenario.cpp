@@ -152,8 +152,22 @@ std::string with_flag(const ScenarioError& error) {
   return flag + ": " + error.what();
 }
 
+namespace {
+std::mutex builtin_mutex;
+std::string& builtin_path() {
+  static std::string path = std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json";
+  return path;
+}
+}  // namespace
+
 std::string builtin_model_path() {
-  return std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json";
+  std::lock_guard lock(builtin_mutex);
+  return builtin_path();
+}
+
+void set_builtin_model_path(const std::string& path) {
+  std::lock_guard lock(builtin_mutex);
+  builtin_path() = path;
 }
 
 namespace {

@@ -8,6 +8,9 @@ testbed that measures them against reference engines (docs/python.md).
 
     rows = puppet.run(scenario="hang", rule="xpbd", dt="1/240")   # the testbed's summary rows
 """
+import os
+
+from . import _puppet
 from ._puppet import (  # noqa: F401
     Crowd,
     Environment,
@@ -20,6 +23,10 @@ from ._puppet import (  # noqa: F401
     load_model,
 )
 from .studies import read_table, robustness, run, verdict  # noqa: F401
+
+# "pinocchio" is the package's own copy of models/pinocchio.json, so that an installed package
+# does not need the source tree
+_puppet._use_builtin_model(os.path.join(os.path.dirname(__file__), "models", "pinocchio.json"))
 
 __all__ = [
     "Crowd",

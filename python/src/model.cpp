@@ -87,13 +87,14 @@ void bind_model(py::module_& m) {
                                for (const Segment& s : model.segments) names.push_back(s.name);
                                return names;
                              })
-      .def_property_readonly("masses",
-                             [](const Model& model) {
-                               std::vector<double> masses;
-                               for (const Segment& s : model.segments) masses.push_back(s.mass);
-                               return masses;
-                             },
-                             "each segment's mass (kg), in the order of `segments`")
+      .def_property_readonly(
+          "masses",
+          [](const Model& model) {
+            std::vector<double> masses;
+            for (const Segment& s : model.segments) masses.push_back(s.mass);
+            return masses;
+          },
+          "each segment's mass (kg), in the order of `segments`")
       .def(
           "segment_index",
           [](const Model& model, const std::string& name) {
@@ -106,6 +107,8 @@ void bind_model(py::module_& m) {
         return "<puppet.Model " + model.name + ": " + std::to_string(model.segment_count()) +
                " segments>";
       });
+  m.def("_use_builtin_model", &compare::set_builtin_model_path, py::arg("path"),
+        "where \"pinocchio\" is read from: the package's own copy");
   m.def("load_model", &load, py::arg("name"),
         "pinocchio, chain:N, or a model file (JSON or MJCF); ValueError when it does not load");
 

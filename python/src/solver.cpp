@@ -218,8 +218,7 @@ void bind_solver(py::module_& m) {
           [](const Solver& s) { return rule_defaults(s.solver().settings()).iterations; },
           "sweeps per substep (tree: Newton iterations), the rule's own unless given")
       .def_property_readonly(
-          "substeps",
-          [](const Solver& s) { return rule_defaults(s.solver().settings()).substeps; },
+          "substeps", [](const Solver& s) { return rule_defaults(s.solver().settings()).substeps; },
           "substeps per step, the rule's own unless given")
       .def("reset", &Solver::reset, "every segment at its rest pose, at rest; no pins")
       .def("set_pins", &Solver::set_pins, py::arg("pins"),

@@ -120,8 +120,10 @@ const std::string& headline_scenario();
 Scenario make_scenario(const std::string& name, const Model& model,
                        const ScenarioOptions& options = {});
 
-// the built-in Pinocchio's model file, in the source tree
+// the built-in Pinocchio's model file, in the source tree unless a copy installed away from it
+// (the Python package's) says where it is
 std::string builtin_model_path();
+void set_builtin_model_path(const std::string& path);
 // how load_named_model reads model files from here on (the command line's --strict and
 // --include-outside); by default MJCF elements the testbed does not model are skipped with a note
 void set_model_reading(const ReadOptions& options);
