@@ -53,7 +53,8 @@ for _ in range(480):
     solver.step(dt)
     feet.append(solver.positions[foot].copy())  # the view follows the solver: copy to keep
 feet = np.array(feet)
-print(f"after {solver.time:.2f} s the head is {1e3 * np.linalg.norm(solver.positions[head] - pin_target):.3f} mm "
+gap = np.linalg.norm(solver.positions[head] - pin_target)
+print(f"after {solver.time:.2f} s the head is {1e3 * gap:.3f} mm "
       f"from its pin; the foot swung {np.ptp(feet[:, 0]):.2f} m in x")
 
 # %% drag the right forearm in a circle with the testbed's grab, in three rules
@@ -72,7 +73,8 @@ for rule in ("relaxed", "xpbd", "tree"):
         s.step(dt)
         distance.append(np.linalg.norm(s.positions[hand] - target))
     lag[rule] = np.array(distance)
-    print(f"{rule:8s} the hand trails its target by {1e3 * lag[rule][240:].mean():.0f} mm on average")
+    print(f"{rule:8s} the hand trails its target by {1e3 * lag[rule][240:].mean():.0f} mm "
+          "on average")
 
 # %% a snapshot puts a run back bit for bit
 snapshot = solver.snapshot()
@@ -96,7 +98,8 @@ rows = puppet.run(scenario="hang", solver="procedural,mujoco", rule="relaxed,xpb
                   duration=1, no_accuracy=True, no_timing=True)
 for row in rows:
     if row["metric"] == "joint_gap_m" and row["stat"] == "max":
-        print(f"{row['solver']:10s} {row['rule'] or '':8s} largest joint gap {1e3 * row['value']:.4f} mm")
+        print(f"{row['solver']:10s} {row['rule'] or '':8s} largest joint gap "
+              f"{1e3 * row['value']:.4f} mm")
 rates = puppet.robustness(scenario="drag", solver="procedural", rule="xpbd", dt="1/60", starts=8,
                           duration=1)
 print("xpbd at 1/60 s in drag diverged in", rates[0]["diverged"], "of", rates[0]["runs"],

@@ -82,6 +82,12 @@ void request_cancel(int signal) {
 
 int cancel_signal() { return g_signal.load(); }
 
+void clear_cancel() {
+  cancel_flag().store(false);
+  g_signal.store(0);
+  g_signals.store(0);
+}
+
 void start_stop_watchdog(const char* program) {
   Watch& w = watch_state();
   std::call_once(w.started, [&w, program] {

@@ -41,7 +41,7 @@ def _number(text):
 
 
 # columns of text even where every value reads as a number
-_TEXT_COLUMNS = {"git_sha", "machine", "model", "setting", "grab_segment"}
+_TEXT_COLUMNS = {"git_sha", "machine", "model", "rule", "reference", "setting", "grab_segment"}
 
 
 def read_table(path, as_frame=False):

@@ -1,9 +1,13 @@
 """The testbed's studies from Python (python/puppet/studies.py): the rows are what the command line
 writes, bad input is its one-line message as ValueError before anything is written, and each
 study's table comes back as rows."""
+import importlib.util
 import os
+import signal
 import subprocess
 import sys
+import threading
+import time
 
 import pytest
 
@@ -74,11 +78,24 @@ def test_verdict_gives_its_rows(tmp_path):
 
 def test_a_frame_needs_pandas(tmp_path):
     rows = puppet.run(out=tmp_path, **HANG)
-    try:
-        import pandas  # noqa: F401
-    except ImportError:
+    if importlib.util.find_spec("pandas") is None:
         with pytest.raises(ImportError, match="python3-pandas"):
             puppet.read_table(tmp_path / "summary.csv", as_frame=True)
         return
     frame = puppet.read_table(tmp_path / "summary.csv", as_frame=True)
     assert len(frame) == len(rows) and frame["value"].dtype.kind == "f"
+
+
+def test_ctrl_c_stops_a_study_and_leaves_its_folder_as_it_was(tmp_path):
+    # SIGINT half a second into a run judged by the truths (several seconds): KeyboardInterrupt,
+    # no output folder and nothing staged beside it; the next study runs
+    timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+    timer.start()
+    begin = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        puppet.run(out=tmp_path / "out", scenario="hang", solver="procedural", rule="xpbd",
+                   dt="1/240", duration=5)
+    timer.join()
+    assert time.monotonic() - begin < 5.0
+    assert list(tmp_path.iterdir()) == []
+    assert len(puppet.run(**HANG)) > 10

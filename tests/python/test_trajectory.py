@@ -39,7 +39,8 @@ def python_trajectory(rule, hold):
 
 def cxx_trajectory(rule, hold):
     binary = os.environ.get("PUPPET_TRAJECTORY", "build/release/tests/python_trajectory")
-    out = subprocess.run([binary, rule, str(STEPS), hold], check=True, capture_output=True, text=True)
+    out = subprocess.run([binary, rule, str(STEPS), hold], check=True, capture_output=True,
+                         text=True)
     # C's %a and Python's float.hex spell the same double differently: compare the numbers
     return [" ".join(float.fromhex(v).hex() for v in line.split())
             for line in out.stdout.splitlines()]

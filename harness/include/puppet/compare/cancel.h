@@ -26,6 +26,9 @@ class Cancelled : public std::runtime_error {
 };
 void request_cancel(int signal);  // async-signal-safe; the second call asks for the exit at once
 int cancel_signal();              // the signal that asked, 0 when none
+// forgets a request, for a host that runs commands one after another in one process (the Python
+// package) and turns a stop into its own exception; never while a command runs
+void clear_cancel();
 inline std::atomic<bool>& cancel_flag() {
   static std::atomic<bool> flag{false};
   return flag;
