@@ -25,7 +25,7 @@ packages=(
   clang-14 libclang-rt-14-dev # the clang build and the loader's fuzzer (scripts/fuzz.sh)
   doxygen            # the API reference (scripts/api_docs.sh)
   nodejs             # the jolt engine's driver (reference/jolt/server.mjs)
-  pybind11-dev python3-numpy python3-pytest # the Python module (python/) and its tests
+  pybind11-dev python3-dev python3-numpy python3-pytest # the Python package (python/), its tests
 )
 # npm installs the jolt engine's package: Debian's, unless a Node.js that brings its own is there
 if ! command -v npm >/dev/null; then packages+=(npm); fi
