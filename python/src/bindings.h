@@ -22,6 +22,10 @@ using ModelPtr = std::shared_ptr<Model>;
 double finite(const char* name, double value);
 /// three finite numbers from any sequence of three (a tuple, a list, an array)
 Vector3d vector3(const char* name, const py::handle& value);
+/// a Python int (not a bool) within [lo, hi], else ValueError naming it and the range
+long long whole(const char* name, const py::handle& value, long long lo, long long hi);
+/// a message from the libraries as one line of at most 400 characters (the command line's bound)
+std::string bounded(const std::string& message);
 
 void bind_model(py::module_& m);
 void bind_solver(py::module_& m);

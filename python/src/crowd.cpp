@@ -17,13 +17,11 @@ class Crowd {
   Crowd(ModelPtr model, int puppets, const procedural::Settings& settings,
         const Environment& environment, int threads, procedural::CrowdLanes lanes)
       : model_(std::move(model)) {
-    if (puppets < 1 || puppets > 1'000'000) refuse("puppets", "must be in [1, 1000000]");
-    if (threads < 1 || threads > 256) refuse("threads", "must be in [1, 256]");
     try {
       crowd_ = std::make_unique<procedural::Crowd>(*model_, settings, environment, puppets, threads,
                                                    lanes);
     } catch (const std::invalid_argument& e) {
-      throw py::value_error(e.what());
+      throw py::value_error(bounded(e.what()));
     }
     const auto rest = rest_pose(*model_);
     for (int k = 0; k < crowd_->size(); ++k) crowd_->puppet(k).reset(rest);
@@ -71,19 +69,20 @@ procedural::CrowdLanes parse_lanes(const std::string& lanes) {
 void bind_crowd(py::module_& m) {
   py::class_<Crowd>(m, "Crowd",
                     "many puppets of one model stepped together on `threads` threads; xpbd's in "
-                    "SIMD lanes (docs/crowds.md)")
-      .def(
-          py::init([](ModelPtr model, int puppets, const std::string& rule,
-                      std::optional<Environment> environment, int threads, const std::string& lanes,
-                      std::optional<int> iterations, std::optional<int> substeps) {
-            const auto settings = make_settings(rule, iterations, substeps, 0.0, 0.0, 0.0);
-            return std::make_unique<Crowd>(std::move(model), puppets, settings,
-                                           environment.value_or(Environment{}), threads,
-                                           parse_lanes(lanes));
-          }),
-          py::arg("model"), py::arg("puppets"), py::arg("rule") = "xpbd", py::kw_only(),
-          py::arg("environment") = py::none(), py::arg("threads") = 1, py::arg("lanes") = "widest",
-          py::arg("iterations") = py::none(), py::arg("substeps") = py::none())
+                    "SIMD lanes (docs/solver.md, \"a crowd in SIMD lanes\")")
+      .def(py::init([](ModelPtr model, const py::object& puppets, const std::string& rule,
+                       std::optional<Environment> environment, const py::object& threads,
+                       const std::string& lanes, const py::object& iterations,
+                       const py::object& substeps) {
+             const auto settings = make_settings(rule, iterations, substeps, 0.0, 0.0, 0.0);
+             return std::make_unique<Crowd>(
+                 std::move(model), static_cast<int>(whole("puppets", puppets, 1, 1'000'000)),
+                 settings, environment.value_or(Environment{}),
+                 static_cast<int>(whole("threads", threads, 1, 256)), parse_lanes(lanes));
+           }),
+           py::arg("model"), py::arg("puppets"), py::arg("rule") = "xpbd", py::kw_only(),
+           py::arg("environment") = py::none(), py::arg("threads") = 1, py::arg("lanes") = "widest",
+           py::arg("iterations") = py::none(), py::arg("substeps") = py::none())
       .def("step", &Crowd::step, py::arg("dt"), "every puppet one step of dt seconds")
       .def("__len__", [](Crowd& c) { return c.crowd().size(); })
       .def_property_readonly("threads", [](Crowd& c) { return c.crowd().threads(); })
@@ -92,13 +91,10 @@ void bind_crowd(py::module_& m) {
           "puppets stepped together: 8, 4, 2, or 1 (one by one)")
       .def(
           "puppet",
-          [](py::object self, int k) {
+          [](py::object self, const py::object& k) {
             Crowd& c = self.cast<Crowd&>();
-            if (k < 0 || k >= c.crowd().size()) {
-              refuse("k", std::to_string(k) + " is out of range (the crowd has " +
-                              std::to_string(c.crowd().size()) + " puppets)");
-            }
-            return Solver(c.model(), &c.crowd().puppet(k), self);
+            const auto index = static_cast<int>(whole("k", k, 0, c.crowd().size() - 1));
+            return Solver(c.model(), &c.crowd().puppet(index), self);
           },
           py::arg("k"),
           "puppet k as a Solver (its pins, state and views), kept alive with the crowd")

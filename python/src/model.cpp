@@ -8,6 +8,7 @@
 #include "bindings.h"
 #include "puppet/compare/scenario.h"
 #include "puppet/model/environment.h"
+#include "puppet/model/text.h"
 
 namespace puppet::python {
 
@@ -32,13 +33,26 @@ Vector3d vector3(const char* name, const py::handle& value) {
   return {v[0], v[1], v[2]};
 }
 
+long long whole(const char* name, const py::handle& value, long long lo, long long hi) {
+  const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  if (!py::isinstance<py::int_>(value) || py::isinstance<py::bool_>(value)) {
+    refuse(name, "expected a whole number in " + range);
+  }
+  int overflow = 0;
+  const long long v = PyLong_AsLongLongAndOverflow(value.ptr(), &overflow);
+  if (overflow != 0 || v < lo || v > hi) refuse(name, "must be in " + range);
+  return v;
+}
+
+std::string bounded(const std::string& message) { return one_line(message, 400); }
+
 namespace {
 
 ModelPtr load(const std::string& name) {
   try {
     return std::make_shared<Model>(compare::load_named_model(name));
   } catch (const std::exception& e) {
-    throw py::value_error(e.what());
+    throw py::value_error(bounded(e.what()));
   }
 }
 
@@ -53,7 +67,8 @@ double in_range(const char* name, double value, double lo, double hi) {
 // the ranges are the command line's (--gravity, --air-drag) and the model format's
 Environment make_environment(const py::handle& gravity, double air_drag, bool water,
                              double water_level, double water_density, double water_drag,
-                             bool ground, double friction, bool tremble, uint64_t tremble_seed) {
+                             bool ground, double friction, bool tremble,
+                             const py::object& tremble_seed) {
   Environment e;
   e.gravity = vector3("gravity", gravity);
   if (e.gravity.norm() > 1e3) refuse("gravity", "larger than 1000 m/s^2");
@@ -65,7 +80,9 @@ Environment make_environment(const py::handle& gravity, double air_drag, bool wa
   e.ground = ground;
   e.friction = in_range("friction", friction, 0.0, 1e3);
   e.tremble = tremble;
-  e.tremble_seed = tremble_seed;
+  // the command line's seeds have at most 18 digits
+  e.tremble_seed =
+      static_cast<uint64_t>(whole("tremble_seed", tremble_seed, 0, 999'999'999'999'999'999LL));
   return e;
 }
 
@@ -119,7 +136,7 @@ void bind_model(py::module_& m) {
            py::arg("water") = false, py::arg("water_level") = 0.0,
            py::arg("water_density") = 1000.0, py::arg("water_drag") = 0.0,
            py::arg("ground") = false, py::arg("friction") = 0.8, py::arg("tremble") = false,
-           py::arg("tremble_seed") = 2001)
+           py::arg("tremble_seed") = py::int_(2001))
       .def_property_readonly("gravity",
                              [](const Environment& e) {
                                return py::make_tuple(e.gravity.x(), e.gravity.y(), e.gravity.z());

@@ -12,8 +12,8 @@
 
 namespace puppet::python {
 
-procedural::Settings make_settings(const std::string& rule, std::optional<int> iterations,
-                                   std::optional<int> substeps, double joint_compliance,
+procedural::Settings make_settings(const std::string& rule, const py::object& iterations,
+                                   const py::object& substeps, double joint_compliance,
                                    double limit_compliance, double limit_restitution) {
   const auto parsed = procedural::parse_rule(rule);
   if (!parsed) {
@@ -25,8 +25,13 @@ procedural::Settings make_settings(const std::string& rule, std::optional<int> i
   }
   procedural::Settings settings;
   settings.rule = *parsed;
-  if (iterations) settings.iterations = *iterations;
-  if (substeps) settings.substeps = *substeps;
+  if (!iterations.is_none()) {
+    settings.iterations =
+        static_cast<int>(whole("iterations", iterations, 0, procedural::kMaxIterations));
+  }
+  if (!substeps.is_none()) {
+    settings.substeps = static_cast<int>(whole("substeps", substeps, 1, procedural::kMaxSubsteps));
+  }
   settings.joint_compliance = finite("joint_compliance", joint_compliance);
   settings.limit_compliance = finite("limit_compliance", limit_compliance);
   settings.limit_restitution = finite("limit_restitution", limit_restitution);
@@ -40,7 +45,7 @@ Solver::Solver(ModelPtr model, const procedural::Settings& settings, const Envir
   try {
     own_ = std::make_unique<procedural::Solver>(*model_, settings, environment);
   } catch (const std::invalid_argument& e) {
-    throw py::value_error(e.what());
+    throw py::value_error(bounded(e.what()));
   }
   solver_ = own_.get();
   solver_->reset(rest_pose(*model_));
@@ -72,12 +77,8 @@ void Solver::set_pins(const std::vector<PinSpec>& specs) {
       pin.segment = model_->find_segment(name);
       if (pin.segment < 0) refuse("pin", "no segment \"" + name + "\" in " + model_->name);
     } else {
-      pin.segment = spec.segment.cast<int>();
-      if (pin.segment < 0 || pin.segment >= model_->segment_count()) {
-        refuse("pin", "segment " + std::to_string(pin.segment) +
-                          " is out of range (the model has " +
-                          std::to_string(model_->segment_count()) + ")");
-      }
+      pin.segment =
+          static_cast<int>(whole("pin: segment", spec.segment, 0, model_->segment_count() - 1));
     }
     pin.local_point = spec.point;
     pin.target = spec.target;
@@ -171,7 +172,8 @@ void bind_solver(py::module_& m) {
                       "a zero-length spring (compliance C > 0, m/N), or a grab (a GrabSpring)")
       .def(py::init([](py::object segment, const py::object& point, const py::object& target,
                        double compliance, const std::optional<GrabSpring>& grab) {
-             if (!py::isinstance<py::str>(segment) && !py::isinstance<py::int_>(segment)) {
+             if (!py::isinstance<py::str>(segment) &&
+                 (!py::isinstance<py::int_>(segment) || py::isinstance<py::bool_>(segment))) {
                refuse("segment", "expected a segment's name or index");
              }
              if (!(finite("compliance", compliance) >= 0.0)) {
@@ -196,9 +198,9 @@ void bind_solver(py::module_& m) {
 
   py::class_<Solver>(m, "Solver", "the procedural solver: update, then adjust (docs/solver.md)")
       .def(py::init([](ModelPtr model, const std::string& rule,
-                       std::optional<Environment> environment, std::optional<int> iterations,
-                       std::optional<int> substeps, double joint_compliance,
-                       double limit_compliance, double limit_restitution) {
+                       std::optional<Environment> environment, const py::object& iterations,
+                       const py::object& substeps, double joint_compliance, double limit_compliance,
+                       double limit_restitution) {
              const auto settings = make_settings(rule, iterations, substeps, joint_compliance,
                                                  limit_compliance, limit_restitution);
              return Solver(std::move(model), settings, environment.value_or(Environment{}));
@@ -235,7 +237,7 @@ void bind_solver(py::module_& m) {
             try {
               s.solver().restore(state);
             } catch (const std::invalid_argument& e) {
-              throw py::value_error(e.what());
+              throw py::value_error(bounded(e.what()));
             }
           },
           py::arg("snapshot"), "puts back a snapshot of a solver of the same model")

@@ -57,8 +57,8 @@ class Solver {
 
 /// the settings from the keyword arguments (None: the rule's own), checked by
 /// procedural::validate; ValueError naming the argument
-procedural::Settings make_settings(const std::string& rule, std::optional<int> iterations,
-                                   std::optional<int> substeps, double joint_compliance,
+procedural::Settings make_settings(const std::string& rule, const py::object& iterations,
+                                   const py::object& substeps, double joint_compliance,
                                    double limit_compliance, double limit_restitution);
 
 }  // namespace puppet::python
