@@ -24,7 +24,8 @@ double finite(const char* name, double value);
 Vector3d vector3(const char* name, const py::handle& value);
 /// a Python int (not a bool) within [lo, hi], else ValueError naming it and the range
 long long whole(const char* name, const py::handle& value, long long lo, long long hi);
-/// a message from the libraries as one line of at most 400 characters (the command line's bound)
+/// a message as one line of at most 400 bytes (the command line's bound), cut between characters
+/// (Python decodes it as UTF-8)
 std::string bounded(const std::string& message);
 
 void bind_model(py::module_& m);

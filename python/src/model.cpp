@@ -2,6 +2,7 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -13,7 +14,7 @@
 namespace puppet::python {
 
 void refuse(const std::string& name, const std::string& problem) {
-  throw py::value_error(name + ": " + problem);
+  throw py::value_error(bounded(name + ": " + problem));
 }
 
 double finite(const char* name, double value) {
@@ -44,7 +45,25 @@ long long whole(const char* name, const py::handle& value, long long lo, long lo
   return v;
 }
 
-std::string bounded(const std::string& message) { return one_line(message, 400); }
+std::string bounded(const std::string& message) {
+  std::string line = one_line(message, 400);
+  // a cut may end inside a character, which Python would not decode: drop its first bytes
+  // (a line the command line cut already ends in "..." at the bound)
+  const bool cut =
+      message.size() >= 400 && line.size() >= 3 && line.compare(line.size() - 3, 3, "...") == 0;
+  size_t end = line.size() - (cut ? 3 : 0);
+  size_t lead = end;
+  while (lead > 0 && lead + 4 > end &&
+         (static_cast<unsigned char>(line[lead - 1]) & 0xC0) == 0x80) {
+    --lead;
+  }
+  if (lead > 0) {
+    const auto byte = static_cast<unsigned char>(line[lead - 1]);
+    const size_t length = byte >= 0xF0 ? 4 : byte >= 0xE0 ? 3 : byte >= 0xC0 ? 2 : 1;
+    if (length > 1 && lead - 1 + length > end) end = lead - 1;
+  }
+  return line.substr(0, end) + (cut ? "..." : "");
+}
 
 namespace {
 
@@ -58,13 +77,15 @@ ModelPtr load(const std::string& name) {
 
 double in_range(const char* name, double value, double lo, double hi) {
   if (!(finite(name, value) >= lo && value <= hi)) {
-    refuse(name, std::to_string(value) + " is out of range (from " + std::to_string(lo) + " to " +
-                     std::to_string(hi) + ")");
+    std::ostringstream message;
+    message << value << " is out of range (from " << lo << " to " << hi << ")";
+    refuse(name, message.str());
   }
   return value;
 }
 
-// the ranges are the command line's (--gravity, --air-drag) and the model format's
+// the command line's ranges where it has the flag (--gravity, --air-drag), else wide ones that
+// keep every force finite
 Environment make_environment(const py::handle& gravity, double air_drag, bool water,
                              double water_level, double water_density, double water_drag,
                              bool ground, double friction, bool tremble,

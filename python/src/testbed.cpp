@@ -54,11 +54,11 @@ void run_command(const std::vector<std::string>& args) {
   command.join();
   compare::clear_cancel();
   if (interrupted) throw py::error_already_set();
-  if (outcome.status == 2) throw py::value_error(outcome.error);
+  if (outcome.status == 2) throw py::value_error(bounded(outcome.error));
   if (outcome.status != 0) {
     throw std::runtime_error(outcome.error.empty()
                                  ? "testbed: exit status " + std::to_string(outcome.status)
-                                 : outcome.error);
+                                 : bounded(outcome.error));
   }
 }
 

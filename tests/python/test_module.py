@@ -74,6 +74,9 @@ def test_bad_input_is_an_exception_with_one_line(tmp_path):
         (lambda: puppet.Crowd(model, 10**12), "puppets: must be in [1, 1000000]"),
         (lambda: puppet.Crowd(model, 2, threads=0), "threads: must be in [1, 256]"),
         (lambda: model.segment_index("tail"), 'no segment "tail"'),
+        # cut at 400 bytes between characters, whatever their width
+        (lambda: solver.set_pins([puppet.Pin("a" + "é" * 300, target=(0, 0, 1))]), "éé..."),
+        (lambda: solver.set_pins([puppet.Pin("é" * 300, target=(0, 0, 1))]), "éé..."),
         (lambda: solver.step(0.0), "dt"),
         (lambda: solver.step(math.nan), "dt"),
         (lambda: solver.set_state(np.zeros((n, 2)), *good[1:]), "positions: expected shape"),
@@ -86,7 +89,8 @@ def test_bad_input_is_an_exception_with_one_line(tmp_path):
         with pytest.raises(ValueError) as raised:
             call()
         message = str(raised.value)
-        assert words in message and "\n" not in message and len(message) <= 400, message
+        assert words in message and "\n" not in message, message
+        assert len(message.encode()) <= 400, message
 
 
 
