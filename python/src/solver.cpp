@@ -61,7 +61,6 @@ void Solver::step(double dt) {
 
 void Solver::reset() {
   solver_->reset(rest_pose(*model_));
-  pin_count_ = 0;
 }
 
 void Solver::set_pins(const std::vector<PinSpec>& specs) {
@@ -87,7 +86,6 @@ void Solver::set_pins(const std::vector<PinSpec>& specs) {
     pins.push_back(pin);
   }
   solver_->set_pins(pins);
-  pin_count_ = static_cast<int>(pins.size());
 }
 
 namespace {
@@ -105,12 +103,14 @@ void check_array(const Solver::Array& a, const char* name, ssize_t rows, ssize_t
 }  // namespace
 
 void Solver::set_pin_targets(const Array& targets) {
-  check_array(targets, "targets", pin_count_, 3);
+  // the solver's own count: a crowd's puppet is reached through a new Solver each time
+  const int pins = solver_->state().slot_count;
+  check_array(targets, "targets", pins, 3);
   std::array<Vector3d, procedural::kMaxPins> moved;
-  for (int k = 0; k < pin_count_; ++k) {
+  for (int k = 0; k < pins; ++k) {
     moved[k] = Vector3d(targets.at(k, 0), targets.at(k, 1), targets.at(k, 2));
   }
-  solver_->set_pin_targets(std::span(moved.data(), static_cast<size_t>(pin_count_)));
+  solver_->set_pin_targets(std::span(moved.data(), static_cast<size_t>(pins)));
 }
 
 void Solver::set_state(const Array& x, const Array& q, const Array& v, const Array& w) {

@@ -52,7 +52,6 @@ class Solver {
   std::unique_ptr<procedural::Solver> own_;
   procedural::Solver* solver_ = nullptr;
   py::object owner_;  ///< the crowd a puppet belongs to
-  int pin_count_ = 0;
 };
 
 /// the settings from the keyword arguments (None: the rule's own), checked by
