@@ -12,9 +12,7 @@
 
 namespace puppet::python {
 
-procedural::Settings make_settings(const std::string& rule, const py::object& iterations,
-                                   const py::object& substeps, double joint_compliance,
-                                   double limit_compliance, double limit_restitution) {
+procedural::Settings make_settings(const std::string& rule, const py::kwargs& given) {
   const auto parsed = procedural::parse_rule(rule);
   if (!parsed) {
     std::string known;
@@ -25,18 +23,50 @@ procedural::Settings make_settings(const std::string& rule, const py::object& it
   }
   procedural::Settings settings;
   settings.rule = *parsed;
-  if (!iterations.is_none()) {
-    settings.iterations =
-        static_cast<int>(whole("iterations", iterations, 0, procedural::kMaxIterations));
+  const auto number = [](const char* name, const py::handle& value) {
+    if (!py::isinstance<py::float_>(value) && !py::isinstance<py::int_>(value)) {
+      refuse(name, "expected a number");
+    }
+    return finite(name, value.cast<double>());
+  };
+  const auto flag = [](const char* name, const py::handle& value) {
+    if (!py::isinstance<py::bool_>(value)) refuse(name, "expected True or False");
+    return value.cast<bool>();
+  };
+  for (const auto& [key, value] : given) {
+    const auto name = key.cast<std::string>();
+    const char* n = name.c_str();
+    if (value.is_none()) continue;  // the rule's own
+    if (name == "iterations") {
+      settings.iterations = static_cast<int>(whole(n, value, 0, procedural::kMaxIterations));
+    } else if (name == "substeps") {
+      settings.substeps = static_cast<int>(whole(n, value, 1, procedural::kMaxSubsteps));
+    } else if (name == "joint_compliance") {
+      settings.joint_compliance = number(n, value);
+    } else if (name == "limit_compliance") {
+      settings.limit_compliance = number(n, value);
+    } else if (name == "limit_restitution") {
+      settings.limit_restitution = number(n, value);
+    } else if (name == "derive_velocities") {
+      settings.derive_velocities = flag(n, value);
+    } else if (name == "start_lever_arms") {
+      settings.start_lever_arms = flag(n, value);
+    } else if (name == "limit_functions") {
+      settings.limit_functions = flag(n, value);
+    } else if (name == "limits_before_joints") {
+      settings.limits_before_joints = flag(n, value);
+    } else if (name == "limit_velocity_pass") {
+      settings.limit_velocity_pass = flag(n, value);
+    } else if (name == "position_tremble") {
+      settings.tremble = flag(n, value);
+    } else if (name == "tremble_seed") {
+      settings.tremble_seed = static_cast<uint64_t>(whole(n, value, 0, 999'999'999'999'999'999LL));
+    } else {
+      refuse(name, "not a setting (expected one of " + std::string(kSettingNames) + ")");
+    }
   }
-  if (!substeps.is_none()) {
-    settings.substeps = static_cast<int>(whole("substeps", substeps, 1, procedural::kMaxSubsteps));
-  }
-  settings.joint_compliance = finite("joint_compliance", joint_compliance);
-  settings.limit_compliance = finite("limit_compliance", limit_compliance);
-  settings.limit_restitution = finite("limit_restitution", limit_restitution);
   const std::string problem = procedural::validate(settings);
-  if (!problem.empty()) throw py::value_error(problem);
+  if (!problem.empty()) throw py::value_error(bounded(problem));
   return settings;
 }
 
@@ -59,9 +89,7 @@ void Solver::step(double dt) {
   solver_->step(dt);
 }
 
-void Solver::reset() {
-  solver_->reset(rest_pose(*model_));
-}
+void Solver::reset() { solver_->reset(rest_pose(*model_)); }
 
 void Solver::set_pins(const std::vector<PinSpec>& specs) {
   if (specs.size() > static_cast<size_t>(procedural::kMaxPins)) {
@@ -198,17 +226,13 @@ void bind_solver(py::module_& m) {
 
   py::class_<Solver>(m, "Solver", "the procedural solver: update, then adjust (docs/solver.md)")
       .def(py::init([](ModelPtr model, const std::string& rule,
-                       std::optional<Environment> environment, const py::object& iterations,
-                       const py::object& substeps, double joint_compliance, double limit_compliance,
-                       double limit_restitution) {
-             const auto settings = make_settings(rule, iterations, substeps, joint_compliance,
-                                                 limit_compliance, limit_restitution);
-             return Solver(std::move(model), settings, environment.value_or(Environment{}));
+                       std::optional<Environment> environment, const py::kwargs& settings) {
+             return Solver(std::move(model), make_settings(rule, settings),
+                           environment.value_or(Environment{}));
            }),
            py::arg("model"), py::arg("rule") = "relaxed", py::kw_only(),
-           py::arg("environment") = py::none(), py::arg("iterations") = py::none(),
-           py::arg("substeps") = py::none(), py::arg("joint_compliance") = 0.0,
-           py::arg("limit_compliance") = 0.0, py::arg("limit_restitution") = 0.0)
+           py::arg("environment") = py::none(),
+           (std::string("settings as keywords (None: the rule's own): ") + kSettingNames).c_str())
       .def("step", &Solver::step, py::arg("dt"), "one step of dt seconds, in (0, 1]")
       .def_property_readonly("diverged", &Solver::diverged)
       .def_property_readonly("time", &Solver::time, "simulated seconds since the last reset")

@@ -54,10 +54,14 @@ class Solver {
   py::object owner_;  ///< the crowd a puppet belongs to
 };
 
-/// the settings from the keyword arguments (None: the rule's own), checked by
+/// the solver's settings a Python caller may give, as keyword arguments (procedural/settings.h;
+/// position_tremble is Settings::tremble, the seed's tremble of the poses)
+inline constexpr const char* kSettingNames =
+    "iterations, substeps, joint_compliance, limit_compliance, limit_restitution, "
+    "derive_velocities, start_lever_arms, limit_functions, limits_before_joints, "
+    "limit_velocity_pass, position_tremble, tremble_seed";
+/// the settings from keyword arguments (None: the rule's own), each checked, then by
 /// procedural::validate; ValueError naming the argument
-procedural::Settings make_settings(const std::string& rule, const py::object& iterations,
-                                   const py::object& substeps, double joint_compliance,
-                                   double limit_compliance, double limit_restitution);
+procedural::Settings make_settings(const std::string& rule, const py::kwargs& given);
 
 }  // namespace puppet::python

@@ -48,6 +48,10 @@ def test_bad_input_is_an_exception_with_one_line(tmp_path):
         (lambda: puppet.load_model("/nonexistent.json"), "cannot open"),
         (lambda: puppet.Solver(model, rule="nope"), 'unknown value "nope"'),
         (lambda: puppet.Solver(model, iterations=-3), "iterations"),
+        (lambda: puppet.Solver(model, bogus=1), "bogus: not a setting"),
+        (lambda: puppet.Solver(model, limit_functions=1), "expected True or False"),
+        (lambda: puppet.Solver(model, limit_restitution=2.0), "restitution must be in [0, 1]"),
+        (lambda: puppet.Crowd(model, 4, joint_compliance=math.nan), "joint_compliance: not a"),
         (lambda: puppet.Environment(air_drag=-1.0), "air_drag"),
         (lambda: puppet.Environment(gravity=(0, math.inf, 0)), "gravity: not a finite"),
         (lambda: puppet.Environment(gravity=(0, 1)), "gravity: expected three numbers"),
@@ -230,3 +234,19 @@ def test_a_million_steps_leak_nothing():
     steps(900_000)
     assert resident_bytes() - before <= 1 << 20
     assert not solver.diverged
+
+
+MODELS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "models")
+
+
+@pytest.mark.parametrize("name, segments", [
+    ("pinocchio", 14), ("chain:8", 8), (os.path.join(MODELS, "humanoid.xml"), 17),
+    (os.path.join(MODELS, "pinocchio-swing-twist.json"), 14)])
+def test_every_kind_of_model_loads_and_steps(name, segments):
+    model = puppet.load_model(name)
+    assert model.segment_count == segments == len(model.segments) == len(model.masses)
+    solver = puppet.Solver(model, "xpbd", iterations=2, substeps=4, limit_functions=False)
+    assert (solver.iterations, solver.substeps) == (2, 4)
+    for _ in range(60):
+        solver.step(1 / 240)
+    assert not solver.diverged and solver.positions.shape == (segments, 3)
