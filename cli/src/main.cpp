@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "cli.h"
-#include "testbed.h"
+#include "puppet/testbed/testbed.h"
 
 // what a command printed reached standard output, or the command fails: a full disk or a closed
 // file there is not success

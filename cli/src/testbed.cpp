@@ -1,6 +1,6 @@
 // The testbed's command line as a function (testbed.h): the command parsed, run, and its error as
 // one line.
-#include "testbed.h"
+#include "puppet/testbed/testbed.h"
 
 #include <csignal>
 

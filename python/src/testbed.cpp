@@ -15,7 +15,7 @@
 
 #include "bindings.h"
 #include "puppet/compare/cancel.h"
-#include "testbed.h"
+#include "puppet/testbed/testbed.h"
 
 namespace puppet::python {
 namespace {
