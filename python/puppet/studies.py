@@ -5,6 +5,7 @@ is `--dt 1/60,1/240`). Each returns the command's main table as rows, read back 
 it wrote: a list of dicts, or a pandas DataFrame with `as_frame=True`. Bad input raises ValueError
 with the command line's one-line message (its exit status 2), before anything runs.
 """
+import contextlib
 import csv
 import os
 import tempfile
@@ -67,12 +68,12 @@ def read_table(path, as_frame=False):
 def _study(command, table, out, as_frame, flags):
     if "out" in flags:
         raise ValueError(f"{command}: pass the output folder as out=, not as a flag")
-    if out is not None:
+    # without out=, a temporary folder that is removed once its table is read
+    with contextlib.ExitStack() as stack:
+        if out is None:
+            out = os.path.join(stack.enter_context(tempfile.TemporaryDirectory(prefix="puppet-")),
+                               command)
         _puppet._testbed([command, "--out", os.fspath(out)] + _flag_words(flags))
-        return read_table(os.path.join(out, table), as_frame)
-    with tempfile.TemporaryDirectory(prefix="puppet-") as folder:
-        out = os.path.join(folder, command)
-        _puppet._testbed([command, "--out", out] + _flag_words(flags))
         return read_table(os.path.join(out, table), as_frame)
 
 

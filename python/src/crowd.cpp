@@ -70,18 +70,18 @@ void bind_crowd(py::module_& m) {
   py::class_<Crowd>(m, "Crowd",
                     "many puppets of one model stepped together on `threads` threads; xpbd's in "
                     "SIMD lanes (docs/solver.md, \"a crowd in SIMD lanes\")")
-      .def(
-          py::init([](ModelPtr model, const py::object& puppets, const std::string& rule,
-                      std::optional<Environment> environment, const py::object& threads,
-                      const std::string& lanes, const py::kwargs& settings) {
-            return std::make_unique<Crowd>(
-                std::move(model), static_cast<int>(whole("puppets", puppets, 1, 1'000'000)),
-                make_settings(rule, settings), environment.value_or(Environment{}),
-                static_cast<int>(whole("threads", threads, 1, 256)), parse_lanes(lanes));
-          }),
-          py::arg("model"), py::arg("puppets"), py::arg("rule") = "xpbd", py::kw_only(),
-          py::arg("environment") = py::none(), py::arg("threads") = 1, py::arg("lanes") = "widest",
-          (std::string("the solver's settings as keywords, as Solver's: ") + kSettingNames).c_str())
+      .def(py::init([](ModelPtr model, const py::object& puppets, const std::string& rule,
+                       std::optional<Environment> environment, const py::object& threads,
+                       const std::string& lanes, const py::kwargs& settings) {
+             return std::make_unique<Crowd>(
+                 std::move(model), static_cast<int>(whole("puppets", puppets, 1, 1'000'000)),
+                 make_settings(rule, settings), environment.value_or(Environment{}),
+                 static_cast<int>(whole("threads", threads, 1, 256)), parse_lanes(lanes));
+           }),
+           py::arg("model"), py::arg("puppets"), py::arg("rule") = "xpbd", py::kw_only(),
+           py::arg("environment") = py::none(), py::arg("threads") = 1, py::arg("lanes") = "widest",
+           (std::string("the solver's settings as keywords, as Solver's: ") + setting_names())
+               .c_str())
       .def("step", &Crowd::step, py::arg("dt"), "every puppet one step of dt seconds")
       .def("__len__", [](Crowd& c) { return c.crowd().size(); })
       .def_property_readonly("threads", [](Crowd& c) { return c.crowd().threads(); })

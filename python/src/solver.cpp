@@ -4,13 +4,64 @@
 
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 
 #include "puppet/procedural/rule.h"
 
 namespace puppet::python {
+
+namespace {
+
+using procedural::Settings;
+
+// the settings a caller may give, by kind: each name once, read by make_settings and listed by
+// setting_names
+struct WholeSetting {
+  const char* name;
+  int Settings::*field;
+  int lo, hi;
+};
+constexpr WholeSetting kWholes[] = {
+    {"iterations", &Settings::iterations, 0, procedural::kMaxIterations},
+    {"substeps", &Settings::substeps, 1, procedural::kMaxSubsteps}};
+struct NumberSetting {
+  const char* name;
+  double Settings::*field;
+};
+constexpr NumberSetting kNumbers[] = {{"joint_compliance", &Settings::joint_compliance},
+                                      {"limit_compliance", &Settings::limit_compliance},
+                                      {"limit_restitution", &Settings::limit_restitution}};
+struct FlagSetting {
+  const char* name;
+  bool Settings::*field;
+};
+// position_tremble is Settings::tremble, the seed's tremble of the poses (the environment's
+// tremble is the force every engine applies)
+constexpr FlagSetting kFlags[] = {{"derive_velocities", &Settings::derive_velocities},
+                                  {"start_lever_arms", &Settings::start_lever_arms},
+                                  {"limit_functions", &Settings::limit_functions},
+                                  {"limits_before_joints", &Settings::limits_before_joints},
+                                  {"limit_velocity_pass", &Settings::limit_velocity_pass},
+                                  {"position_tremble", &Settings::tremble}};
+constexpr const char* kSeedSetting = "tremble_seed";
+
+}  // namespace
+
+std::string setting_names() {
+  std::string names;
+  const auto add = [&names](const char* name) {
+    names += (names.empty() ? "" : ", ") + std::string(name);
+  };
+  for (const auto& s : kWholes) add(s.name);
+  for (const auto& s : kNumbers) add(s.name);
+  for (const auto& s : kFlags) add(s.name);
+  add(kSeedSetting);
+  return names;
+}
 
 procedural::Settings make_settings(const std::string& rule, const py::kwargs& given) {
   const auto parsed = procedural::parse_rule(rule);
@@ -21,48 +72,31 @@ procedural::Settings make_settings(const std::string& rule, const py::kwargs& gi
     }
     refuse("rule", "unknown value \"" + rule + "\" (expected one of " + known + ")");
   }
-  procedural::Settings settings;
+  Settings settings;
   settings.rule = *parsed;
-  const auto number = [](const char* name, const py::handle& value) {
-    if (!py::isinstance<py::float_>(value) && !py::isinstance<py::int_>(value)) {
-      refuse(name, "expected a number");
-    }
-    return finite(name, value.cast<double>());
-  };
-  const auto flag = [](const char* name, const py::handle& value) {
-    if (!py::isinstance<py::bool_>(value)) refuse(name, "expected True or False");
-    return value.cast<bool>();
-  };
   for (const auto& [key, value] : given) {
     const auto name = key.cast<std::string>();
-    const char* n = name.c_str();
     if (value.is_none()) continue;  // the rule's own
-    if (name == "iterations") {
-      settings.iterations = static_cast<int>(whole(n, value, 0, procedural::kMaxIterations));
-    } else if (name == "substeps") {
-      settings.substeps = static_cast<int>(whole(n, value, 1, procedural::kMaxSubsteps));
-    } else if (name == "joint_compliance") {
-      settings.joint_compliance = number(n, value);
-    } else if (name == "limit_compliance") {
-      settings.limit_compliance = number(n, value);
-    } else if (name == "limit_restitution") {
-      settings.limit_restitution = number(n, value);
-    } else if (name == "derive_velocities") {
-      settings.derive_velocities = flag(n, value);
-    } else if (name == "start_lever_arms") {
-      settings.start_lever_arms = flag(n, value);
-    } else if (name == "limit_functions") {
-      settings.limit_functions = flag(n, value);
-    } else if (name == "limits_before_joints") {
-      settings.limits_before_joints = flag(n, value);
-    } else if (name == "limit_velocity_pass") {
-      settings.limit_velocity_pass = flag(n, value);
-    } else if (name == "position_tremble") {
-      settings.tremble = flag(n, value);
-    } else if (name == "tremble_seed") {
-      settings.tremble_seed = static_cast<uint64_t>(whole(n, value, 0, 999'999'999'999'999'999LL));
+    const auto is = [&name](const auto& s) { return name == s.name; };
+    if (const auto* s = std::find_if(std::begin(kWholes), std::end(kWholes), is);
+        s != std::end(kWholes)) {
+      settings.*s->field = static_cast<int>(whole(s->name, value, s->lo, s->hi));
+    } else if (const auto* n = std::find_if(std::begin(kNumbers), std::end(kNumbers), is);
+               n != std::end(kNumbers)) {
+      if (!py::isinstance<py::float_>(value) && !py::isinstance<py::int_>(value)) {
+        refuse(name, "expected a number");
+      }
+      settings.*n->field = finite(n->name, value.cast<double>());
+    } else if (const auto* f = std::find_if(std::begin(kFlags), std::end(kFlags), is);
+               f != std::end(kFlags)) {
+      if (!py::isinstance<py::bool_>(value)) refuse(name, "expected True or False");
+      settings.*f->field = value.cast<bool>();
+    } else if (name == kSeedSetting) {
+      // the command line's seeds have at most 18 digits
+      settings.tremble_seed =
+          static_cast<uint64_t>(whole(kSeedSetting, value, 0, 999'999'999'999'999'999LL));
     } else {
-      refuse(name, "not a setting (expected one of " + std::string(kSettingNames) + ")");
+      refuse(name, "not a setting (expected one of " + setting_names() + ")");
     }
   }
   const std::string problem = procedural::validate(settings);
@@ -232,7 +266,7 @@ void bind_solver(py::module_& m) {
            }),
            py::arg("model"), py::arg("rule") = "relaxed", py::kw_only(),
            py::arg("environment") = py::none(),
-           (std::string("settings as keywords (None: the rule's own): ") + kSettingNames).c_str())
+           (std::string("settings as keywords (None: the rule's own): ") + setting_names()).c_str())
       .def("step", &Solver::step, py::arg("dt"), "one step of dt seconds, in (0, 1]")
       .def_property_readonly("diverged", &Solver::diverged)
       .def_property_readonly("time", &Solver::time, "simulated seconds since the last reset")

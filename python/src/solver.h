@@ -54,12 +54,9 @@ class Solver {
   py::object owner_;  ///< the crowd a puppet belongs to
 };
 
-/// the solver's settings a Python caller may give, as keyword arguments (procedural/settings.h;
-/// position_tremble is Settings::tremble, the seed's tremble of the poses)
-inline constexpr const char* kSettingNames =
-    "iterations, substeps, joint_compliance, limit_compliance, limit_restitution, "
-    "derive_velocities, start_lever_arms, limit_functions, limits_before_joints, "
-    "limit_velocity_pass, position_tremble, tremble_seed";
+/// the names of the solver's settings a Python caller may give as keywords, a comma list
+/// (procedural/settings.h; position_tremble is Settings::tremble)
+std::string setting_names();
 /// the settings from keyword arguments (None: the rule's own), each checked, then by
 /// procedural::validate; ValueError naming the argument
 procedural::Settings make_settings(const std::string& rule, const py::kwargs& given);
