@@ -188,9 +188,9 @@ uint64_t parse_seed(const std::string& text) {
   return seed;
 }
 
-Model parse_model(const std::string& path) {
+Model parse_model(const std::string& path, const ReadOptions& reading) {
   try {
-    return compare::load_named_model(path);
+    return compare::load_named_model(path, reading);
   } catch (const ModelError& error) {
     throw UsageError(std::string("--model: ") + error.what());
   }

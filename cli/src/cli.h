@@ -57,7 +57,7 @@ int64_t parse_starts(const std::string& text, double most);
 // a seed of at most 18 digits
 uint64_t parse_seed(const std::string& text);
 // the model a --model flag names (a file, pinocchio or chain:N)
-Model parse_model(const std::string& path);
+Model parse_model(const std::string& path, const ReadOptions& reading);
 
 // SIGINT and SIGTERM: before anything is written the process ends at once; after, the runs stop
 // at their next step and the output folder is left as it was (cancel.h)

@@ -22,7 +22,7 @@ int frontier(const Flags& f) {
   spec.scenario = parse_scenario_options(f);
   spec.configs = parse_solver_configs(f);
   spec.jobs = f.jobs;
-  const Model model = parse_model(f.model);
+  const Model model = parse_model(f.model, f.reading);
   spec.model = &model;
   apply_engine_verdicts(spec.configs, model, f);
   make_scenario("yank", model, spec.scenario);  // a bad --grab fails here, before any run

@@ -50,7 +50,7 @@ int robustness(const Flags& f) {
   if (std::string problem = shard_model_problem(f.model); spec.shards > 1 && !problem.empty()) {
     throw UsageError("--model: " + shown(f.model) + ": " + problem);
   }
-  const Model model = parse_model(f.model);
+  const Model model = parse_model(f.model, f.reading);
   spec.model = &model;
   spec.model_name = f.model;
   apply_engine_verdicts(spec.configs, model, f);

@@ -92,10 +92,11 @@ int run(const Flags& f) {
   spec.accuracy = !f.no_accuracy;
   spec.first_truth_only = f.first_truth_only;
   spec.jobs = f.jobs;
+  spec.engine_budget = f.engine_budget;
   const ScenarioOptions scenario_options = parse_scenario_options(f);
   spec.configs = parse_solver_configs(f);
   const auto scenarios = expand("--scenario", f.scenario, scenario_names());
-  const Model model = parse_model(f.model);
+  const Model model = parse_model(f.model, f.reading);
   spec.model = &model;
   ScenarioOptions options = scenario_options;
   if (!f.start.empty()) {
@@ -115,7 +116,7 @@ int run(const Flags& f) {
   apply_engine_verdicts(spec.configs, model, f);
   // the truths this model has (sweep.h): none, no accuracy rows; one, judged by it alone
   if (spec.accuracy) {
-    const std::vector<Truth> truths = truths_for(model);
+    const std::vector<Truth> truths = truths_for(model, spec.engine_budget);
     if (truths.empty()) {
       print_error("testbed: ",
                   "note: no truth for this model (neither MuJoCo nor bullet-multibody "

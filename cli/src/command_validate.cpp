@@ -14,8 +14,8 @@
 namespace puppet::testbed {
 namespace {
 
-int validate(const std::string& path) {
-  const Model model = compare::load_named_model(path);
+int validate(const std::string& path, const ReadOptions& reading, double budget) {
+  const Model model = compare::load_named_model(path, reading);
   std::printf("model \"%s\": %d segments, %d joints, total mass %.3f kg, rest height %.3f m\n",
               model.name.c_str(), model.segment_count(), model.joint_count(), model.total_mass,
               model.rest_height);
@@ -56,7 +56,7 @@ int validate(const std::string& path) {
   // what each engine makes of it: the verdict every command applies before it runs
   std::string engines, refusals;
   for (const std::string& solver : compare::solver_names()) {
-    const std::string problem = compare::engine_model_problem(solver, model);
+    const std::string problem = compare::engine_model_problem(solver, model, {}, budget);
     if (problem.empty()) {
       engines += (engines.empty() ? "" : ", ") + solver;
     } else {
@@ -70,16 +70,17 @@ int validate(const std::string& path) {
 }  // namespace
 
 Command add_validate_command(CLI::App& app) {
-  auto path = std::make_shared<std::string>();
-  auto budget = std::make_shared<double>(compare::kDefaultEngineBudget);
+  struct Args {
+    std::string path;
+    double budget = compare::kDefaultEngineBudget;
+    ReadOptions reading;
+  };
+  auto args = std::make_shared<Args>();
   CLI::App* command = app.add_subcommand("validate", "load a model and print it, or its error");
-  command->add_option("MODEL", *path, "model file, pinocchio, or chain:N")->required();
-  add_engine_budget_flag(command, *budget);
-  add_model_reading_flags(command);
-  return {command, [path, budget] {
-            compare::set_engine_budget(*budget);
-            return validate(*path);
-          }};
+  command->add_option("MODEL", args->path, "model file, pinocchio, or chain:N")->required();
+  add_engine_budget_flag(command, args->budget);
+  add_model_reading_flags(command, args->reading);
+  return {command, [args] { return validate(args->path, args->reading, args->budget); }};
 }
 
 }  // namespace puppet::testbed

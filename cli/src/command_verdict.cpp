@@ -43,7 +43,8 @@ void read_floors(const Flags& f, const Model& model, VerdictSpec& spec) {
   }
   try {
     spec.floors =
-        floors_from_summary(text.str(), f.floors_from, model, spec.scenarios, current_git_sha());
+        floors_from_summary(text.str(), f.floors_from, model, spec.scenarios, current_git_sha(),
+                            spec.engine_budget);
   } catch (const std::runtime_error& e) {
     throw UsageError(std::string("--floors-from: ") + e.what());
   }
@@ -67,10 +68,11 @@ int verdict(const Flags& f) {
   spec.starts = parse_starts(f.starts, 10000.0);
   spec.seed = parse_seed(f.seed);
   spec.jobs = f.jobs;
-  const Model model = parse_model(f.model);
+  spec.engine_budget = f.engine_budget;
+  const Model model = parse_model(f.model, f.reading);
   spec.model = &model;
   apply_engine_verdicts(spec.solvers, model, f);
-  if (truths_for(model).empty()) {
+  if (truths_for(model, spec.engine_budget).empty()) {
     throw UsageError("--model: " + shown(f.model) +
                      ": no truth can run it (neither MuJoCo nor bullet-multibody)");
   }

@@ -28,28 +28,15 @@ std::vector<std::string> all_rules() {
 void add_model_flag(CLI::App* command, Flags& f) {
   command->add_option("--model", f.model, "model file, pinocchio, or chain:N")
       ->capture_default_str();
-  add_model_reading_flags(command);
+  add_model_reading_flags(command, f.reading);
 }
 
-void add_model_reading_flags(CLI::App* command) {
-  // set as they are parsed: every command reads its model after its flags
-  command->add_flag_callback(
-      "--strict",
-      [] {
-        ReadOptions options = compare::model_reading();
-        options.strict = true;
-        compare::set_model_reading(options);
-      },
-      "refuse MJCF elements the testbed does not model (actuators, sensors, cameras...) instead "
-      "of skipping them with a note");
-  command->add_flag_callback(
-      "--include-outside",
-      [] {
-        ReadOptions options = compare::model_reading();
-        options.include_outside = true;
-        compare::set_model_reading(options);
-      },
-      "let an MJCF <include> read files outside the model's folder");
+void add_model_reading_flags(CLI::App* command, ReadOptions& reading) {
+  command->add_flag("--strict", reading.strict,
+                    "refuse MJCF elements the testbed does not model (actuators, sensors, "
+                    "cameras...) instead of skipping them with a note");
+  command->add_flag("--include-outside", reading.include_outside,
+                    "let an MJCF <include> read files outside the model's folder");
 }
 
 void add_solver_choice_flags(CLI::App* command, Flags& f) {
@@ -77,6 +64,7 @@ void add_engine_budget_flag(CLI::App* command, double& budget) {
       ->add_option("--engine-budget", budget,
                    "CPU seconds an engine may take for one simulated second at dt 1/240 s, by "
                    "its estimate from the model; past it the engine refuses the model")
+      ->check(compare::finite_number_check())
       ->check(CLI::Range(1e-3, 1e9))
       ->capture_default_str();
 }
@@ -225,11 +213,10 @@ std::vector<SolverConfig> parse_solver_configs(const Flags& f) {
 }
 
 void apply_engine_verdicts(std::vector<SolverConfig>& configs, const Model& model, const Flags& f) {
-  compare::set_engine_budget(f.engine_budget);
   std::vector<std::string> refused;
   for (const SolverConfig& config : configs) {
     if (std::find(refused.begin(), refused.end(), config.solver) != refused.end()) continue;
-    const std::string problem = compare::engine_model_problem(config.solver, model, config.options);
+    const std::string problem = compare::engine_model_problem(config.solver, model, config.options, f.engine_budget);
     if (problem.empty()) continue;
     if (f.solver != "all") {
       throw UsageError("--solver: " + config.solver + " cannot run " + shown(f.model) + ": " +

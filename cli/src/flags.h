@@ -31,6 +31,7 @@ struct Flags {
   compare::SolverOptions options;
   int jobs = default_jobs();
   double engine_budget = compare::kDefaultEngineBudget;  // --engine-budget (engines.h)
+  ReadOptions reading;  // --strict, --include-outside: how the model file is read
   bool position_tremble = false, no_timing = false;
   bool no_accuracy = false;
   bool first_truth_only = false;
@@ -46,11 +47,11 @@ struct Flags {
   }
 };
 
-// --engine-budget (engines.h: engine_budget)
+// --engine-budget (engines.h: engine_model_problem): finite, from 1e-3 to 1e9 s
 void add_engine_budget_flag(CLI::App* command, double& budget);
 // --model, and how a model file is read: --strict, --include-outside
 void add_model_flag(CLI::App* command, Flags& f);
-void add_model_reading_flags(CLI::App* command);
+void add_model_reading_flags(CLI::App* command, ReadOptions& reading);
 // --solver and --rule
 void add_solver_choice_flags(CLI::App* command, Flags& f);
 // --scenario

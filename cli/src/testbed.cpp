@@ -16,12 +16,19 @@
 namespace puppet::testbed {
 
 Outcome run_testbed(const std::vector<std::string>& args, bool signals) {
-  std::vector<char*> argv;
-  for (const std::string& arg : args) argv.push_back(const_cast<char*>(arg.c_str()));
-  const int argc = static_cast<int>(argv.size());
   const auto error = [](const char* prefix, const std::string& what, int status = kBadInput) {
     return Outcome{status, one_line(prefix + what, kMessageLength)};
   };
+  // a command line cannot hold a NUL byte; a caller's argument with one would be read only up to
+  // it (a path cut short names another file)
+  for (size_t k = 1; k < args.size(); ++k) {
+    if (args[k].find('\0') != std::string::npos) {
+      return error("testbed: ", "argument " + shown(args[k]) + " holds a NUL byte");
+    }
+  }
+  std::vector<char*> argv;
+  for (const std::string& arg : args) argv.push_back(const_cast<char*>(arg.c_str()));
+  const int argc = static_cast<int>(argv.size());
   CLI::App app{"testbed: the seed's procedural solver for articulated bodies, measured"};
   app.require_subcommand(1);
   app.fallthrough(false);

@@ -470,6 +470,10 @@ Model load_model(const std::string& path_or_builtin, const ReadOptions& options,
   const std::string& path = path_or_builtin;
   const std::string source = detail::printable(path, 256);  // names the file in every message
   std::string text, problem;
+  // the system would read the path only up to its NUL: another file than the one named
+  if (path.find('\0') != std::string::npos) {
+    throw ModelError(source + ": a path with a NUL byte names no file");
+  }
   if (!read_regular_file(path, detail::kMaxFileBytes, &text, &problem)) {
     throw ModelError(source + ": " + problem);
   }

@@ -113,7 +113,9 @@ RunResult run_scenario(Simulator& simulator, const Model& model, const Scenario&
     simulator.step(options.dt);
     simulator.read_state(bodies);
     const StepMetrics m = probe.measure(t, bodies, targets);
-    const char* reason = simulator.diverged() ? "non-finite" : divergence_reason(m);
+    const char* reason = simulator.engine_error() ? "engine error"
+                         : simulator.diverged()   ? "non-finite"
+                                                  : divergence_reason(m);
     if (reason) {
       result.diverged = true;
       result.diverged_at = t;

@@ -9,7 +9,6 @@
 #include <cmath>
 #include <cstdio>
 #include <mutex>
-#include <set>
 
 namespace puppet::compare {
 namespace {
@@ -170,36 +169,12 @@ void set_builtin_model_path(const std::string& path) {
   builtin_path() = path;
 }
 
-namespace {
-std::mutex reading_mutex;
-ReadOptions reading;
-std::set<std::string> noted;  // the files whose skip note is printed
-}  // namespace
-
-void set_model_reading(const ReadOptions& options) {
-  const std::lock_guard<std::mutex> lock(reading_mutex);
-  reading = options;
-}
-
-ReadOptions model_reading() {
-  const std::lock_guard<std::mutex> lock(reading_mutex);
-  return reading;
-}
-
-Model load_named_model(const std::string& name) {
-  ReadOptions options;
-  {
-    const std::lock_guard<std::mutex> lock(reading_mutex);
-    options = reading;
-  }
+Model load_named_model(const std::string& name, const ReadOptions& options) {
   std::string note;
   Model model = load_model(name == "pinocchio" ? builtin_model_path() : name, options, &note);
   if (!note.empty()) {
-    const std::lock_guard<std::mutex> lock(reading_mutex);
-    if (noted.insert(name).second) {
-      std::fprintf(stderr, "testbed: %s: skipped what the testbed does not model: %s\n",
-                   printable(name, 256).c_str(), printable(note, 300).c_str());
-    }
+    std::fprintf(stderr, "testbed: %s: skipped what the testbed does not model: %s\n",
+                 printable(name, 256).c_str(), printable(note, 300).c_str());
   }
   return model;
 }

@@ -68,6 +68,9 @@ def read_table(path, as_frame=False):
 def _study(command, table, out, as_frame, flags):
     if "out" in flags:
         raise ValueError(f"{command}: pass the output folder as out=, not as a flag")
+    if "help" in flags:
+        raise ValueError(f"{command}: help= is not a study's argument (its flags: testbed "
+                         f"{command} --help, or docs/testbed.md)")
     # without out=, a temporary folder that is removed once its table is read
     with contextlib.ExitStack() as stack:
         if out is None:

@@ -2,6 +2,8 @@
 // (crowd.h), each reachable as a Solver.
 #include <pybind11/stl.h>
 
+#include <unistd.h>
+
 #include <memory>
 #include <optional>
 #include <string>
@@ -16,7 +18,7 @@ class Crowd {
  public:
   Crowd(ModelPtr model, int puppets, const procedural::Settings& settings,
         const Environment& environment, int threads, procedural::CrowdLanes lanes)
-      : model_(std::move(model)) {
+      : model_(std::move(model)), process_(getpid()) {
     try {
       crowd_ = std::make_unique<procedural::Crowd>(*model_, settings, environment, puppets, threads,
                                                    lanes);
@@ -27,14 +29,30 @@ class Crowd {
     for (int k = 0; k < crowd_->size(); ++k) crowd_->puppet(k).reset(rest);
   }
 
+  ~Crowd() {
+    // in a process forked after it was made, its worker threads do not exist: they are neither
+    // joined nor woken, and the crowd is let go unfreed
+    if (getpid() != process_) static_cast<void>(crowd_.release());
+  }
+  Crowd(const Crowd&) = delete;
+  Crowd& operator=(const Crowd&) = delete;
+
   void step(double dt) {
     if (!(dt > 0.0 && dt <= 1.0)) refuse("dt", "must be in (0, 1] s");
+    if (getpid() != process_ && crowd_->threads() > 1) {
+      throw std::runtime_error(
+          "Crowd: made with " + std::to_string(crowd_->threads()) +
+          " threads before fork(), whose threads the child process lacks; make a new Crowd in "
+          "the child");
+    }
+    const Exclusive held(*busy_, "Crowd");
     py::gil_scoped_release release;  // the workers need no Python
     crowd_->step(dt);
   }
 
   // every puppet's member at `offset` (width doubles), as one (puppets, n, width) copy
   py::array gather(size_t offset, ssize_t width) const {
+    const Exclusive held(*busy_, "Crowd");
     const auto n = static_cast<ssize_t>(model_->segment_count());
     py::array_t<double> out({static_cast<ssize_t>(crowd_->size()), n, width});
     double* o = out.mutable_data();
@@ -50,10 +68,13 @@ class Crowd {
 
   procedural::Crowd& crowd() { return *crowd_; }
   const ModelPtr& model() const { return model_; }
+  const std::shared_ptr<std::atomic<bool>>& busy() const { return busy_; }
 
  private:
   ModelPtr model_;
   std::unique_ptr<procedural::Crowd> crowd_;
+  pid_t process_;  // the process that made it (its worker threads are that process's)
+  std::shared_ptr<std::atomic<bool>> busy_ = std::make_shared<std::atomic<bool>>(false);
 };
 
 procedural::CrowdLanes parse_lanes(const std::string& lanes) {
@@ -93,7 +114,7 @@ void bind_crowd(py::module_& m) {
           [](py::object self, const py::object& k) {
             Crowd& c = self.cast<Crowd&>();
             const auto index = static_cast<int>(whole("k", k, 0, c.crowd().size() - 1));
-            return Solver(c.model(), &c.crowd().puppet(index), self);
+            return Solver(c.model(), &c.crowd().puppet(index), self, c.busy());
           },
           py::arg("k"),
           "puppet k as a Solver (its pins, state and views), kept alive with the crowd")
@@ -106,6 +127,7 @@ void bind_crowd(py::module_& m) {
       .def(
           "diverged",
           [](Crowd& c) {
+            const Exclusive held(*c.busy(), "Crowd");
             std::vector<bool> out;
             for (int k = 0; k < c.crowd().size(); ++k) {
               out.push_back(c.crowd().puppet(k).state().diverged);

@@ -23,6 +23,15 @@ double finite(const char* name, double value) {
 }
 
 Vector3d vector3(const char* name, const py::handle& value) {
+  // the length first: a huge sequence (a broadcast array of zero strides) is never copied
+  if (py::isinstance<py::array>(value)) {
+    const auto a = py::reinterpret_borrow<py::array>(value);
+    check_kind(name, a);
+    if (a.ndim() != 1 || a.shape(0) != 3) refuse(name, "expected three numbers");
+  } else if (!py::isinstance<py::sequence>(value) || py::isinstance<py::str>(value) ||
+             py::len(value) != 3) {
+    refuse(name, "expected three numbers");
+  }
   std::vector<double> v;
   try {
     v = value.cast<std::vector<double>>();
@@ -32,6 +41,41 @@ Vector3d vector3(const char* name, const py::handle& value) {
   if (v.size() != 3) refuse(name, "expected three numbers, got " + std::to_string(v.size()));
   for (double x : v) finite(name, x);
   return {v[0], v[1], v[2]};
+}
+
+void check_kind(const char* name, const py::array& a) {
+  // NumPy's kinds: b bool, i and u whole numbers, f floating point, c complex, O objects, ...
+  const char kind = a.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u') {
+    refuse(name, std::string("expected real numbers, got an array of dtype ") +
+                     py::str(a.dtype()).cast<std::string>());
+  }
+}
+
+py::array_t<double, py::array::c_style> real_array(const char* name, const py::handle& value,
+                                                  ssize_t rows, ssize_t width) {
+  const std::string shape = "(" + std::to_string(rows) + ", " + std::to_string(width) + ")";
+  if (!py::isinstance<py::array>(value) && !py::isinstance<py::sequence>(value)) {
+    refuse(name, "expected an array of shape " + shape);
+  }
+  if (py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value)) {
+    refuse(name, "expected an array of shape " + shape);
+  }
+  // a sequence becomes an array as NumPy reads it (a list of lists); an array is looked at as it
+  // is: its kind and shape are checked before any of it is copied or converted
+  const py::array a = py::isinstance<py::array>(value)
+                          ? py::reinterpret_borrow<py::array>(value)
+                          : py::array(py::module_::import("numpy").attr("asarray")(value));
+  check_kind(name, a);
+  if (a.ndim() != 2 || a.shape(0) != rows || a.shape(1) != width) {
+    refuse(name, "expected shape " + shape);
+  }
+  auto out = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a);
+  if (!out) refuse(name, "expected real numbers");
+  for (ssize_t k = 0; k < out.size(); ++k) {
+    if (!std::isfinite(out.data()[k])) refuse(name, "a value is not finite");
+  }
+  return out;
 }
 
 long long whole(const char* name, const py::handle& value, long long lo, long long hi) {
@@ -67,9 +111,10 @@ std::string bounded(const std::string& message) {
 
 namespace {
 
-ModelPtr load(const std::string& name) {
+ModelPtr load(const std::string& name, bool strict, bool include_outside) {
   try {
-    return std::make_shared<Model>(compare::load_named_model(name));
+    return std::make_shared<Model>(compare::load_named_model(
+        name, ReadOptions{.strict = strict, .include_outside = include_outside}));
   } catch (const std::exception& e) {
     throw py::value_error(bounded(e.what()));
   }
@@ -147,8 +192,10 @@ void bind_model(py::module_& m) {
       });
   m.def("_use_builtin_model", &compare::set_builtin_model_path, py::arg("path"),
         "where \"pinocchio\" is read from: the package's own copy");
-  m.def("load_model", &load, py::arg("name"),
-        "pinocchio, chain:N, or a model file (JSON or MJCF); ValueError when it does not load");
+  m.def("load_model", &load, py::arg("name"), py::kw_only(), py::arg("strict") = false,
+        py::arg("include_outside") = false,
+        "pinocchio, chain:N, or a model file (JSON or MJCF), read as the command line's --strict "
+        "and --include-outside say (for this call only); ValueError when it does not load");
 
   py::class_<Environment>(m, "Environment",
                           "the world: gravity, air drag, water, the ground and the tremble")

@@ -115,15 +115,28 @@ Solver::Solver(ModelPtr model, const procedural::Settings& settings, const Envir
   solver_->reset(rest_pose(*model_));
 }
 
-Solver::Solver(ModelPtr model, procedural::Solver* puppet, py::object owner)
-    : model_(std::move(model)), solver_(puppet), owner_(std::move(owner)) {}
+Solver::Solver(ModelPtr model, procedural::Solver* puppet, py::object owner,
+               std::shared_ptr<std::atomic<bool>> busy)
+    : model_(std::move(model)), solver_(puppet), owner_(std::move(owner)), busy_(std::move(busy)) {}
+
+Exclusive::Exclusive(std::atomic<bool>& busy, const char* what) : busy_(busy) {
+  if (busy_.exchange(true, std::memory_order_acq_rel)) {
+    throw std::runtime_error(std::string(what) +
+                             ": its crowd is stepping on another thread; a crowd and its puppets "
+                             "take one call at a time");
+  }
+}
 
 void Solver::step(double dt) {
   if (!(dt > 0.0 && dt <= 1.0)) refuse("dt", "must be in (0, 1] s");
+  const Exclusive held = hold();
   solver_->step(dt);
 }
 
-void Solver::reset() { solver_->reset(rest_pose(*model_)); }
+void Solver::reset() {
+  const Exclusive held = hold();
+  solver_->reset(rest_pose(*model_));
+}
 
 void Solver::set_pins(const std::vector<PinSpec>& specs) {
   if (specs.size() > static_cast<size_t>(procedural::kMaxPins)) {
@@ -147,40 +160,29 @@ void Solver::set_pins(const std::vector<PinSpec>& specs) {
     pin.grab = spec.grab;
     pins.push_back(pin);
   }
+  const Exclusive held = hold();
   solver_->set_pins(pins);
 }
 
-namespace {
-
-// an array's shape is (rows, width) and every value is finite, else ValueError naming it
-void check_array(const Solver::Array& a, const char* name, ssize_t rows, ssize_t width) {
-  if (a.ndim() != 2 || a.shape(0) != rows || a.shape(1) != width) {
-    refuse(name, "expected shape (" + std::to_string(rows) + ", " + std::to_string(width) + ")");
-  }
-  for (ssize_t k = 0; k < a.size(); ++k) {
-    if (!std::isfinite(a.data()[k])) refuse(name, "a value is not finite");
-  }
-}
-
-}  // namespace
-
-void Solver::set_pin_targets(const Array& targets) {
+void Solver::set_pin_targets(const py::handle& given) {
   // the solver's own count: a crowd's puppet is reached through a new Solver each time
   const int pins = solver_->state().slot_count;
-  check_array(targets, "targets", pins, 3);
+  const auto targets = real_array("targets", given, pins, 3);
   std::array<Vector3d, procedural::kMaxPins> moved;
   for (int k = 0; k < pins; ++k) {
     moved[k] = Vector3d(targets.at(k, 0), targets.at(k, 1), targets.at(k, 2));
   }
+  const Exclusive held = hold();
   solver_->set_pin_targets(std::span(moved.data(), static_cast<size_t>(pins)));
 }
 
-void Solver::set_state(const Array& x, const Array& q, const Array& v, const Array& w) {
+void Solver::set_state(const py::handle& x_given, const py::handle& q_given,
+                       const py::handle& v_given, const py::handle& w_given) {
   const auto n = static_cast<ssize_t>(model_->segment_count());
-  check_array(x, "positions", n, 3);
-  check_array(q, "rotations", n, 4);
-  check_array(v, "velocities", n, 3);
-  check_array(w, "angular_velocities", n, 3);
+  const auto x = real_array("positions", x_given, n, 3);
+  const auto q = real_array("rotations", q_given, n, 4);
+  const auto v = real_array("velocities", v_given, n, 3);
+  const auto w = real_array("angular_velocities", w_given, n, 3);
   std::vector<BodyState> bodies(static_cast<size_t>(n));
   for (ssize_t i = 0; i < n; ++i) {
     BodyState& b = bodies[static_cast<size_t>(i)];
@@ -192,10 +194,12 @@ void Solver::set_state(const Array& x, const Array& q, const Array& v, const Arr
     b.v = Vector3d(v.at(i, 0), v.at(i, 1), v.at(i, 2));
     b.w = Vector3d(w.at(i, 0), w.at(i, 1), w.at(i, 2));
   }
+  const Exclusive held = hold();
   solver_->place(bodies);
 }
 
 py::array Solver::view(py::handle owner, size_t offset, ssize_t width) const {
+  const Exclusive held = hold();
   const std::vector<BodyState>& bodies = solver_->state().bodies;
   const auto* base = reinterpret_cast<const char*>(bodies.data()) + offset;
   py::array out(py::dtype::of<double>(), {static_cast<ssize_t>(bodies.size()), width},
@@ -206,6 +210,7 @@ py::array Solver::view(py::handle owner, size_t offset, ssize_t width) const {
 }
 
 py::array Solver::user_forces() const {
+  const Exclusive held = hold();
   const auto wrenches = solver_->user_wrenches();
   py::array_t<double> out({static_cast<ssize_t>(wrenches.size()), ssize_t{6}});
   auto o = out.mutable_unchecked<2>();
@@ -288,10 +293,15 @@ void bind_solver(py::module_& m) {
       .def("set_state", &Solver::set_state, py::arg("positions"), py::arg("rotations"),
            py::arg("velocities"), py::arg("angular_velocities"),
            "places every segment (copies the arrays; checks shapes, finiteness, unit rotations)")
-      .def("snapshot", [](const Solver& s) { return s.solver().state(); })
+      .def("snapshot",
+           [](const Solver& s) {
+             const Exclusive held = s.hold();
+             return s.solver().state();
+           })
       .def(
           "restore",
           [](Solver& s, const procedural::State& state) {
+            const Exclusive held = s.hold();
             try {
               s.solver().restore(state);
             } catch (const std::invalid_argument& e) {

@@ -3,6 +3,7 @@
 
 #include <pybind11/numpy.h>
 
+#include <atomic>
 #include <memory>
 #include <optional>
 #include <string>
@@ -12,6 +13,20 @@
 #include "puppet/procedural/solver.h"
 
 namespace puppet::python {
+
+/// Calls on a crowd and on its puppets while the crowd steps (with the GIL released) are refused:
+/// a call holds its crowd's flag for its length, and a second one finds it held and raises
+/// RuntimeError instead of running alongside (docs/python.md, "Threads and fork")
+class Exclusive {
+ public:
+  Exclusive(std::atomic<bool>& busy, const char* what);
+  ~Exclusive() { busy_.store(false, std::memory_order_release); }
+  Exclusive(const Exclusive&) = delete;
+  Exclusive& operator=(const Exclusive&) = delete;
+
+ private:
+  std::atomic<bool>& busy_;
+};
 
 /// a point of a segment held at a world target, its segment by index or name (resolved against
 /// the solver's model when the pins are set)
@@ -25,20 +40,28 @@ struct PinSpec {
 
 class Solver {
  public:
-  using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
-
   /// a solver of its own
   Solver(ModelPtr model, const procedural::Settings& settings, const Environment& environment);
-  /// puppet k of a crowd, which `owner` keeps alive
-  Solver(ModelPtr model, procedural::Solver* puppet, py::object owner);
+  /// puppet k of a crowd, which `owner` keeps alive; `busy` is the crowd's (Exclusive)
+  Solver(ModelPtr model, procedural::Solver* puppet, py::object owner,
+         std::shared_ptr<std::atomic<bool>> busy);
 
   void step(double dt);
-  bool diverged() const { return solver_->state().diverged; }
-  double time() const { return solver_->state().time; }
+  bool diverged() const {
+    const Exclusive held = hold();
+    return solver_->state().diverged;
+  }
+  double time() const {
+    const Exclusive held = hold();
+    return solver_->state().time;
+  }
   void reset();
   void set_pins(const std::vector<PinSpec>& pins);
-  void set_pin_targets(const Array& targets);
-  void set_state(const Array& x, const Array& q, const Array& v, const Array& w);
+  void set_pin_targets(const py::handle& targets);
+  void set_state(const py::handle& x, const py::handle& q, const py::handle& v,
+                 const py::handle& w);
+  /// held for the length of any call that reads or changes the state (Exclusive)
+  Exclusive hold() const { return Exclusive(*busy_, "Solver"); }
   /// a read-only view of one member of every body (offset in bytes, width in doubles)
   py::array view(py::handle owner, size_t offset, ssize_t width) const;
   py::array user_forces() const;
@@ -52,6 +75,7 @@ class Solver {
   std::unique_ptr<procedural::Solver> own_;
   procedural::Solver* solver_ = nullptr;
   py::object owner_;  ///< the crowd a puppet belongs to
+  std::shared_ptr<std::atomic<bool>> busy_ = std::make_shared<std::atomic<bool>>(false);
 };
 
 /// the names of the solver's settings a Python caller may give as keywords, a comma list

@@ -13,12 +13,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csetjmp>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <mutex>
 
 #include "pin_springs.h"
 #include "puppet/model/euler_box.h"
 #include "puppet/model/mjcf.h"
+#include "puppet/model/text.h"
 #include "world_poses.h"
 
 namespace puppet::reference {
@@ -28,6 +32,54 @@ namespace {
 // solver reads the same counts from mjData instead
 void quiet_warning(const char*) {}
 
+// MuJoCo's errors. mju_error's default handler prints "Press Enter to exit", waits for a key on
+// a terminal and calls exit(1): a whole command, or a Python interpreter, would end inside one
+// step. The process-wide handler installed here jumps back instead, with MuJoCo's message, to
+// the guarded() call on this thread that called into MuJoCo. MuJoCo is C, and guarded() runs
+// nothing but calls into it, so no destructor lies between the jump and where it lands. (The
+// compiler sets thread-local handlers of its own while it compiles: mj_loadXML reports its
+// errors through its error buffer, never here.)
+struct MujocoJump {
+  std::jmp_buf where;
+  char message[400];
+};
+thread_local MujocoJump* t_jump = nullptr;
+
+[[noreturn]] void jump_back(const char* message) {
+  if (t_jump == nullptr) {
+    // a call this file did not guard: nothing to return to, and MuJoCo must not go on
+    std::fprintf(stderr, "mujoco: %.300s (outside a guarded call; stopping)\n", message);
+    std::abort();
+  }
+  std::snprintf(t_jump->message, sizeof t_jump->message, "%s", message);
+  std::longjmp(t_jump->where, 1);
+}
+
+void install_handlers() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    mju_user_warning = quiet_warning;
+    mju_user_error = jump_back;
+  });
+}
+
+// runs `call` (calls into MuJoCo only); false with MuJoCo's message in `error` when MuJoCo raised
+// its error inside it
+template <class Call>
+bool guarded(const Call& call, std::string& error) {
+  MujocoJump jump;
+  MujocoJump* const outer = t_jump;
+  t_jump = &jump;
+  if (setjmp(jump.where) == 0) {
+    call();
+    t_jump = outer;
+    return true;
+  }
+  t_jump = outer;
+  error = one_line(jump.message, 300);
+  return false;
+}
+
 std::mutex& compiler_mutex() {
   static std::mutex mutex;
   return mutex;
@@ -35,8 +87,7 @@ std::mutex& compiler_mutex() {
 
 // MJCF text → mjModel, through MuJoCo's virtual file system (nothing touches the disk)
 mjModel* compile(const std::string& xml) {
-  static std::once_flag quiet;
-  std::call_once(quiet, [] { mju_user_warning = quiet_warning; });
+  install_handlers();
   const std::lock_guard<std::mutex> lock(compiler_mutex());  // the XML parser keeps globals
   mjVFS vfs;
   mj_defaultVFS(&vfs);
@@ -90,11 +141,12 @@ std::string mujoco_model_problem(const Model& model) {
   options.user_data = false;
   try {
     mjModel* m = compile(write_mjcf(model, options));
-    mjData* d = mj_makeData(m);
-    const bool made = d != nullptr;
+    mjData* d = nullptr;
+    std::string error;
+    const bool made = guarded([&] { d = mj_makeData(m); }, error) && d != nullptr;
     if (d) mj_deleteData(d);
     mj_deleteModel(m);
-    if (!made) return "MuJoCo could not make its data";
+    if (!made) return "MuJoCo could not make its data" + (error.empty() ? "" : ": " + error);
   } catch (const ModelError& e) {
     std::string what = e.what();
     const std::string prefix = "mujoco: ";
@@ -169,19 +221,28 @@ class MujocoSolver final : public Solver {
       std::copy_n(at.data(), 3, d_->mocap_pos + 3 * mocap_of_pin_[k]);
       previous_targets_[k] = pins_[k].target;
     }
+    if (engine_error_) return;  // MuJoCo's data is past use
+    std::string error;
+    bool stepped = false;
     if (settings_.integrator == MujocoIntegrator::kRk4) {
       // RK4 holds the applied wrenches over its four stages: they are evaluated at the start
       refresh();
       apply_wrenches();
-      mj_step(m_, d_);
+      stepped = guarded([&] { mj_step(m_, d_); }, error);
     } else {
       // positions and velocities at the start of the step, which body_state reads (MuJoCo's
       // split step serves Euler and implicit alike)
-      mj_step1(m_, d_);
-      apply_wrenches();
-      mj_step2(m_, d_);
+      stepped = guarded([&] { mj_step1(m_, d_); }, error);
+      if (stepped) {
+        apply_wrenches();
+        stepped = guarded([&] { mj_step2(m_, d_); }, error);
+      }
     }
     kinematics_current_ = false;
+    if (!stepped) {
+      stop_on_error(error);
+      return;
+    }
     // MuJoCo meets a non-finite qpos, qvel or qacc by resetting the state to its initial one
     // and counting a warning: the count is what says the run diverged
     for (int w : {mjWARN_BADQPOS, mjWARN_BADQVEL, mjWARN_BADQACC}) {
@@ -311,9 +372,11 @@ class MujocoSolver final : public Solver {
       set_state(bodies_);
     }
     diverged_ = saved.back() != 0.0;
+    engine_error_ = false;  // a state from before the error: MuJoCo's data holds it again
   }
 
   bool diverged() const override { return diverged_; }
+  bool engine_error() const override { return engine_error_; }
 
   double segment_mass(int segment) const override { return m_->body_mass[body_of_[segment]]; }
   Vector3d segment_inertia(int segment) const override {
@@ -367,7 +430,13 @@ class MujocoSolver final : public Solver {
     }
     release();
     m_ = compile(write_mjcf(model_, options));
-    d_ = mj_makeData(m_);
+    std::string error;
+    if (!guarded([&] { d_ = mj_makeData(m_); }, error) || d_ == nullptr) {
+      d_ = nullptr;
+      release();
+      throw ModelError("mujoco: MuJoCo could not make its data" +
+                       (error.empty() ? std::string() : ": " + error));
+    }
     // a connect holds body1's anchor on body2's point that coincided with it in the written
     // configuration: the mocap body's origin, up to that configuration's rounding
     for (int e = 0; e < m_->neq; ++e) mju_zero(m_->eq_data + mjNEQDATA * e + 3, 3);
@@ -415,11 +484,30 @@ class MujocoSolver final : public Solver {
 
   // positions and velocities of every body (mj_step leaves them at the start of the last step)
   void refresh() const {
-    if (kinematics_current_) return;
-    mj_kinematics(m_, d_);
-    mj_comPos(m_, d_);
-    mj_comVel(m_, d_);
+    if (kinematics_current_ || engine_error_) return;
+    std::string error;
+    const bool done = guarded(
+        [&] {
+          mj_kinematics(m_, d_);
+          mj_comPos(m_, d_);
+          mj_comVel(m_, d_);
+        },
+        error);
+    if (!done) {
+      const_cast<MujocoSolver*>(this)->stop_on_error(error);
+      return;
+    }
     kinematics_current_ = true;
+  }
+
+  // MuJoCo raised its error inside a step: the run is diverged, its state the last one read, and
+  // MuJoCo is not called again for it; one line says why
+  void stop_on_error(const std::string& error) {
+    diverged_ = true;
+    engine_error_ = true;
+    d_->pstack = 0;  // the step's scratch, left allocated by the jump
+    std::fprintf(stderr, "mujoco: MuJoCo stopped a step with its error \"%s\"; the run reads as "
+                 "diverged\n", error.c_str());
   }
 
   BodyState body_state(int s) const {
@@ -461,6 +549,7 @@ class MujocoSolver final : public Solver {
   mutable bool kinematics_current_ = false;
   mutable std::vector<BodyState> bodies_;
   bool diverged_ = false;
+  bool engine_error_ = false;  // MuJoCo raised its error (stop_on_error)
 };
 
 }  // namespace

@@ -21,12 +21,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdarg>
+#include <cstdio>
 #include <limits>
 #include <mutex>
 #include <numbers>
 #include <stdexcept>
 
+#include "ode_library.h"
 #include "pin_springs.h"
 #include "puppet/model/rotation.h"
 
@@ -50,28 +51,6 @@ bool runaway(std::span<const BodyState> bodies) {
     }
   }
   return false;
-}
-
-// ODE's library state is process-wide: initialised once, and each thread that collides needs its
-// own data
-void ensure_ode_thread() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    dInitODE2(0);
-    // ODE reports a singular LCP or a bad quaternion as a message and carries on; the testbed
-    // judges the state instead (a non-finite one is diverged), so the messages are not printed
-    dSetMessageHandler([](int, const char*, va_list) {});
-  });
-  thread_local const bool allocated = dAllocateODEDataForThread(dAllocateMaskAll) != 0;
-  (void)allocated;
-}
-
-// dWorldQuickStep shuffles its rows with ODE's one process-wide random generator (dRandInt): two
-// worlds stepped at once race on it, and a world's result would depend on every step any other
-// world took before. Each solver keeps its own generator state and steps under this lock.
-std::mutex& quick_step_lock() {
-  static std::mutex lock;
-  return lock;
 }
 
 Vector3d to_vector(const dReal* v) { return {v[0], v[1], v[2]}; }
@@ -141,7 +120,8 @@ class OdeSolver final : public Solver {
   void set_state(std::span<const BodyState> bodies) override;
   std::vector<double> save() const override;
   void load(std::span<const double> saved) override;
-  bool diverged() const override { return diverged_; }
+  bool diverged() const override { return diverged_ || engine_error_; }
+  bool engine_error() const override { return engine_error_; }
 
   double segment_mass(int segment) const override;
   Vector3d segment_inertia(int segment) const override;
@@ -173,12 +153,13 @@ class OdeSolver final : public Solver {
   std::vector<dContactGeom> contact_scratch_;
   std::vector<BodyState> states_;  // scratch, sized once
   bool diverged_ = false;
+  bool engine_error_ = false;  // ODE stopped a step with its error: not stepped again
 };
 
 OdeSolver::OdeSolver(const Model& model, const Environment& environment,
                      const OdeSettings& settings)
     : model_(model), environment_(environment), settings_(settings) {
-  ensure_ode_thread();
+  detail::ensure_ode_thread();
   world_ = dWorldCreate();
   // ODE steps a world through a threading implementation, by default one shared by every world
   // in the process, whose job list two worlds stepped on two threads corrupted (an internal
@@ -402,8 +383,8 @@ void OdeSolver::collide_with_ground() {
 }
 
 void OdeSolver::step(double dt) {
-  if (diverged_) return;
-  ensure_ode_thread();
+  if (diverged_ || engine_error_) return;
+  detail::ensure_ode_thread();
   read_state(states_);
   const std::span<const Wrench> wrenches = springs_.wrenches(model_, environment_, states_, dt);
   for (const Wrench& w : wrenches) {
@@ -417,15 +398,24 @@ void OdeSolver::step(double dt) {
     dBodyAddForce(bodies_[s], w.force.x(), w.force.y(), w.force.z());
     dBodyAddTorque(bodies_[s], w.torque.x(), w.torque.y(), w.torque.z());
   }
-  aim_swing_twist_motors();
-  if (ground_) collide_with_ground();
-  if (settings_.stepper == OdeStepper::kQuick) {
-    const std::lock_guard<std::mutex> hold(quick_step_lock());
-    dRandSetSeed(random_state_);
-    dWorldQuickStep(world_, dt);
-    random_state_ = dRandGetSeed();
-  } else {
-    dWorldStep(world_, dt);
+  try {
+    aim_swing_twist_motors();
+    if (ground_) collide_with_ground();
+    if (settings_.stepper == OdeStepper::kQuick) {
+      const std::lock_guard<std::mutex> hold(detail::quick_step_lock());
+      dRandSetSeed(random_state_);
+      dWorldQuickStep(world_, dt);
+      random_state_ = dRandGetSeed();
+    } else {
+      dWorldStep(world_, dt);
+    }
+  } catch (const detail::OdeFailure& failure) {
+    // states_ holds the state the step came from; ODE's world is not stepped again
+    diverged_ = true;
+    engine_error_ = true;
+    std::fprintf(stderr, "ode: ODE stopped a step with its error \"%s\"; the run reads as "
+                 "diverged\n", failure.what());
+    return;
   }
   springs_.time += dt;
   read_state(states_);

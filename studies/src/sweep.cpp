@@ -30,13 +30,13 @@ constexpr double kLevelScale[3] = {1.0, 0.5, 2.0};
 
 }  // namespace
 
-std::vector<Truth> truths_for(const Model& model) {
+std::vector<Truth> truths_for(const Model& model, double budget) {
   std::vector<Truth> out;
   Truth mujoco{kMujocoTruthSolver, {}, kMujocoTruthDt, {}};
   mujoco.options.mujoco.integrator = reference::MujocoIntegrator::kRk4;
   // an engine this build lacks is "unknown" to the catalogue: a problem too
-  const bool have_mujoco = engine_model_problem(kMujocoTruthSolver, model).empty();
-  const bool have_bullet = engine_model_problem(kBulletTruthSolver, model).empty();
+  const bool have_mujoco = engine_model_problem(kMujocoTruthSolver, model, {}, budget).empty();
+  const bool have_bullet = engine_model_problem(kBulletTruthSolver, model, {}, budget).empty();
   const Truth bullet{kBulletTruthSolver, {}, kBulletTruthDt, {}};
   if (have_mujoco && mjcf_inexact_joint(model).empty()) {
     out.push_back(mujoco);
@@ -158,7 +158,7 @@ void plan(Sweep& sweep) {
       std::find_if(spec.configs.begin(), spec.configs.end(), is_pairwise_solver);
   sweep.pairwise = pairwise_config != spec.configs.end();
   sweep.pairwise_config = static_cast<size_t>(pairwise_config - spec.configs.begin());
-  sweep.truth_list = any_judged ? truths_for(sweep.model) : std::vector<Truth>{};
+  sweep.truth_list = any_judged ? truths_for(sweep.model, spec.engine_budget) : std::vector<Truth>{};
   if (spec.first_truth_only && sweep.truth_list.size() > 1) sweep.truth_list.resize(1);
   sweep.truths = sweep.truth_list.size();
   sweep.levels = spec.first_truth_only ? 1 : 3;

@@ -443,7 +443,7 @@ void choose_configurations(Search& search) {
 }  // namespace
 
 VerdictResult run_verdict(const VerdictSpec& spec) {
-  std::vector<Truth> truths = truths_for(*spec.model);
+  std::vector<Truth> truths = truths_for(*spec.model, spec.engine_budget);
   if (truths.empty()) throw ScenarioError("no engine can build this model as a truth", "model");
   if (!spec.floors.empty() && spec.floors.size() != spec.scenarios.size()) {
     throw ScenarioError("a floor for each scenario, or none", "floors_from");

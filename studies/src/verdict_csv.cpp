@@ -15,8 +15,8 @@ namespace puppet::compare {
 std::vector<TruthFloor> floors_from_summary(const std::string& text, const std::string& source,
                                             const Model& model,
                                             const std::vector<std::string>& scenarios,
-                                            const std::string& git_sha) {
-  const std::vector<Truth> truths = truths_for(model);
+                                            const std::string& git_sha, double budget) {
+  const std::vector<Truth> truths = truths_for(model, budget);
   if (truths.empty()) throw std::runtime_error(source + ": the model has no truth");
   std::istringstream in(text);
   std::string line;

@@ -37,7 +37,7 @@ TEST(Sweep, SummaryHasEveryRunItsAccuracyAndStableUnits) {
   // a chain of unlimited balls is exact in MuJoCo: it is the first truth, bullet-multibody the
   // second (when the build has MuJoCo); the runs, then per truth its h/2 and 2h runs against its
   // h, then each truth against the other
-  const std::vector<Truth> truths = truths_for(model);
+  const std::vector<Truth> truths = truths_for(model, kDefaultEngineBudget);
   const bool second = truths.size() == 2;
   ASSERT_EQ(truths[0].solver, second ? "mujoco" : "bullet-multibody");
   ASSERT_EQ(results.size(), 3u * 2u + (second ? 6u : 2u));
@@ -156,14 +156,15 @@ TEST(Sweep, SummaryHasEveryRunItsAccuracyAndStableUnits) {
 TEST(Sweep, TheFirstTruthIsTheEngineThatModelsTheLimitsExactly) {
   if (!reference::have_mujoco()) GTEST_SKIP() << "no MuJoCo in this build";
   const auto pinocchio =
-      truths_for(load_model(std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json"));
+      truths_for(load_model(std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json"), kDefaultEngineBudget);
   ASSERT_EQ(pinocchio.size(), 2u);
   EXPECT_EQ(pinocchio[0].solver, "mujoco");
   EXPECT_EQ(pinocchio[0].reference, kTruthReference);
   EXPECT_EQ(pinocchio[1].solver, "bullet-multibody");
   EXPECT_EQ(pinocchio[1].reference, kSecondTruthReference);
   const auto swing_twist =
-      truths_for(load_model(std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio-swing-twist.json"));
+      truths_for(load_model(std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio-swing-twist.json"),
+                 kDefaultEngineBudget);
   ASSERT_EQ(swing_twist.size(), 2u);
   EXPECT_EQ(swing_twist[0].solver, "bullet-multibody");
   EXPECT_EQ(swing_twist[1].solver, "mujoco");

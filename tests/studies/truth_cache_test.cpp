@@ -29,7 +29,7 @@ fs::path fresh_folder(const std::string& name) {
 struct Case {
   Model model = make_chain(4);
   Scenario scenario = make_scenario("hang", model);
-  Truth truth = truths_for(model).front();
+  Truth truth = truths_for(model, kDefaultEngineBudget).front();
   double duration = 0.4;
 
   std::string key() const {
@@ -238,7 +238,7 @@ TEST(TruthCache, ASweepWithTheCacheGivesTheSameSummaryAsWithout) {
   EXPECT_EQ(filled, without);
   EXPECT_EQ(read, without);
   // every truth at h, h/2 and 2h (one or two truths)
-  EXPECT_EQ(files, 3 * truths_for(model).size());
+  EXPECT_EQ(files, 3 * truths_for(model, kDefaultEngineBudget).size());
 }
 
 }  // namespace

@@ -239,7 +239,7 @@ TEST(Verdict, TheCommittedCandidatesAreTheCataloguesSearch) {
 // as testbed run writes them; another model, commit or a missing row is refused by name
 TEST(Verdict, TheFloorsAreReadFromASweepsSummary) {
   const Model model = load_named_model("pinocchio");
-  const std::vector<Truth> truths = truths_for(model);
+  const std::vector<Truth> truths = truths_for(model, kDefaultEngineBudget);
   ASSERT_FALSE(truths.empty());
   auto row = [&](const std::string& scenario, const Truth& t, double dt, const std::string& metric,
                  double value, const std::string& sha) {
@@ -253,14 +253,14 @@ TEST(Verdict, TheFloorsAreReadFromASweepsSummary) {
   text += row("hang", first, first.dt / 2, "pose_err_m", 1e-4, "abc");
   text += row("hang", first, first.dt * 2, "pose_err_m", 4e-4, "abc");
   if (truths.size() > 1) text += row("hang", truths[1], truths[1].dt, "pose_err_m", 5e-4, "abc");
-  const auto floors = floors_from_summary(text, "summary.csv", model, {"hang"}, "abc");
+  const auto floors = floors_from_summary(text, "summary.csv", model, {"hang"}, "abc", kDefaultEngineBudget);
   ASSERT_EQ(floors.size(), 1u);
   // p = 2: a bar of 1.5 × 4/3 × 1e-4 = 2e-4, under the truths' disagreement of 5e-4
   EXPECT_NEAR(floors[0].floor, truths.size() > 1 ? 5e-4 : 2e-4, 1e-15);
   auto refused = [&](const std::string& summary, const std::vector<std::string>& scenarios,
                      const std::string& sha, const std::string& says) {
     try {
-      floors_from_summary(summary, "summary.csv", model, scenarios, sha);
+      floors_from_summary(summary, "summary.csv", model, scenarios, sha, kDefaultEngineBudget);
       ADD_FAILURE() << "accepted; expected: " << says;
     } catch (const std::runtime_error& e) {
       EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();

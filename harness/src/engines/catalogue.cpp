@@ -1,11 +1,12 @@
 // The engine catalogue (engines.h): the rows, and what every client asks of them.
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <numbers>
 
 #include "puppet/compare/engines.h"
+#include "puppet/compare/number.h"
 #include "puppet/model/text.h"
 
 namespace puppet::compare {
@@ -67,12 +68,8 @@ std::vector<Setting> settings_searched(std::string_view solver, const SolverOpti
 }
 
 namespace {
-std::atomic<double> g_budget{kDefaultEngineBudget};
 constexpr double kPi = std::numbers::pi;
 }  // namespace
-
-void set_engine_budget(double seconds) { g_budget.store(seconds); }
-double engine_budget() { return g_budget.load(); }
 
 ModelSize model_size(const Model& model) {
   ModelSize size;
@@ -108,20 +105,24 @@ ModelSize model_size(const Model& model) {
 }
 
 std::string engine_model_problem(std::string_view name, const Model& model,
-                                 const SolverOptions& options) {
+                                 const SolverOptions& options, double budget) {
   const Engine* engine = find_engine(name);
   if (!engine) return "unknown solver " + shown(name);
+  if (!(std::isfinite(budget) && budget > 0.0)) {
+    return "the engine budget must be a finite positive number of seconds, not " +
+           shown(std::to_string(budget));
+  }
   if (std::string problem = engine->model_problem(model); !problem.empty()) return problem;
   if (!engine->second_cost) return {};
   const double cost = engine->second_cost(model, options);
-  if (cost <= engine_budget()) return {};
+  if (cost <= budget) return {};
   const ModelSize size = model_size(model);
   char line[320];
   std::snprintf(line, sizeof line,
                 "one simulated second at dt 1/240 s would take it about %.3g s of CPU (%d degrees "
                 "of freedom, %d limit rows, joints %d deep), past the budget of %.3g s "
                 "(--engine-budget)",
-                cost, size.dofs, size.limit_rows, size.depth, engine_budget());
+                cost, size.dofs, size.limit_rows, size.depth, budget);
   return line;
 }
 
@@ -129,6 +130,16 @@ std::unique_ptr<Simulator> make_simulator(const std::string& solver, const Solve
   const Engine* engine = find_engine(solver);
   if (!engine) throw ScenarioError("unknown solver " + shown(solver), "solver");
   return engine->make(options);
+}
+
+const CLI::Validator& finite_number_check() {
+  static const CLI::Validator validator(
+      [](std::string& text) {
+        double value = 0.0;
+        return parse_finite(text, &value) ? std::string() : "must be a finite number";
+      },
+      "NUMBER");
+  return validator;
 }
 
 const CLI::Validator& whole_number_check() {

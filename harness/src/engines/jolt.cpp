@@ -17,6 +17,7 @@
 #include "jolt_driver.h"
 #include "node_process.h"
 #include "puppet/compare/engines.h"
+#include "puppet/model/text.h"
 
 namespace puppet::compare {
 namespace {
@@ -199,7 +200,7 @@ class JoltSimulator : public Simulator {
   }
 
   bool fail(const std::string& why) {
-    if (!failure_reported_) std::fprintf(stderr, "jolt: %s\n", why.c_str());
+    if (!failure_reported_) std::fprintf(stderr, "jolt: %s\n", one_line(why, 390).c_str());
     failure_reported_ = true;
     return false;
   }
@@ -219,7 +220,9 @@ class JoltSimulator : public Simulator {
     answer = json::parse(line, nullptr, false);
     if (answer.is_discarded() || !answer.is_object())
       return fail("the driver answered \"" + line.substr(0, 80) + "\"");
-    if (answer.contains("error")) return fail(answer["error"].get<std::string>());
+    if (const auto e = answer.find("error"); e != answer.end()) {
+      return fail(e->is_string() ? e->get<std::string>() : e->dump().substr(0, 200));
+    }
     return true;
   }
 
@@ -262,11 +265,10 @@ class JoltSimulator : public Simulator {
                       {"targets", std::vector<double>(s_.course.targets.begin() + k * w,
                                                       s_.course.targets.begin() + end * w)}};
       if (!ask(request, answer)) return false;
-      if (!driver_->read_bytes(answer["bytes"].get<size_t>(), bytes, std::chrono::seconds(120))) {
-        return fail(driver_->error());
-      }
-      if (answer["steps"].get<size_t>() != end - k)
-        return fail("a replay diverged where the run had not");
+      size_t replayed = 0;
+      bool diverged = false;
+      if (!read_records(answer, end - k, bytes, &replayed, &diverged)) return false;
+      if (replayed != end - k) return fail("a replay diverged where the run had not");
       k = end;
     }
     world_steps_ = static_cast<long>(steps);
@@ -295,16 +297,50 @@ class JoltSimulator : public Simulator {
     json request = {{"op", "advance"}, {"dt", dt}, {"steps", steps}, {"targets", ahead_targets_}};
     json answer;
     if (!ask(request, answer)) return false;
-    const size_t bytes = answer["bytes"].get<size_t>();
     std::vector<char> raw;
-    if (!driver_->read_bytes(bytes, raw, std::chrono::seconds(120))) return fail(driver_->error());
-    ahead_.resize(bytes / sizeof(double));
-    std::memcpy(ahead_.data(), raw.data(), bytes);
-    ahead_count_ = answer["steps"].get<size_t>();
-    ahead_diverged_ = answer["diverged"].get<bool>();
+    size_t count = 0;
+    bool diverged = false;
+    if (!read_records(answer, static_cast<size_t>(steps), raw, &count, &diverged)) return false;
+    if (count == 0 && !diverged) return fail("the driver stepped nothing and said no divergence");
+    ahead_.resize(raw.size() / sizeof(double));
+    std::memcpy(ahead_.data(), raw.data(), raw.size());
+    ahead_count_ = count;
+    ahead_diverged_ = diverged;
     ahead_dt_ = dt;
     ahead_next_ = 0;
     world_steps_ += static_cast<long>(ahead_count_);
+    return true;
+  }
+
+  // the records an "advance" answer announces, read after checking the answer against itself:
+  // a whole number of steps, at most those asked, a divergence flag, and exactly the bytes
+  // those steps' records take (a driver that answers otherwise is a failed driver, never a
+  // read past what came)
+  bool read_records(const json& answer, size_t asked, std::vector<char>& raw, size_t* steps,
+                    bool* diverged) {
+    const auto field = [&](const char* name) -> const json* {
+      const auto it = answer.find(name);
+      return it == answer.end() ? nullptr : &*it;
+    };
+    const json* count = field("steps");
+    const json* bytes = field("bytes");
+    const json* flag = field("diverged");
+    if (!count || !count->is_number_unsigned() || !bytes || !bytes->is_number_unsigned() ||
+        !flag || !flag->is_boolean()) {
+      return fail("the driver's answer lacks its steps, bytes or divergence: " +
+                  answer.dump().substr(0, 120));
+    }
+    *steps = count->get<size_t>();
+    *diverged = flag->get<bool>();
+    const size_t record = (kRecordWidth * s_.bodies.size() + 1) * sizeof(double);
+    if (*steps > asked || bytes->get<size_t>() != *steps * record) {
+      return fail("the driver announced " + bytes->dump() + " bytes for " + count->dump() +
+                  " steps of " + std::to_string(asked) + " asked (" + std::to_string(record) +
+                  " bytes a step)");
+    }
+    if (!driver_->read_bytes(*steps * record, raw, std::chrono::seconds(120))) {
+      return fail(driver_->error());
+    }
     return true;
   }
 

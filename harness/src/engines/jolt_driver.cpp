@@ -2,6 +2,7 @@
 // and the package are, a pool of running drivers, and the requests' JSON (jolt_driver.h).
 #include "jolt_driver.h"
 
+#include <pthread.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -48,9 +49,18 @@ class DriverPool {
   std::vector<std::unique_ptr<NodeProcess>> idle_;
 };
 
+// outlives every simulator; its idle drivers end with the process (node_process.h)
+DriverPool* g_pool = nullptr;
+
 DriverPool& pool() {
-  static DriverPool* drivers = new DriverPool;  // outlives every simulator; ends with the process
-  return *drivers;
+  static std::once_flag once;
+  std::call_once(once, [] {
+    g_pool = new DriverPool;
+    // a process forked from this one starts with no drivers: the parent's stay the parent's
+    // (forgotten in the child, neither ended nor reused; their locks may be held)
+    pthread_atfork(nullptr, nullptr, [] { g_pool = new DriverPool; });
+  });
+  return *g_pool;
 }
 json vec(const Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
 json quat(const Quaterniond& q) { return json::array({q.x(), q.y(), q.z(), q.w()}); }
@@ -204,19 +214,31 @@ bool jolt_driver_forces(const Model& model, const Environment& environment,
     return false;
   }
   const json answer = json::parse(line, nullptr, false);
-  if (answer.is_discarded() || !answer.contains("applied")) {
+  // six numbers a segment, or the answer is not used
+  const auto wrenches = [&](const char* name) -> const json* {
+    const auto it = answer.is_object() ? answer.find(name) : answer.end();
+    if (it == answer.end() || !it->is_array() || it->size() != 6 * bodies.size()) return nullptr;
+    for (const json& v : *it) {
+      if (!v.is_number()) return nullptr;
+    }
+    return &*it;
+  };
+  const json* applied_json = answer.is_discarded() ? nullptr : wrenches("applied");
+  const json* user_json = answer.is_discarded() ? nullptr : wrenches("user");
+  if (!applied_json || !user_json) {
     error = line.substr(0, 200);
     return false;
   }
   const auto unpack = [](const json& flat, std::vector<Wrench>& out) {
     out.resize(flat.size() / 6);
     for (size_t i = 0; i < out.size(); ++i) {
-      out[i].force = Vector3d(flat[6 * i], flat[6 * i + 1], flat[6 * i + 2]);
-      out[i].torque = Vector3d(flat[6 * i + 3], flat[6 * i + 4], flat[6 * i + 5]);
+      const auto at = [&](size_t k) { return flat[6 * i + k].get<double>(); };
+      out[i].force = Vector3d(at(0), at(1), at(2));
+      out[i].torque = Vector3d(at(3), at(4), at(5));
     }
   };
-  unpack(answer["applied"], applied);
-  unpack(answer["user"], user);
+  unpack(*applied_json, applied);
+  unpack(*user_json, user);
   give_back(std::move(driver));
   return true;
 }
@@ -241,7 +263,8 @@ bool jolt_driver_heap_after_builds(const Model& model, int builds, std::vector<d
       return false;
     }
     const json memory = json::parse(answer, nullptr, false);
-    if (memory.is_discarded() || !memory.contains("used")) {
+    if (memory.is_discarded() || !memory.is_object() || !memory.contains("used") ||
+        !memory["used"].is_number()) {
       error = answer.substr(0, 200);
       return false;
     }

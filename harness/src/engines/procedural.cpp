@@ -140,12 +140,7 @@ void add_flags(CLI::App& command, SolverOptions& options) {
       .add_option("--limit-restitution", options.procedural.limit_restitution,
                   "xpbd, tree: the rate a limit gives back over the one it came in "
                   "with (default 0)")
-      ->check(CLI::Validator(
-          [](std::string& text) {
-            double value = 0.0;
-            return parse_finite(text, &value) ? std::string() : "must be a finite number";
-          },
-          "NUMBER"))
+      ->check(finite_number_check())
       ->check(CLI::Range(0.0, 1.0));
 }
 

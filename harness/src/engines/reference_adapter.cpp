@@ -37,6 +37,7 @@ class ReferenceSimulator : public Simulator {
     solver_->load(static_cast<const ReferenceSnapshot&>(snapshot).saved);
   }
   bool diverged() const override { return solver_->diverged(); }
+  bool engine_error() const override { return solver_->engine_error(); }
 
  private:
   std::string name_;

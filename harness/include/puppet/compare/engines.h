@@ -51,7 +51,7 @@ struct Engine {
   // an estimate of the CPU seconds it takes to step one simulated second of the model at
   // kBudgetDt with `options` (its solver's order in joints, limit rows and sweeps, calibrated on
   // this project's reference machine; docs/reliability.md): engine_model_problem refuses a model
-  // whose estimate exceeds engine_budget()
+  // whose estimate exceeds its budget
   double (*second_cost)(const Model& model, const SolverOptions& options) = nullptr;
   // a simulator with these options; throws ScenarioError for invalid settings
   std::unique_ptr<Simulator> (*make)(const SolverOptions& options) = nullptr;
@@ -68,6 +68,10 @@ struct Engine {
 // the check of a count flag: plain decimal digits (CLI11's integers would also take 0x10, " 3"
 // and 010, as 8)
 const CLI::Validator& whole_number_check();
+
+// the check of a number flag CLI11 reads as a double: a finite number (CLI11's Range lets NaN
+// through, since every comparison with it is false), to be followed by the flag's Range
+const CLI::Validator& finite_number_check();
 
 // every engine, built or not, in the order the tables list them
 std::span<const Engine> engines();
@@ -88,18 +92,19 @@ bool has_rules(std::string_view solver);
 // what a verdict searches for one solver besides dt: its row's search from `base`, or `base`
 // alone
 std::vector<Setting> settings_searched(std::string_view solver, const SolverOptions& base);
-// why the engine cannot run the model (empty when it can): its row's model_problem, or an
-// estimated cost per simulated second above engine_budget(); an unknown name says so
-std::string engine_model_problem(std::string_view name, const Model& model,
-                                 const SolverOptions& options = {});
-
 // The budget: how many CPU seconds stepping one simulated second of a model at kBudgetDt may
-// take an engine (--engine-budget; kDefaultEngineBudget unless set). A model past it is refused
-// before anything runs, in one line naming the engine and its estimate.
+// take an engine (--engine-budget, which each command hands down with its options; nothing of
+// it is kept between calls). A model past it is refused before anything runs, in one line
+// naming the engine and its estimate.
 inline constexpr double kBudgetDt = 1.0 / 240.0;
 inline constexpr double kDefaultEngineBudget = 60.0;
-void set_engine_budget(double seconds);
-double engine_budget();
+
+// why the engine cannot run the model (empty when it can): its row's model_problem, or an
+// estimated cost per simulated second above `budget` (finite and positive); an unknown name says
+// so
+std::string engine_model_problem(std::string_view name, const Model& model,
+                                 const SolverOptions& options = {},
+                                 double budget = kDefaultEngineBudget);
 
 // what an engine's cost grows with, counted from the model: degrees of freedom (a free root's
 // six among them), the deepest chain of joints, and the limit rows when every limit acts (a box

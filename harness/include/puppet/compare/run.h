@@ -35,7 +35,7 @@ struct RunResult {
   bool diverged = false;
   int steps = 0;                   // steps taken, the one that diverged included
   double diverged_at = 0.0;        // s
-  std::string diverged_reason;     // "non-finite", "joint gap" or "energy"
+  std::string diverged_reason;     // "non-finite", "engine error", "joint gap" or "energy"
   std::vector<StepMetrics> trace;  // one per step, plus t = 0
   std::vector<PoseSample> poses;
   std::vector<SummaryRow> summary;

@@ -124,12 +124,10 @@ Scenario make_scenario(const std::string& name, const Model& model,
 // (the Python package's) says where it is
 std::string builtin_model_path();
 void set_builtin_model_path(const std::string& path);
-// how load_named_model reads model files from here on (the command line's --strict and
-// --include-outside); by default MJCF elements the testbed does not model are skipped with a note
-void set_model_reading(const ReadOptions& options);
-ReadOptions model_reading();
-// "pinocchio" names the built-in figure; anything else is a model file or chain:N (load_model).
-// What a file's reading skipped is printed once per file to stderr, as one line
-Model load_named_model(const std::string& name);
+// "pinocchio" names the built-in figure; anything else is a model file or chain:N (load_model),
+// read as `options` say (the command line's --strict and --include-outside: by default MJCF
+// elements the testbed does not model are skipped with a note). What the reading skipped is
+// printed to stderr as one line. Nothing of one call's options is kept for the next.
+Model load_named_model(const std::string& name, const ReadOptions& options = {});
 
 }  // namespace puppet::compare

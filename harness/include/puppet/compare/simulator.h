@@ -54,8 +54,11 @@ class Simulator {
   virtual void set_state(std::span<const BodyState> bodies) = 0;
   virtual std::unique_ptr<Snapshot> snapshot() const = 0;
   virtual void restore(const Snapshot& snapshot) = 0;
-  // the solver itself met a non-finite value
+  // the solver itself met a non-finite value, or its engine stopped a step with an error
   virtual bool diverged() const = 0;
+  // the engine stopped a step with its own error (reference::Solver::engine_error): the run's
+  // divergence reason is "engine error"
+  virtual bool engine_error() const { return false; }
 
   // the seconds the engine itself timed its last step (< 0: none; the caller times step()). An
   // engine that steps a whole run ahead of the calls (jolt) times each step where it runs it

@@ -37,8 +37,11 @@ class Solver {
   // the complete state as numbers (exact: restoring it and stepping repeats the same result)
   virtual std::vector<double> save() const = 0;
   virtual void load(std::span<const double> saved) = 0;
-  // a non-finite value appeared in the state
+  // a non-finite value appeared in the state, or the engine stopped a step with its own error
   virtual bool diverged() const = 0;
+  // the engine itself stopped a step with its error (MuJoCo's mju_error, ODE's internal checks):
+  // the run is diverged, and one line on stderr named the engine and its message
+  virtual bool engine_error() const { return false; }
 
   // what the engine was given, read back from its own objects (correspondence tests): a
   // segment's mass, its inertia (diagonal, segment frame), and a joint's anchor as each of its

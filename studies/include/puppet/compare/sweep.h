@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "puppet/compare/engines.h"
 #include "puppet/compare/run.h"
 
 namespace puppet::compare {
@@ -40,8 +41,8 @@ constexpr double kBulletTruthDt = 1.0 / 3840.0;
 // limit exactly (hinges, box limits, unlimited balls: mjcf_inexact_joint), since it is
 // the sharper of the two (its pins are exact or stiff springs, not iterated impulses); else
 // bullet-multibody, whose rows hold the model's swing–twist limits. The other follows when it can
-// build the model. Empty when neither can.
-std::vector<Truth> truths_for(const Model& model);
+// build the model within `budget` (engines.h: engine_model_problem). Empty when neither can.
+std::vector<Truth> truths_for(const Model& model, double budget);
 // the engine and dt bullet-multibody's pairwise rows are measured against (the same dt)
 inline constexpr const char* kPairwiseSolver = "bullet-multibody";
 inline constexpr const char* kPairwiseReference = "pairwise";  // its rows' reference column
@@ -81,6 +82,7 @@ struct SweepSpec {
   // else computed and stored; empty: none
   std::string truth_cache;
   int jobs = 1;  // worker threads for the runs; timing always runs alone
+  double engine_budget = kDefaultEngineBudget;  // what the truths' engines may cost (engines.h)
   // called once per finished run, on the thread that ran it (e.g. to write its trace), before
   // the trace and poses are dropped
   std::function<void(const RunResult&)> on_run;

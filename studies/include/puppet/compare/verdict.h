@@ -29,6 +29,7 @@ struct VerdictSpec {
   int64_t starts = 32;  // random starts a chosen configuration must survive
   uint64_t seed = 1;
   int jobs = 1;  // worker threads; the timing runs alone
+  double engine_budget = kDefaultEngineBudget;  // what the truths' engines may cost (engines.h)
   // the truth's floor per scenario as a sweep measured it (floors_from_summary); empty: measured
   // here (the truth at h/2 and 2h and the second truth, each re-seeded from the truth)
   std::vector<TruthFloor> floors;
@@ -66,11 +67,12 @@ VerdictResult run_verdict(const VerdictSpec& spec);
 /// verdict itself, of its window error) (testbed run, both truths at three
 /// dts): its rows of the truth at h/2 and 2h and of the second truth, each against the truth at
 /// h. Throws std::runtime_error naming the file and what it lacks when the summary is of
-/// another model, truth or commit (`git_sha`), or misses a scenario's rows.
+/// another model, truth or commit (`git_sha`), or misses a scenario's rows. The truths are the
+/// model's within the engine `budget` (truths_for).
 std::vector<TruthFloor> floors_from_summary(const std::string& text, const std::string& source,
                                             const Model& model,
                                             const std::vector<std::string>& scenarios,
-                                            const std::string& git_sha);
+                                            const std::string& git_sha, double budget);
 
 inline constexpr const char* kCandidatesHeader =
     "scenario,solver,rule,setting,dt,cost_us_per_s,error_m,status,reason,starts,"

@@ -1,0 +1,41 @@
+// ODE's process-wide state (ode_library.h).
+#include "ode_library.h"
+
+#include <ode/ode.h>
+
+#include <cstdarg>
+#include <cstdio>
+
+#include "puppet/model/text.h"
+
+namespace puppet::reference::detail {
+namespace {
+
+void throw_failure(int, const char* format, va_list args) {
+  char message[300];
+  std::vsnprintf(message, sizeof message, format, args);
+  throw OdeFailure(one_line(message, 300));
+}
+
+}  // namespace
+
+void ensure_ode_thread() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    dInitODE2(0);
+    // ODE reports a singular LCP or a bad quaternion as a message and carries on; the testbed
+    // judges the state instead (a non-finite one is diverged), so the messages are not printed
+    dSetMessageHandler([](int, const char*, va_list) {});
+    dSetErrorHandler(throw_failure);
+    dSetDebugHandler(throw_failure);
+  });
+  thread_local const bool allocated = dAllocateODEDataForThread(dAllocateMaskAll) != 0;
+  (void)allocated;
+}
+
+std::mutex& quick_step_lock() {
+  static std::mutex lock;
+  return lock;
+}
+
+}  // namespace puppet::reference::detail

@@ -1,0 +1,29 @@
+// ODE's process-wide state as the ode engine (ode.cpp) needs it: the library initialised once,
+// its handlers (its errors and internal checks thrown as OdeFailure, never an exit or an abort),
+// each thread's own collision data, and the lock around its one random generator.
+#pragma once
+
+#include <mutex>
+#include <stdexcept>
+
+namespace puppet::reference::detail {
+
+// ODE's internal checks (dIASSERT, dUASSERT: its debug handler) and its errors (dError) end the
+// process once their handler returns (abort(), exit(1)). The handlers ensure_ode_thread installs
+// throw this instead, with ODE's message as one line: ODE is C++ built with exceptions, so the
+// throw unwinds through it, its locks and arenas included, to the caller's catch.
+class OdeFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// ODE initialised (once per process, with the handlers above) and this thread's collision data
+// allocated (once per thread)
+void ensure_ode_thread();
+
+// dWorldQuickStep shuffles its rows with ODE's one process-wide random generator (dRandInt): two
+// worlds stepped at once race on it, and a world's result would depend on every step any other
+// world took before. Each solver keeps its own generator state and steps under this lock.
+std::mutex& quick_step_lock();
+
+}  // namespace puppet::reference::detail
