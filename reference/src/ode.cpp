@@ -193,6 +193,14 @@ OdeSolver::OdeSolver(const Model& model, const Environment& environment,
 }
 
 OdeSolver::~OdeSolver() {
+  if (engine_error_) {
+    // a step ODE stopped with its error leaves the world's threading mid-step, and freeing it
+    // asserts again (in a destructor, where nothing may throw): the world and everything of it
+    // are kept, reachable, for the life of the process
+    detail::keep_after_failure({world_, threading_, ground_, contacts_});
+    for (dGeomID geom : geoms_) detail::keep_after_failure({geom});
+    return;
+  }
   for (dGeomID geom : geoms_) dGeomDestroy(geom);
   if (ground_) dGeomDestroy(ground_);
   if (contacts_) dJointGroupDestroy(contacts_);

@@ -5,6 +5,7 @@
 
 #include <cstdarg>
 #include <cstdio>
+#include <vector>
 
 #include "puppet/model/text.h"
 
@@ -36,6 +37,13 @@ void ensure_ode_thread() {
 std::mutex& quick_step_lock() {
   static std::mutex lock;
   return lock;
+}
+
+void keep_after_failure(std::initializer_list<const void*> objects) {
+  static std::mutex mutex;
+  static auto* kept = new std::vector<const void*>;  // never freed: what it holds must not be
+  const std::lock_guard lock(mutex);
+  kept->insert(kept->end(), objects.begin(), objects.end());
 }
 
 }  // namespace puppet::reference::detail

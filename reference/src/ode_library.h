@@ -3,6 +3,7 @@
 // each thread's own collision data, and the lock around its one random generator.
 #pragma once
 
+#include <initializer_list>
 #include <mutex>
 #include <stdexcept>
 
@@ -25,5 +26,9 @@ void ensure_ode_thread();
 // worlds stepped at once race on it, and a world's result would depend on every step any other
 // world took before. Each solver keeps its own generator state and steps under this lock.
 std::mutex& quick_step_lock();
+
+// keeps ODE's objects of a world whose step ODE stopped with its error, unfreed and reachable,
+// for the life of the process (freeing them trips ODE's checks again)
+void keep_after_failure(std::initializer_list<const void*> objects);
 
 }  // namespace puppet::reference::detail
