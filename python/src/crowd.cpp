@@ -45,14 +45,14 @@ class Crowd {
           " threads before fork(), whose threads the child process lacks; make a new Crowd in "
           "the child");
     }
-    const Exclusive held(*busy_, "Crowd");
+    const Exclusive held(*busy_, "Crowd: it");
     py::gil_scoped_release release;  // the workers need no Python
     crowd_->step(dt);
   }
 
   // every puppet's member at `offset` (width doubles), as one (puppets, n, width) copy
   py::array gather(size_t offset, ssize_t width) const {
-    const Exclusive held(*busy_, "Crowd");
+    const Exclusive held(*busy_, "Crowd: it");
     const auto n = static_cast<ssize_t>(model_->segment_count());
     py::array_t<double> out({static_cast<ssize_t>(crowd_->size()), n, width});
     double* o = out.mutable_data();
@@ -127,7 +127,7 @@ void bind_crowd(py::module_& m) {
       .def(
           "diverged",
           [](Crowd& c) {
-            const Exclusive held(*c.busy(), "Crowd");
+            const Exclusive held(*c.busy(), "Crowd: it");
             std::vector<bool> out;
             for (int k = 0; k < c.crowd().size(); ++k) {
               out.push_back(c.crowd().puppet(k).state().diverged);

@@ -122,8 +122,8 @@ Solver::Solver(ModelPtr model, procedural::Solver* puppet, py::object owner,
 Exclusive::Exclusive(std::atomic<bool>& busy, const char* what) : busy_(busy) {
   if (busy_.exchange(true, std::memory_order_acq_rel)) {
     throw std::runtime_error(std::string(what) +
-                             ": its crowd is stepping on another thread; a crowd and its puppets "
-                             "take one call at a time");
+                             " is stepping on another thread; a crowd and its puppets take one "
+                             "call at a time");
   }
 }
 

@@ -61,7 +61,7 @@ class Solver {
   void set_state(const py::handle& x, const py::handle& q, const py::handle& v,
                  const py::handle& w);
   /// held for the length of any call that reads or changes the state (Exclusive)
-  Exclusive hold() const { return Exclusive(*busy_, "Solver"); }
+  Exclusive hold() const { return Exclusive(*busy_, owner_ ? "Solver: its crowd" : "Solver"); }
   /// a read-only view of one member of every body (offset in bytes, width in doubles)
   py::array view(py::handle owner, size_t offset, ssize_t width) const;
   py::array user_forces() const;

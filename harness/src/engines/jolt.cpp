@@ -325,8 +325,8 @@ class JoltSimulator : public Simulator {
     const json* count = field("steps");
     const json* bytes = field("bytes");
     const json* flag = field("diverged");
-    if (!count || !count->is_number_unsigned() || !bytes || !bytes->is_number_unsigned() ||
-        !flag || !flag->is_boolean()) {
+    if (!count || !count->is_number_unsigned() || !bytes || !bytes->is_number_unsigned() || !flag ||
+        !flag->is_boolean()) {
       return fail("the driver's answer lacks its steps, bytes or divergence: " +
                   answer.dump().substr(0, 120));
     }
@@ -393,6 +393,12 @@ class JoltSimulator : public Simulator {
 };
 
 std::string jolt_model_problem(const Model& model) {
+  // the ground and a handle per hard pin besides the segments
+  if (model.segment_count() + 1 + procedural::kMaxPins > kMaxBodies) {
+    return std::to_string(model.segment_count()) + " segments are too many: a Jolt world holds " +
+           std::to_string(kMaxBodies) + " bodies, the ground and " +
+           std::to_string(procedural::kMaxPins) + " pins' handles among them";
+  }
   for (const Segment& segment : model.segments) {
     for (const Shape& shape : segment.shapes) {
       if (shape.type == ShapeType::kEllipsoid) {
@@ -405,7 +411,8 @@ std::string jolt_model_problem(const Model& model) {
       return "joint \"" + joint.name + "\": Jolt's hinge limits must hold the rest angle 0";
     }
   }
-  return {};
+  // last, as it starts a driver when none is pooled
+  return driver_problem();
 }
 
 std::string validate(const JoltSettings& s) {

@@ -97,6 +97,25 @@ bool available() {
 }
 
 std::unique_ptr<NodeProcess> take_driver() { return pool().take(); }
+
+std::string driver_problem() {
+  std::unique_ptr<NodeProcess> driver;
+  try {
+    driver = take_driver();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  std::string line;
+  if (!driver->request(R"({"op":"version"})", line, std::chrono::seconds(60))) {
+    return "its driver does not answer here: " + driver->error();
+  }
+  const json answer = json::parse(line, nullptr, false);
+  if (!answer.is_object() || answer.value("jolt", std::string()) != kPackageVersion) {
+    return "its driver answered \"" + line.substr(0, 80) + "\" to a version request";
+  }
+  give_back(std::move(driver));
+  return {};
+}
 void give_back(std::unique_ptr<NodeProcess> driver) { pool().give_back(std::move(driver)); }
 
 json model_json(const Model& model) {

@@ -18,6 +18,13 @@ namespace jolt {
 // why the engine cannot run here (empty when it can): Node.js and the pinned package
 std::string absent_reason();
 bool available();
+// why no driver answers here (empty when one does): a driver taken from the pool or started, and
+// asked its version (under an address-space limit node cannot reserve WebAssembly's memory, and
+// every run would read as diverged); the driver goes back to the pool for the runs
+std::string driver_problem();
+// the bodies a Jolt world of the driver holds at most (JoltSettings' default mMaxBodies, 10240):
+// a segment each, the ground, and a kinematic body per hard pin
+inline constexpr int kMaxBodies = 10240;
 // a running driver, from the pool or started (throws std::runtime_error when it cannot start),
 // and back to the pool when it is still healthy
 std::unique_ptr<NodeProcess> take_driver();
