@@ -42,9 +42,8 @@ void read_floors(const Flags& f, const Model& model, VerdictSpec& spec) {
     throw UsageError("--floors-from: " + shown(f.floors_from) + ": cannot read");
   }
   try {
-    spec.floors =
-        floors_from_summary(text.str(), f.floors_from, model, spec.scenarios, current_git_sha(),
-                            spec.engine_budget);
+    spec.floors = floors_from_summary(text.str(), f.floors_from, model, spec.scenarios,
+                                      current_git_sha(), spec.engine_budget);
   } catch (const std::runtime_error& e) {
     throw UsageError(std::string("--floors-from: ") + e.what());
   }

@@ -216,7 +216,8 @@ void apply_engine_verdicts(std::vector<SolverConfig>& configs, const Model& mode
   std::vector<std::string> refused;
   for (const SolverConfig& config : configs) {
     if (std::find(refused.begin(), refused.end(), config.solver) != refused.end()) continue;
-    const std::string problem = compare::engine_model_problem(config.solver, model, config.options, f.engine_budget);
+    const std::string problem =
+        compare::engine_model_problem(config.solver, model, config.options, f.engine_budget);
     if (problem.empty()) continue;
     if (f.solver != "all") {
       throw UsageError("--solver: " + config.solver + " cannot run " + shown(f.model) + ": " +

@@ -30,7 +30,7 @@ void check_kind(const char* name, const py::array& a);
 /// kind and shape are checked before anything is copied (a broadcast array of gigabytes is
 /// refused, not copied); ValueError naming it otherwise
 py::array_t<double, py::array::c_style> real_array(const char* name, const py::handle& value,
-                                                  ssize_t rows, ssize_t width);
+                                                   ssize_t rows, ssize_t width);
 /// a Python int (not a bool) within [lo, hi], else ValueError naming it and the range
 long long whole(const char* name, const py::handle& value, long long lo, long long hi);
 /// a message as one line of at most 400 bytes (the command line's bound), cut between characters

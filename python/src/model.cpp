@@ -53,7 +53,7 @@ void check_kind(const char* name, const py::array& a) {
 }
 
 py::array_t<double, py::array::c_style> real_array(const char* name, const py::handle& value,
-                                                  ssize_t rows, ssize_t width) {
+                                                   ssize_t rows, ssize_t width) {
   const std::string shape = "(" + std::to_string(rows) + ", " + std::to_string(width) + ")";
   if (!py::isinstance<py::array>(value) && !py::isinstance<py::sequence>(value)) {
     refuse(name, "expected an array of shape " + shape);

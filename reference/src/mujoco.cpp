@@ -506,8 +506,10 @@ class MujocoSolver final : public Solver {
     diverged_ = true;
     engine_error_ = true;
     d_->pstack = 0;  // the step's scratch, left allocated by the jump
-    std::fprintf(stderr, "mujoco: MuJoCo stopped a step with its error \"%s\"; the run reads as "
-                 "diverged\n", error.c_str());
+    std::fprintf(stderr,
+                 "mujoco: MuJoCo stopped a step with its error \"%s\"; the run reads as "
+                 "diverged\n",
+                 error.c_str());
   }
 
   BodyState body_state(int s) const {

@@ -421,8 +421,10 @@ void OdeSolver::step(double dt) {
     // states_ holds the state the step came from; ODE's world is not stepped again
     diverged_ = true;
     engine_error_ = true;
-    std::fprintf(stderr, "ode: ODE stopped a step with its error \"%s\"; the run reads as "
-                 "diverged\n", failure.what());
+    std::fprintf(stderr,
+                 "ode: ODE stopped a step with its error \"%s\"; the run reads as "
+                 "diverged\n",
+                 failure.what());
     return;
   }
   springs_.time += dt;

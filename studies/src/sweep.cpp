@@ -158,7 +158,8 @@ void plan(Sweep& sweep) {
       std::find_if(spec.configs.begin(), spec.configs.end(), is_pairwise_solver);
   sweep.pairwise = pairwise_config != spec.configs.end();
   sweep.pairwise_config = static_cast<size_t>(pairwise_config - spec.configs.begin());
-  sweep.truth_list = any_judged ? truths_for(sweep.model, spec.engine_budget) : std::vector<Truth>{};
+  sweep.truth_list =
+      any_judged ? truths_for(sweep.model, spec.engine_budget) : std::vector<Truth>{};
   if (spec.first_truth_only && sweep.truth_list.size() > 1) sweep.truth_list.resize(1);
   sweep.truths = sweep.truth_list.size();
   sweep.levels = spec.first_truth_only ? 1 : 3;

@@ -56,9 +56,9 @@ class Children : public ::testing::Test {
   // a long jolt run, its driver stepping ahead (the command has made its staging folder, so the
   // driver is the run's, not the one that answered the engine's check); the driver's pid
   pid_t start_long_run(const fs::path& out, Child* testbed_child) {
-    *testbed_child = start({"run", "--model", "chain:60", "--solver", "jolt", "--scenario", "shake",
-                            "--dt", "1/960", "--duration", "60", "--no-accuracy", "--no-timing",
-                            "--out", out.string()});
+    *testbed_child =
+        start({"run", "--model", "chain:60", "--solver", "jolt", "--scenario", "shake", "--dt",
+               "1/960", "--duration", "60", "--no-accuracy", "--no-timing", "--out", out.string()});
     const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(30);
     while (std::chrono::steady_clock::now() < until) {
       const std::vector<pid_t> drivers = children_of(testbed_child->pid, "server.mjs");
@@ -106,9 +106,7 @@ TEST_F(Children, NoDriverOutlivesAnInterruptedRun) {
 TEST_F(Children, NoDriverOutlivesAKilledTestbed) { expect_no_orphan("sigkill", {SIGKILL}, false); }
 
 // a stopped driver never answers: the stop watchdog ends the testbed, and the driver with it
-TEST_F(Children, NoStoppedDriverOutlivesItsTestbed) {
-  expect_no_orphan("stopped", {SIGINT}, true);
-}
+TEST_F(Children, NoStoppedDriverOutlivesItsTestbed) { expect_no_orphan("stopped", {SIGINT}, true); }
 
 // a driver killed under a run is that run's divergence; the command goes on and writes its results
 TEST_F(Children, AKilledDriverIsThatRunsDivergence) {

@@ -17,8 +17,10 @@ testbed::Outcome call(std::vector<std::string> args) {
   return testbed::run_testbed(args, false);
 }
 
-const std::string kOutside = std::string(PUPPET_SOURCE_DIR) + "/tests/data/bad/mjcf_include_outside.xml";
-const std::string kPublished = std::string(PUPPET_SOURCE_DIR) + "/tests/data/mjcf/published_style.xml";
+const std::string kOutside =
+    std::string(PUPPET_SOURCE_DIR) + "/tests/data/bad/mjcf_include_outside.xml";
+const std::string kPublished =
+    std::string(PUPPET_SOURCE_DIR) + "/tests/data/mjcf/published_style.xml";
 
 TEST(TestbedRunner, ModelReadingOptionsLastOneCall) {
   for (int round = 0; round < 2; ++round) {
@@ -29,8 +31,8 @@ TEST(TestbedRunner, ModelReadingOptionsLastOneCall) {
     EXPECT_EQ(call({"validate", "--strict", kPublished}).status, 2);
     EXPECT_EQ(call({"validate", kPublished}).status, 0) << "--strict outlived its call";
     // a call refused for another flag leaves nothing behind either
-    const testbed::Outcome refused = call({"validate", "--strict", "--include-outside",
-                                           "--engine-budget", "nan", kOutside});
+    const testbed::Outcome refused =
+        call({"validate", "--strict", "--include-outside", "--engine-budget", "nan", kOutside});
     EXPECT_EQ(refused.status, 2);
     EXPECT_NE(refused.error.find("--engine-budget"), std::string::npos) << refused.error;
     EXPECT_EQ(call({"validate", kPublished}).status, 0);
@@ -40,18 +42,15 @@ TEST(TestbedRunner, ModelReadingOptionsLastOneCall) {
 
 TEST(TestbedRunner, AnEngineBudgetLastsOneCall) {
   const fs::path out = fresh_folder("runner_budget");
-  const std::vector<std::string> run = {"run",          "--solver",  "bullet-multibody",
-                                        "--scenario",   "hang",      "--duration",
-                                        "0.02",         "--dt",      "1/240",
-                                        "--no-timing",  "--no-accuracy", "--out",
-                                        out.string()};
+  const std::vector<std::string> run = {
+      "run",  "--solver", "bullet-multibody", "--scenario",    "hang",  "--duration", "0.02",
+      "--dt", "1/240",    "--no-timing",      "--no-accuracy", "--out", out.string()};
   std::vector<std::string> tight = run;
   tight.insert(tight.end(), {"--engine-budget", "1e-3"});
   for (int round = 0; round < 2; ++round) {
     const testbed::Outcome refused = call(tight);
     EXPECT_EQ(refused.status, 2);
-    EXPECT_NE(refused.error.find("past the budget of 0.001 s (--engine-budget)"),
-              std::string::npos)
+    EXPECT_NE(refused.error.find("past the budget of 0.001 s (--engine-budget)"), std::string::npos)
         << refused.error;
     EXPECT_EQ(call(run).status, 0) << "the budget outlived its call";
   }
@@ -67,10 +66,9 @@ TEST(TestbedRunner, AnEngineBudgetIsFinite) {
     EXPECT_NE(o.error.find("--engine-budget"), std::string::npos) << budget << ": " << o.error;
   }
   const fs::path out = fresh_folder("runner_nan_budget");
-  const std::vector<std::string> run = {"run",         "--solver",      "procedural", "--rule",
-                                        "xpbd",        "--scenario",    "hang",       "--duration",
-                                        "0.02",        "--no-timing",   "--no-accuracy",
-                                        "--out",       out.string()};
+  const std::vector<std::string> run = {
+      "run",        "--solver", "procedural",  "--rule",        "xpbd",  "--scenario", "hang",
+      "--duration", "0.02",     "--no-timing", "--no-accuracy", "--out", out.string()};
   ASSERT_EQ(call(run).status, 0);
   const std::string before = slurp(out / "summary.csv");
   std::vector<std::string> nan = run;
@@ -87,7 +85,8 @@ TEST(TestbedRunner, ANulByteInAnArgumentIsRefused) {
   EXPECT_NE(o.error.find("holds a NUL byte"), std::string::npos) << o.error;
   EXPECT_EQ(o.error.find('\0'), std::string::npos);
   const fs::path out = fresh_folder("runner_nul");
-  const testbed::Outcome run = call({"run", "--scenario", "hang", "--out", out.string() + std::string("\0x", 2)});
+  const testbed::Outcome run =
+      call({"run", "--scenario", "hang", "--out", out.string() + std::string("\0x", 2)});
   EXPECT_EQ(run.status, 2);
   EXPECT_FALSE(fs::exists(out));
 }

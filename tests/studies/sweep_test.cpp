@@ -155,8 +155,8 @@ TEST(Sweep, SummaryHasEveryRunItsAccuracyAndStableUnits) {
 // in MuJoCo) leaves bullet-multibody first
 TEST(Sweep, TheFirstTruthIsTheEngineThatModelsTheLimitsExactly) {
   if (!reference::have_mujoco()) GTEST_SKIP() << "no MuJoCo in this build";
-  const auto pinocchio =
-      truths_for(load_model(std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json"), kDefaultEngineBudget);
+  const auto pinocchio = truths_for(
+      load_model(std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json"), kDefaultEngineBudget);
   ASSERT_EQ(pinocchio.size(), 2u);
   EXPECT_EQ(pinocchio[0].solver, "mujoco");
   EXPECT_EQ(pinocchio[0].reference, kTruthReference);

@@ -253,7 +253,8 @@ TEST(Verdict, TheFloorsAreReadFromASweepsSummary) {
   text += row("hang", first, first.dt / 2, "pose_err_m", 1e-4, "abc");
   text += row("hang", first, first.dt * 2, "pose_err_m", 4e-4, "abc");
   if (truths.size() > 1) text += row("hang", truths[1], truths[1].dt, "pose_err_m", 5e-4, "abc");
-  const auto floors = floors_from_summary(text, "summary.csv", model, {"hang"}, "abc", kDefaultEngineBudget);
+  const auto floors =
+      floors_from_summary(text, "summary.csv", model, {"hang"}, "abc", kDefaultEngineBudget);
   ASSERT_EQ(floors.size(), 1u);
   // p = 2: a bar of 1.5 × 4/3 × 1e-4 = 2e-4, under the truths' disagreement of 5e-4
   EXPECT_NEAR(floors[0].floor, truths.size() > 1 ? 5e-4 : 2e-4, 1e-15);

@@ -28,7 +28,7 @@ struct VerdictSpec {
   double frame_hz = 60.0;
   int64_t starts = 32;  // random starts a chosen configuration must survive
   uint64_t seed = 1;
-  int jobs = 1;  // worker threads; the timing runs alone
+  int jobs = 1;                                 // worker threads; the timing runs alone
   double engine_budget = kDefaultEngineBudget;  // what the truths' engines may cost (engines.h)
   // the truth's floor per scenario as a sweep measured it (floors_from_summary); empty: measured
   // here (the truth at h/2 and 2h and the second truth, each re-seeded from the truth)
