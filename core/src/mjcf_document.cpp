@@ -196,15 +196,18 @@ const XMLElement* Reader::included_root(const XMLElement* include) {
   // MuJoCo 2.2.2 reads every include's path from the top file's folder: where the two
   // readings name different files the model means one thing to MuJoCo and another here
   const fs::path mujocos = (folder_ / *file).lexically_normal();
+  // made absolute first: weakly_canonical leaves a relative path to a missing file relative, and
+  // it would then read as outside the (absolute) folder
   std::error_code error;
-  const fs::path real = fs::weakly_canonical(path, error);
+  const fs::path real = fs::weakly_canonical(fs::absolute(path, error), error);
   if (error) fail(include, "cannot resolve \"" + one_line(*file) + "\"");
-  if (real != fs::weakly_canonical(mujocos, error)) {
+  if (real != fs::weakly_canonical(fs::absolute(mujocos, error), error)) {
     fail(include, "\"" + one_line(*file) +
                       "\" names another file from the model's folder, where MuJoCo 2.2.2 reads "
                       "it (write it from there)");
   }
-  const fs::path top = fs::weakly_canonical(folder_.empty() ? fs::path(".") : folder_, error);
+  const fs::path top =
+      fs::weakly_canonical(fs::absolute(folder_.empty() ? fs::path(".") : folder_, error), error);
   const auto [end, _] = std::mismatch(top.begin(), top.end(), real.begin(), real.end());
   if (end != top.end() && !options_.include_outside) {
     fail(include,

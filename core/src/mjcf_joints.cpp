@@ -91,8 +91,9 @@ Reader::JointElement Reader::read_joint_element(const XMLElement* e, int child, 
       constexpr double kHalfTurn = kPi * (1.0 + 1e-12);  // 180 degrees, as rounded
       if (out.range[0] < -kHalfTurn || out.range[1] > kHalfTurn) {
         fail(e,
-             "its range goes past half a turn either way (±180 degrees, ±pi), which the "
-             "testbed's hinges cannot hold (±180 degrees is a free hinge)");
+             "its range goes past 180 degrees either way, which the testbed's hinges cannot "
+             "hold (their angle is read within [-180, 180] degrees, and that whole range is a "
+             "free hinge)");
       }
       out.lower = std::max(out.range[0], -kPi);
       out.upper = std::min(out.range[1], kPi);

@@ -362,6 +362,34 @@ TEST(MjcfReader, TheSubsetIsStrict) {
             "t.xml:1: <compiler>: autolimits must be true or false");
 }
 
+// An include that is missing from the model's own folder is missing, not outside, whichever way
+// the model's path is written (relative from its folder: "m.xml", whose folder is empty)
+TEST(MjcfReader, AMissingIncludeIsMissingWhereverTheModelIsNamedFrom) {
+  const std::filesystem::path folder = std::string(PUPPET_SOURCE_DIR) + "/tests/data/bad";
+  const std::filesystem::path before = std::filesystem::current_path();
+  std::filesystem::current_path(folder);
+  for (const std::string& name : std::vector<std::string>{"mjcf_include.xml", "./mjcf_include.xml",
+                                                          (folder / "mjcf_include.xml").string()}) {
+    try {
+      load_model(name);
+      ADD_FAILURE() << name << " loaded";
+    } catch (const ModelError& e) {
+      EXPECT_NE(std::string(e.what()).find("cannot read \"other.xml\": cannot open the file"),
+                std::string::npos)
+          << name << ": " << e.what();
+    }
+  }
+  // and one outside is still outside, named from its folder too
+  try {
+    load_model("mjcf_include_outside.xml");
+    ADD_FAILURE() << "an include outside the folder loaded";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("is outside the model's folder"), std::string::npos)
+        << e.what();
+  }
+  std::filesystem::current_path(before);
+}
+
 // Export is a fixed point: a model written as MJCF, read back and written again gives the same
 // bytes (no quaternion normalised twice, no -0), for the models shipped and the MJCF corpus
 TEST(MjcfReader, ExportReadExportIsAFixedPoint) {
