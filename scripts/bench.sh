@@ -2,7 +2,8 @@
 # Build and run the benchmarks, then the performance gate (testbed gate, results/gate.json).
 #
 #   scripts/bench.sh           every benchmark, 9 repetitions of ≥ 0.2 s in random interleaving
-#                              (~15 min); writes the JSON to results/bench/ and
+#                              (~15 min), and bench_budget once (~8 min); writes the JSON to
+#                              results/bench/ and
 #                              results/bench/<machine>.csv (medians)
 #   scripts/bench.sh --quick   only what the gate reads, with shorter runs (CI, ~2 min);
 #                              writes to build/release/bench/
@@ -53,6 +54,10 @@ else
   for b in bench_step bench_stages bench_scaling bench_verdict bench_python; do
     "$bin/$b" "${common[@]}" --benchmark_min_time=0.2 --benchmark_out="$out/$b.json"
   done
+  # the engine budget's estimates against piles on the ground (docs/reliability.md): once, its
+  # exact solvers' piles take minutes (the rods of 32 boxes in dWorldStep: 4.6 s a step)
+  "$bin/bench_budget" --benchmark_min_time=0.05 --benchmark_out_format=json \
+    --benchmark_out="$out/budget.json"
   status=0
   ./build/release/testbed gate "$out"/bench_step.json "$out"/bench_stages.json \
     "$out"/bench_scaling.json "$out"/bench_verdict.json "$out"/bench_python.json \

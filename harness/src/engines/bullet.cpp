@@ -55,21 +55,31 @@ void search(const SolverOptions& base, std::vector<Setting>& out) {
 // step"): chains of limited ball joints at dt 1/240 s, 20 steps, Release. A btMultiBody
 // constraint row spans every degree of freedom of the tree, so with every limit acting a step
 // grows with dofs × rows² (100, 200 and 400 links: 0.08, 0.66 and 5.9 s a step, 3.5 ns each);
-// with none acting, each limit's rows are still built, dofs × rows (6 ns each); the rest is about
-// 15 µs a link. The estimate takes every limit acting, the worst a scenario can ask.
+// with none acting, each limit's rows are still built, dofs × rows (6 ns each).
+// Figures folded onto the ground (bench_budget: chains of capsules, boxes and box-limited boxes,
+// four rods of many boxes, Pinocchio and humanoid.xml, each let go curled and timed 1.5 s later;
+// scripts/budget_table.py results/bench/budget.json --fit gives the terms, docs/reliability.md
+// the ratios): about 2 µs a link and 1.9 µs a contact point
+// (within 0.7–3.0× of all eleven). The estimate takes every limit acting and every shape on the
+// ground, the worst a scenario can ask.
 double multibody_cost(const Model& model, const SolverOptions&) {
   const ModelSize n = model_size(model);
   const double dofs = n.dofs, rows = n.limit_rows;
-  const double step = 15e-6 * n.segments + 6e-9 * dofs * rows + 3.5e-9 * dofs * rows * rows;
+  const double step = 2e-6 * n.segments + 1.9e-6 * n.contact_points + 6e-9 * dofs * rows +
+                      3.5e-9 * dofs * rows * rows;
   return step / kBudgetDt;
 }
 
-// A btRigidBody ragdoll is linear in its bodies and rows, per sweep (1,600 links with every
-// limit acting: 15 ms a step at ten sweeps, 0.6 µs a body or row and sweep)
+// A btRigidBody ragdoll is linear in its bodies and rows, per sweep. Figures folded onto the ground
+// (bench_budget: chains of capsules, boxes and box-limited boxes, four rods of many boxes,
+// Pinocchio and humanoid.xml, each let go curled and timed 1.5 s later; scripts/budget_table.py
+// results/bench/budget.json --fit gives the terms, docs/reliability.md the ratios): at ten sweeps,
+// 0.5 µs a body or joint row, 0.08 µs a limit row and 0.25 µs a contact point (within 0.8–1.3×)
 double rigid_cost(const Model& model, const SolverOptions& options) {
   const ModelSize n = model_size(model);
-  const double rows = n.segments + 3.0 * static_cast<double>(model.joints.size()) + n.limit_rows;
-  return 0.6e-6 * rows * std::max(1, options.bullet.iterations) / kBudgetDt;
+  const double step =
+      0.5e-6 * (n.segments + n.joint_rows) + 0.08e-6 * n.limit_rows + 0.25e-6 * n.contact_points;
+  return step * std::max(1, options.bullet.iterations) / 10.0 / kBudgetDt;
 }
 
 }  // namespace

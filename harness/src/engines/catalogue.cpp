@@ -82,18 +82,39 @@ ModelSize model_size(const Model& model) {
     switch (joint.type) {
       case JointType::kBall: {
         size.dofs += 3;
+        size.joint_rows += 3;
         // a limit of half a turn or more never acts, and no engine builds it
         const bool open = joint.ball_limit == BallLimit::kSwingTwist && joint.swing_x >= kPi &&
                           joint.swing_y >= kPi && joint.twist >= kPi;
         size.limit_rows += open ? 0 : joint.ball_limit == BallLimit::kEulerBox ? 3 : 2;
+        size.box_limits += !open && joint.ball_limit == BallLimit::kEulerBox ? 1 : 0;
         break;
       }
       case JointType::kHinge:
         size.dofs += 1;
+        size.joint_rows += 5;
         size.limit_rows += joint.lower <= -kPi && joint.upper >= kPi ? 0 : 1;
         break;
       case JointType::kFixed:
+        size.joint_rows += 6;
         break;
+    }
+  }
+  for (const Segment& segment : model.segments) {
+    for (const Shape& shape : segment.shapes) {
+      switch (shape.type) {
+        case ShapeType::kSphere:
+        case ShapeType::kEllipsoid:
+          size.contact_points += 1;
+          break;
+        case ShapeType::kCapsule:
+          size.contact_points += 2;
+          break;
+        case ShapeType::kBox:
+        case ShapeType::kCylinder:
+          size.contact_points += 4;
+          break;
+      }
     }
   }
   std::vector<int> depth(parent.size(), 0);
@@ -117,12 +138,12 @@ std::string engine_model_problem(std::string_view name, const Model& model,
   const double cost = engine->second_cost(model, options);
   if (cost <= budget) return {};
   const ModelSize size = model_size(model);
-  char line[320];
+  char line[360];
   std::snprintf(line, sizeof line,
                 "one simulated second at dt 1/240 s would take it about %.3g s of CPU (%d degrees "
-                "of freedom, %d limit rows, joints %d deep), past the budget of %.3g s "
-                "(--engine-budget)",
-                cost, size.dofs, size.limit_rows, size.depth, budget);
+                "of freedom, %d limit rows, %d contact points on the ground, joints %d deep), "
+                "past the budget of %.3g s (--engine-budget)",
+                cost, size.dofs, size.limit_rows, size.contact_points, size.depth, budget);
   return line;
 }
 

@@ -462,14 +462,18 @@ void search(const SolverOptions& base, std::vector<Setting>& out) {
   out.push_back(std::move(more));
 }
 
-// Jolt's sweeps are linear in the constraints' rows, in WebAssembly: measured on the reference
-// machine (docs/reliability.md), chains of free ball joints in shake at 1/240 s took 0.63 and
-// 1.9 ms a step at 100 and 400 links, Pinocchio about 110 µs
+// Jolt's sweeps are linear in the constraints' rows, in WebAssembly. Figures folded onto the ground
+// (bench_budget: chains of capsules, boxes and box-limited boxes, four rods of many boxes,
+// Pinocchio and humanoid.xml, each let go curled and timed 1.5 s later; scripts/budget_table.py
+// results/bench/budget.json --fit gives the terms, docs/reliability.md the ratios): at its default
+// twelve sweeps, 2.6 µs a body or joint row, 1.9 µs a limit row and 0.15 µs a contact point (within
+// 0.6–2.9×, laid flat too)
 double jolt_cost(const Model& model, const SolverOptions& options) {
   const ModelSize n = model_size(model);
-  const double rows = 3.0 * static_cast<double>(model.joints.size()) + n.limit_rows;
   const double sweeps = options.jolt.velocity_steps + options.jolt.position_steps;
-  return (3e-6 * n.segments + 60e-9 * rows * sweeps) / kBudgetDt;
+  const double step =
+      2.6e-6 * (n.segments + n.joint_rows) + 1.9e-6 * n.limit_rows + 0.15e-6 * n.contact_points;
+  return step * sweeps / 12.0 / kBudgetDt;
 }
 
 }  // namespace

@@ -71,12 +71,20 @@ void search(const SolverOptions& base, std::vector<Setting>& out) {
 // Measured on the reference machine (docs/reliability.md): MuJoCo's Newton solver factors a
 // dense matrix over the degrees of freedom and its constraint rows, dofs × max(dofs, rows)²
 // (a comb of 25 four-link arms, 306 dofs and 300 limit rows all acting: 0.1 s a step, 3.5 ns
-// each; 4 ns taken); RK4 steps four times
+// each). The rows count the contacts too, three each, up to the contacts the testbed's MJCF
+// lets MuJoCo keep (nconmax, 4 a segment and 8). Figures folded onto the ground (bench_budget:
+// chains of capsules, boxes and box-limited boxes, four rods of many boxes, Pinocchio and
+// humanoid.xml, each let go curled and timed 1.5 s later; scripts/budget_table.py
+// results/bench/budget.json --fit gives the terms, docs/reliability.md the ratios): 4.5 ns each
+// keeps every one under its estimate by at most 2× (its cost on a pile is its Newton iterations',
+// which the counts do not tell: 0.04 to 55 ms a step at the same size, so the estimate is as much
+// as 177× the cost of an easy pile). RK4 steps four times.
 double mujoco_cost(const Model& model, const SolverOptions& options) {
   const ModelSize n = model_size(model);
-  const double dofs = n.dofs, rows = std::max<double>(n.dofs, n.limit_rows);
+  const double contacts = std::min(n.contact_points, 4 * n.segments + 8);
+  const double dofs = n.dofs, rows = std::max<double>(n.dofs, n.limit_rows + 3.0 * contacts);
   const double stages = options.mujoco.integrator == MujocoIntegrator::kRk4 ? 4.0 : 1.0;
-  return stages * 4e-9 * dofs * rows * rows / kBudgetDt;
+  return stages * 4.5e-9 * dofs * rows * rows / kBudgetDt;
 }
 
 }  // namespace

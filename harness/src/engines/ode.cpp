@@ -86,15 +86,24 @@ void search(const SolverOptions& base, std::vector<Setting>& out) {
 // dWorldStep factors the dense matrix of all rows: 200, 400 and 800 links (1,194, 2,394 and 4,794
 // rows) took 9, 81 and 623 ms a step, 6e-12 s per row³. dWorldQuickStep is linear in its rows
 // per sweep: 1.2 and 3.3 ms a step at 400 and 800 links and 20 sweeps, 25–35 ns per row and
-// sweep (40 taken). The rest is about 1 µs a body.
+// sweep (40 taken). The rest is about 1 µs a body. Figures folded onto the ground (bench_budget:
+// chains of capsules, boxes and box-limited boxes, four rods of many boxes, Pinocchio and
+// humanoid.xml, each let go curled and timed 1.5 s later; scripts/budget_table.py
+// results/bench/budget.json --fit gives the terms, docs/reliability.md the ratios): contacts are
+// rows too, three a point: dWorldQuickStep takes 0.25 µs a body or joint row and 0.9 µs a point
+// at 20 sweeps (within 0.75–1.5×); dWorldStep's pivots on a pile cost up to 200 times its
+// hanging chains' 6e-12 s per row³ (four rods of 32 boxes each: 1,545 rows, 4.6 s a step), so
+// it takes 1.5e-10 s per row³, which keeps every figure under its estimate by at most 2× (an
+// easy pile's cost is as little as 1/15 of it).
 double ode_cost(const Model& model, const SolverOptions& options) {
   const ModelSize n = model_size(model);
-  const double rows = 3.0 * static_cast<double>(model.joints.size()) + n.limit_rows;
-  const double bodies = 1e-6 * n.segments;
   if (options.ode.stepper == OdeStepper::kStep) {
-    return (bodies + 6e-12 * rows * rows * rows) / kBudgetDt;
+    const double rows = n.joint_rows + n.limit_rows + 3.0 * n.contact_points;
+    return (1e-6 * n.segments + 1.5e-10 * rows * rows * rows) / kBudgetDt;
   }
-  return (bodies + 40e-9 * rows * std::max(1, options.ode.iterations)) / kBudgetDt;
+  const double step = 0.25e-6 * (n.segments + n.joint_rows) + 0.9e-6 * n.contact_points +
+                      40e-9 * n.limit_rows * 20.0;
+  return step * std::max(1, options.ode.iterations) / 20.0 / kBudgetDt;
 }
 
 }  // namespace

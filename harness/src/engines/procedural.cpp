@@ -176,10 +176,24 @@ void search(const SolverOptions& base, std::vector<Setting>& out) {
 }
 
 // Every rule is linear in the segments per sweep and substep (1,600 limited links: about 10 ms a
-// step for xpbd's eight substeps); the estimate takes 1 µs a segment and eight passes, the most
-// any rule's defaults make
-double cost(const Model& model, const SolverOptions&) {
-  return 1e-6 * 8.0 * model.segment_count() / kBudgetDt;
+// step for xpbd's eight substeps), and in the points where its shapes meet the ground. Figures
+// folded onto the ground (bench_budget: chains of capsules, boxes and box-limited boxes, four rods
+// of many boxes, Pinocchio and humanoid.xml, each let go curled and timed 1.5 s later;
+// scripts/budget_table.py results/bench/budget.json --fit gives the terms, docs/reliability.md
+// the ratios): at
+// their own substeps and sweeps, xpbd takes 3.5 µs a segment and 1.6 µs a contact point, tree
+// 6.6 µs, 1.3 µs and 0.25 µs a limit row (within 0.8–1.35×); the one-pass rules are estimated as
+// xpbd's eight substeps, the most any rule's defaults make. Substeps given scale it.
+double cost(const Model& model, const SolverOptions& options) {
+  const ModelSize n = model_size(model);
+  const procedural::RuleInfo info = procedural::rule_info(options.procedural.rule);
+  const bool tree = options.procedural.rule == procedural::Rule::kTree;
+  const double step = tree
+                          ? 6.6e-6 * n.segments + 1.3e-6 * n.contact_points + 0.25e-6 * n.limit_rows
+                          : 3.5e-6 * n.segments + 1.6e-6 * n.contact_points;
+  const int substeps =
+      options.procedural.substeps > 0 ? options.procedural.substeps : std::max(info.substeps, 8);
+  return step * substeps / std::max(info.substeps, 8) / kBudgetDt;
 }
 
 }  // namespace

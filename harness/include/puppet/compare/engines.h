@@ -106,14 +106,21 @@ std::string engine_model_problem(std::string_view name, const Model& model,
                                  const SolverOptions& options = {},
                                  double budget = kDefaultEngineBudget);
 
-// what an engine's cost grows with, counted from the model: degrees of freedom (a free root's
-// six among them), the deepest chain of joints, and the limit rows when every limit acts (a box
-// three, a swing–twist limit two, a hinge's range one)
+// what an engine's cost grows with, counted from the model, at its worst (every limit acting,
+// every shape on the ground): degrees of freedom (a free root's six among them), the deepest
+// chain of joints, the limit rows (a box three, a swing–twist limit two, a hinge's range one),
+// the rows that hold the joints in maximal coordinates (a ball three, a hinge five, a fixed joint
+// six), the box limits among the limits, and the points where the shapes touch a plane they lie
+// on (a sphere or an ellipsoid one, a capsule two, a box or a cylinder four): three rows each,
+// the normal and two of friction
 struct ModelSize {
   int segments = 0;
   int dofs = 0;
   int depth = 0;
   int limit_rows = 0;
+  int joint_rows = 0;
+  int box_limits = 0;
+  int contact_points = 0;
 };
 ModelSize model_size(const Model& model);
 
