@@ -28,6 +28,20 @@ namespace {
 
 constexpr int kBatch = 4;  // steps per timed batch (boxes:64 in bullet-multibody: ~0.3 s a step)
 
+// a ball joint between segments `parent` and `child` at height z on the figure's axis
+nlohmann::json ball(const std::string& parent, const std::string& child, double z) {
+  return {{"name", "ball:" + child},
+          {"parent", parent},
+          {"child", child},
+          {"anchor", {0.0, 0.0, z}},
+          {"type", "ball"}};
+}
+
+Model made(const std::string& name, const nlohmann::json& segments, const nlohmann::json& joints) {
+  return parse_model(
+      nlohmann::json{{"name", name}, {"segments", segments}, {"joints", joints}}.dump(), name);
+}
+
 // N boxes joined end to end by ball joints with swing–twist limits of 20°, or with `euler` box
 // limits of ±20° about each axis (Pinocchio's kind)
 Model box_chain(int n, bool euler) {
@@ -38,24 +52,19 @@ Model box_chain(int n, bool euler) {
                         {"mass", kMass},
                         {"position", {0.0, 0.0, -kHalf - 2.0 * kHalf * i}},
                         {"shape", {{"type", "box"}, {"half_extents", {kWidth, kWidth, kHalf}}}}});
-    if (i > 0) {
-      joints.push_back({{"name", "ball" + std::to_string(i)},
-                        {"parent", "box" + std::to_string(i - 1)},
-                        {"child", "box" + std::to_string(i)},
-                        {"anchor", {0.0, 0.0, -2.0 * kHalf * i}},
-                        {"type", "ball"}});
-      if (euler) {
-        joints.back()["box_deg"] = {
-            {"order", "xyz"}, {"lower", {-20.0, -20.0, -20.0}}, {"upper", {20.0, 20.0, 20.0}}};
-      } else {
-        joints.back()["swing_deg"] = {20.0, 20.0};
-        joints.back()["twist_deg"] = 20.0;
-      }
+    if (i == 0) continue;
+    nlohmann::json joint =
+        ball("box" + std::to_string(i - 1), "box" + std::to_string(i), -2.0 * kHalf * i);
+    if (euler) {
+      joint["box_deg"] = {
+          {"order", "xyz"}, {"lower", {-20.0, -20.0, -20.0}}, {"upper", {20.0, 20.0, 20.0}}};
+    } else {
+      joint["swing_deg"] = {20.0, 20.0};
+      joint["twist_deg"] = 20.0;
     }
+    joints.push_back(std::move(joint));
   }
-  const std::string name = (euler ? "euler:" : "boxes:") + std::to_string(n);
-  nlohmann::json model = {{"name", name}, {"segments", segments}, {"joints", joints}};
-  return parse_model(model.dump(), name);
+  return made((euler ? "euler:" : "boxes:") + std::to_string(n), segments, joints);
 }
 
 // four segments end to end on ball joints, each a rod of K small boxes (one segment, K shapes): the
@@ -72,19 +81,14 @@ Model lumps(int k) {
                         {"position", {0.0, 0.0, z}}});
     }
     segments.push_back({{"name", "rod" + std::to_string(i)}, {"mass", kMass}, {"shapes", shapes}});
-    if (i > 0) {
-      joints.push_back({{"name", "ball" + std::to_string(i)},
-                        {"parent", "rod" + std::to_string(i - 1)},
-                        {"child", "rod" + std::to_string(i)},
-                        {"anchor", {0.0, 0.0, -kLength * i}},
-                        {"type", "ball"},
-                        {"swing_deg", {180.0, 180.0}},
-                        {"twist_deg", 180.0}});
-    }
+    if (i == 0) continue;
+    nlohmann::json joint =
+        ball("rod" + std::to_string(i - 1), "rod" + std::to_string(i), -kLength * i);
+    joint["swing_deg"] = {180.0, 180.0};  // free: the joints are not the question
+    joint["twist_deg"] = 180.0;
+    joints.push_back(std::move(joint));
   }
-  nlohmann::json model = {
-      {"name", "lumps:" + std::to_string(k)}, {"segments", segments}, {"joints", joints}};
-  return parse_model(model.dump(), "lumps:" + std::to_string(k));
+  return made("lumps:" + std::to_string(k), segments, joints);
 }
 
 const Model& figure(const std::string& name) {

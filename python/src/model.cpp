@@ -55,10 +55,9 @@ void check_kind(const char* name, const py::array& a) {
 py::array_t<double, py::array::c_style> real_array(const char* name, const py::handle& value,
                                                    ssize_t rows, ssize_t width) {
   const std::string shape = "(" + std::to_string(rows) + ", " + std::to_string(width) + ")";
-  if (!py::isinstance<py::array>(value) && !py::isinstance<py::sequence>(value)) {
-    refuse(name, "expected an array of shape " + shape);
-  }
-  if (py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value)) {
+  const bool sequence = py::isinstance<py::sequence>(value) && !py::isinstance<py::str>(value) &&
+                        !py::isinstance<py::bytes>(value);
+  if (!py::isinstance<py::array>(value) && !sequence) {
     refuse(name, "expected an array of shape " + shape);
   }
   // a sequence becomes an array as NumPy reads it (a list of lists); an array is looked at as it
