@@ -63,19 +63,29 @@ void install_handlers() {
   });
 }
 
-// runs `call` (calls into MuJoCo only); false with MuJoCo's message in `error` when MuJoCo raised
-// its error inside it
-template <class Call>
-bool guarded(const Call& call, std::string& error) {
-  MujocoJump jump;
+// runs call(context) under the jump back; false with MuJoCo's message in `jump.message` when
+// MuJoCo raised its error inside it. Nothing but trivially copyable locals lives in the frame
+// that calls setjmp, so nothing the jump skips can be clobbered (gcc's -Wclobbered at -O1).
+[[gnu::noinline]] bool jump_guard(void (*call)(const void*), const void* context,
+                                  MujocoJump& jump) {
   MujocoJump* const outer = t_jump;
   t_jump = &jump;
   if (setjmp(jump.where) == 0) {
-    call();
+    call(context);
     t_jump = outer;
     return true;
   }
   t_jump = outer;
+  return false;
+}
+
+// runs `call` (calls into MuJoCo only); false with MuJoCo's message in `error` when MuJoCo raised
+// its error inside it
+template <class Call>
+bool guarded(const Call& call, std::string& error) {
+  MujocoJump jump{};
+  const auto trampoline = [](const void* context) { (*static_cast<const Call*>(context))(); };
+  if (jump_guard(trampoline, &call, jump)) return true;
   error = one_line(jump.message, 300);
   return false;
 }
