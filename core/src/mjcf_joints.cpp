@@ -52,13 +52,28 @@ Reader::JointElement Reader::read_joint_element(const XMLElement* e, int child, 
   JointElement out;
   out.name = attribute(e, "name").value_or(segments_[child].name);
   if (std::string problem = detail::name_problem(out.name); !problem.empty()) fail(e, problem);
-  for (const char* physics : {"stiffness", "damping", "armature", "frictionloss", "ref"}) {
+  for (const char* physics : {"armature", "frictionloss"}) {
     const auto v = value(e, physics, cls);
     if (v && single(e, physics, *v) != 0.0) {
-      fail(e, std::string(physics) + " is not supported (the model's joints are ideal)");
+      fail(e, std::string(physics) +
+                  " is not supported (the testbed's joints have springs and "
+                  "dampers, no rotor inertia or dry friction)");
     }
   }
   out.type = value(e, "type", cls).value_or("hinge");
+  for (const char* physics : {"stiffness", "damping"}) {
+    const auto v = value(e, physics, cls);
+    const double given = v ? single(e, physics, *v) : 0.0;
+    if (given < 0.0) fail(e, std::string(physics) + " must not be negative");
+    (physics[0] == 's' ? out.spring.stiffness : out.spring.damping) = given;
+  }
+  // MuJoCo reads ref and springref for hinges and slides only
+  const auto angle_of = [&](const char* key) {
+    const auto v = value(e, key, cls);
+    return v && out.type == "hinge" ? angle(single(e, key, *v)) : 0.0;
+  };
+  const double ref = angle_of("ref");
+  out.spring.spring_ref = angle_of("springref") - ref;
   out.anchor_world = x + q * vector3(e, "pos", cls, {0, 0, 0});
   const auto limited_text = value(e, "limited", cls).value_or("auto");
   const auto range_text = value(e, "range", cls);
@@ -74,7 +89,7 @@ Reader::JointElement Reader::read_joint_element(const XMLElement* e, int child, 
     if (!range_text) fail(e, "limited but has no range");
     out.range = numbers(e, "range", *range_text);
     if (out.range.size() != 2) fail(e, "attribute \"range\" must have 2 numbers");
-    out.range = {angle(out.range[0]), angle(out.range[1])};
+    out.range = {angle(out.range[0]) - ref, angle(out.range[1]) - ref};
   }
   out.user = user_data(e, user_joint_, kJointUserSize, cls);
   if (out.type == "hinge") {
@@ -84,7 +99,7 @@ Reader::JointElement Reader::read_joint_element(const XMLElement* e, int child, 
     if (out.limited) {
       if (out.range[0] > out.range[1]) fail(e, "its range has lo > hi");
       if (out.range[0] > 0.0 || out.range[1] < 0.0) {
-        fail(e, "its range must contain 0, the rest angle");
+        fail(e, "its range must contain ref (0 unless given), the angle of the body as written");
       }
       // a hinge's angle is read within half a turn either way (±180° is a free hinge): a wider
       // range is one the model cannot hold, and would be read as no limit at all
@@ -141,6 +156,7 @@ detail::RawJoint Reader::read_box(const std::vector<const XMLElement*>& hinges, 
   for (int k = 0; k < 3; ++k) {
     j.box_lower[k] = h[k].lower;
     j.box_upper[k] = h[k].upper;
+    j.springs[static_cast<size_t>(k)] = h[k].spring;
   }
   const std::string stem = h[0].name.substr(0, h[0].name.rfind(':'));
   j.name = h[0].name;
@@ -178,6 +194,7 @@ detail::RawJoint Reader::read_box(const std::vector<const XMLElement*>& hinges, 
       frame.col(2) = -frame.col(2);
       j.box_lower[2] = -h[2].upper;
       j.box_upper[2] = -h[2].lower;
+      j.springs[2].spring_ref = -h[2].spring.spring_ref;
     }
     j.frame_world = Quaterniond(frame).normalized();
   }
@@ -215,6 +232,7 @@ detail::RawJoint Reader::read_joint(const XMLElement* body, const XMLElement* e,
   j.name = element.name;
   j.anchor_world = element.anchor_world;
   const auto& user = element.user;
+  j.springs[0] = element.spring;
   if (element.type == "ball") {
     j.type = JointType::kBall;
     // the twist axis is the segment's own z: its long axis for a capsule

@@ -304,6 +304,9 @@ class Reader {
     std::optional<std::vector<double>> user;
     Vector3d axis_world{0, 0, 1};
     double lower = -kPi, upper = kPi;
+    // stiffness, damping and (a hinge's) springref less ref: the testbed's angles start at 0 in
+    // the body's pose as written, MuJoCo's hinge at ref
+    JointSpring spring;
   };
 
   JointElement read_joint_element(const XMLElement* e, int child, const Vector3d& x,

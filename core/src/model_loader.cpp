@@ -247,6 +247,20 @@ Segment read_segment(const Element& e) {
   return s;
 }
 
+// a joint's optional spring and damper (MuJoCo's stiffness and damping; a hinge's springref),
+// the same on each of its angles
+void read_springs(const Element& e, Joint& j) {
+  JointSpring spring;
+  if (e.has("stiffness")) spring.stiffness = e.non_negative("stiffness");
+  if (e.has("damping")) spring.damping = e.non_negative("damping");
+  if (e.has("springref_deg")) {
+    const double ref = e.number("springref_deg");
+    if (std::abs(ref) > 180.0) e.fail("field \"springref_deg\" must lie in [-180, 180]");
+    spring.spring_ref = ref * kDegToRad;
+  }
+  j.springs.fill(spring);
+}
+
 detail::RawJoint read_joint(const Element& e) {
   e.require_object();
   detail::RawJoint raw;
@@ -254,7 +268,8 @@ detail::RawJoint read_joint(const Element& e) {
   const std::string type = e.string("type");
   if (type == "ball" && e.has("box_deg")) {
     // a box of intrinsic Euler angles: {"order": "xyz", "lower": [..], "upper": [..]} (deg)
-    e.reject_unknown({"name", "parent", "child", "anchor", "type", "frame", "box_deg"});
+    e.reject_unknown(
+        {"name", "parent", "child", "anchor", "type", "frame", "box_deg", "stiffness", "damping"});
     j.type = JointType::kBall;
     j.ball_limit = BallLimit::kEulerBox;
     j.swing_x = j.swing_y = j.twist = M_PI;
@@ -281,7 +296,7 @@ detail::RawJoint read_joint(const Element& e) {
     j.box_upper = upper * kDegToRad;
   } else if (type == "ball") {
     e.reject_unknown({"name", "parent", "child", "anchor", "type", "frame", "swing_deg",
-                      "twist_deg", "box_deg"});
+                      "twist_deg", "box_deg", "stiffness", "damping"});
     j.type = JointType::kBall;
     const Eigen::Vector2d swing = e.vector<2>("swing_deg");
     if ((swing.array() < 0.0).any()) e.fail("field \"swing_deg\" must not be negative");
@@ -292,7 +307,8 @@ detail::RawJoint read_joint(const Element& e) {
     if (twist > 180.0) e.fail("field \"twist_deg\" must be at most 180");
     j.twist = twist * kDegToRad;
   } else if (type == "hinge") {
-    e.reject_unknown({"name", "parent", "child", "anchor", "type", "frame", "axis", "range_deg"});
+    e.reject_unknown({"name", "parent", "child", "anchor", "type", "frame", "axis", "range_deg",
+                      "stiffness", "damping", "springref_deg"});
     j.type = JointType::kHinge;
     raw.hinge_axis_world = e.direction<3>("axis");
     const Eigen::Vector2d range = e.vector<2>("range_deg");
@@ -313,6 +329,7 @@ detail::RawJoint read_joint(const Element& e) {
   } else {
     e.fail("unknown joint type " + detail::shown(type) + " (expected ball, hinge or fixed)");
   }
+  if (j.type != JointType::kFixed) read_springs(e, j);
   derive_limit_terms(j);
   raw.parent_name = e.name("parent");
   raw.child_name = e.name("child");
@@ -420,13 +437,20 @@ Model build(const json& root_json, const std::string& source) {
 
 }  // namespace
 
-namespace {}  // namespace
-
 int Model::find_segment(const std::string& segment_name) const {
   for (int i = 0; i < segment_count(); ++i) {
     if (segments[i].name == segment_name) return i;
   }
   return -1;
+}
+
+bool has_joint_springs(const Model& model) {
+  for (const Joint& joint : model.joints) {
+    for (const JointSpring& spring : joint.springs) {
+      if (spring.stiffness != 0.0 || spring.damping != 0.0) return true;
+    }
+  }
+  return false;
 }
 
 Model parse_model(const std::string& json_text, const std::string& source) {

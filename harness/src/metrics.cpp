@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "puppet/model/joint_springs.h"
 #include "puppet/model/rotation.h"
 
 namespace puppet::compare {
@@ -50,7 +51,7 @@ double mechanical_energy(const Model& model, const Environment& environment,
   for (int i = 0; i < model.segment_count(); ++i) {
     potential -= model.segments[i].mass * environment.gravity.dot(b[i].x);
   }
-  return kinetic_energy(model, b) + potential;
+  return kinetic_energy(model, b) + potential + joint_spring_energy(model, b);
 }
 
 Vector3d centre_of_mass(const Model& model, std::span<const BodyState> b) {
@@ -123,6 +124,8 @@ MetricsProbe::MetricsProbe(const Model& model, const Environment& environment,
       environment_(environment),
       pins_(pins.begin(), pins.end()),
       kinetic0_(kinetic_energy(model, initial)),
+      springs_(has_joint_springs(model)),
+      spring0_(joint_spring_energy(model, initial)),
       energy_ref_(energy_reference(model, environment, initial)),
       momentum0_(linear_momentum(model, initial)),
       angular0_(angular_momentum(model, initial)),
@@ -161,6 +164,8 @@ StepMetrics MetricsProbe::measure(double t, std::span<const BodyState> bodies,
     potential_change -=
         model_.segments[i].mass * environment_.gravity.dot(bodies[i].x - initial_x_[i]);
   }
+  // the joints' springs hold energy of their own (their dampers take it away, as drag does)
+  if (springs_) potential_change += joint_spring_energy(model_, bodies) - spring0_;
   m.energy_drift = (kinetic_energy(model_, bodies) - kinetic0_ + potential_change) / energy_ref_;
   if (momentum_scale_ > 0.0) {
     m.linear_momentum_drift =

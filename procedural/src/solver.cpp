@@ -14,6 +14,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "puppet/model/joint_springs.h"
 #include "puppet/model/user_forces.h"
 #include "rules/catalogue.h"
 #include "stages.h"
@@ -32,6 +33,7 @@ Solver::Solver(const Model& model, const Settings& settings, const Environment& 
       tables_(std::move(tables)) {
   const std::string problem = validate(settings);
   if (!problem.empty()) throw std::invalid_argument(problem);
+  joint_springs_ = has_joint_springs(model_);
   limit_pass_ = settings_.limit_velocity_pass && settings_.derive_velocities &&
                 rule_row(settings_.rule).limit_velocities;
   const int n = model.segment_count();
@@ -216,11 +218,20 @@ void Solver::run_stage(Stage stage, double h) {
                               std::span<const Pin>(substep_grabs_.data(), state_.grab_count),
                               state_.bodies, state_.time, ws.user_wrenches);
         ws.user_pulled = true;
-        update(model_, environment_, ws.user_wrenches, state_, h);
       } else {
         if (ws.user_pulled) std::fill(ws.user_wrenches.begin(), ws.user_wrenches.end(), Wrench{});
         ws.user_pulled = false;
-        update(model_, environment_, {}, state_, h);
+      }
+      if (joint_springs_) {
+        // the joints' springs and dampers, forces like the user's (the damper implicit per joint)
+        std::copy(ws.user_wrenches.begin(), ws.user_wrenches.end(), ws.applied_wrenches.begin());
+        add_joint_spring_wrenches(model_, state_.bodies, h, ws.applied_wrenches);
+        update(model_, environment_, ws.applied_wrenches, state_, h);
+      } else {
+        update(
+            model_, environment_,
+            ws.user_pulled ? std::span<const Wrench>(ws.user_wrenches) : std::span<const Wrench>(),
+            state_, h);
       }
       if (settings_.tremble) tremble(model_, settings_, state_, h, ws.tremble_delta);
       break;

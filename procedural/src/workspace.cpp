@@ -14,6 +14,7 @@ Workspace::Workspace(const Model& model, const ModelTables& tables) {
   motion_t.resize(n);
   tremble_delta.assign(n, Vector3d::Zero());
   user_wrenches.assign(n, Wrench{});
+  applied_wrenches.assign(n, Wrench{});
   joint_lambda.assign(model.joint_count(), Vector3d::Zero());
   limit_lambda.assign(model.joint_count(), Vector3d::Zero());
   start_inverse_inertia.assign(n, Matrix3d::Identity());

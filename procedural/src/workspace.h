@@ -61,9 +61,11 @@ struct Workspace {
   // accumulated rigid motion of each segment during a pass (rule `subtree`)
   std::vector<Quaterniond> motion_q;
   std::vector<Vector3d> motion_t;
-  std::vector<Vector3d> tremble_delta;  // this substep's tremble displacement per segment
-  std::vector<Wrench> user_wrenches;    // this substep's user forces per segment (user_forces.h)
-  bool user_pulled = false;             // user_wrenches holds forces (else zeros)
+  std::vector<Vector3d> tremble_delta;   // this substep's tremble displacement per segment
+  std::vector<Wrench> user_wrenches;     // this substep's user forces per segment (user_forces.h)
+  bool user_pulled = false;              // user_wrenches holds forces (else zeros)
+  std::vector<Wrench> applied_wrenches;  // with joint springs: the user's and the springs'
+                                         // forces together (joint_springs.h)
   // xpbd: each constraint's accumulated multiplier over this substep's sweeps (world), read by
   // the compliance term α̃λ; reset at every substep
   std::vector<Vector3d> joint_lambda;  // by joint

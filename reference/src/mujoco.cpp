@@ -171,6 +171,14 @@ bool same_point(const Pin& a, const Pin& b) {
   return a.segment == b.segment && a.local_point == b.local_point;
 }
 
+// MuJoCo builds the joints' springs and dampers itself (stiffness, damping and springref in the
+// MJCF write_mjcf gives), its Euler integrating the damping implicitly
+detail::PinSprings mujoco_springs() {
+  detail::PinSprings springs;
+  springs.joint_springs = false;
+  return springs;
+}
+
 class MujocoSolver final : public Solver {
  public:
   MujocoSolver(const Model& model, const Environment& environment, const MujocoSettings& settings)
@@ -551,7 +559,7 @@ class MujocoSolver final : public Solver {
   MujocoSettings settings_;
   std::vector<Pin> pins_;
   int exact_ = -1;
-  detail::PinSprings springs_;
+  detail::PinSprings springs_ = mujoco_springs();
   std::vector<int> mocap_of_pin_;           // the mocap body driving each pin, −1 for none
   std::vector<Vector3d> previous_targets_;  // each pin's target one step before
   mjModel* m_ = nullptr;

@@ -1,12 +1,14 @@
 // How a reference holds its pins: hard ones as its own constraints, compliant ones as springs and
 // grabs as capped spring–dampers (user_forces.h), both applied as external forces with the
-// environment's and the tremble, evaluated on the state at the start of each step.
+// environment's, the tremble and the joints' springs and dampers, evaluated on the state at the
+// start of each step.
 #pragma once
 
 #include <span>
 #include <vector>
 
 #include "puppet/model/environment.h"
+#include "puppet/model/joint_springs.h"
 #include "puppet/model/user_forces.h"
 
 namespace puppet::reference::detail {
@@ -19,6 +21,8 @@ struct PinSprings {
   std::vector<int> slots;
   std::vector<Wrench> user;     // the user's forces of the last step, per segment
   double time = 0.0;            // the time the tremble reads, advanced by every step
+  bool joint_springs = true;    // whether the joints' springs and dampers are forces here too
+                                // (false where the engine builds them: MuJoCo)
   std::vector<Wrench> applied;  // every external force of the last step, per segment
 
   void clear() {
@@ -39,7 +43,8 @@ struct PinSprings {
     return -1;
   }
   // every segment's external wrench for a step of length h from `bodies` (world, at the COM):
-  // the environment's, the compliant springs', the grabs' and the tremble (into `applied`)
+  // the environment's, the compliant springs', the grabs', the tremble and the joints' springs
+  // and dampers (into `applied`)
   std::span<const Wrench> wrenches(const Model& model, const Environment& environment,
                                    std::span<const BodyState> bodies, double h) {
     const size_t n = static_cast<size_t>(model.segment_count());
@@ -58,6 +63,7 @@ struct PinSprings {
       applied[spring.segment].force += pull.force;
       applied[spring.segment].torque += pull.torque;
     }
+    if (joint_springs) add_joint_spring_wrenches(model, bodies, h, applied);
     return applied;
   }
 };

@@ -106,7 +106,8 @@ std::unique_ptr<LaneStepper> LaneStepper::make(const Solver& puppet, int max_wid
   if (!rule_info(settings.rule).lanes || settings.tremble || settings.time_stages ||
       !settings.limit_functions || !settings.limits_before_joints ||
       (puppet.limit_pass_ && settings.limit_restitution != 0.0) || environment.tremble ||
-      environment.water || environment.ground || puppet.tables_->orders.empty()) {
+      environment.water || environment.ground || puppet.tables_->orders.empty() ||
+      puppet.joint_springs_) {  // joint springs: the scalar step
     return nullptr;
   }
   const int width = widest_lanes(max_width);

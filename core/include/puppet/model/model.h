@@ -63,6 +63,16 @@ struct Segment {
 
 enum class JointType { kBall, kHinge, kFixed };
 
+/// A spring and a damper on one degree of freedom of a joint, as MuJoCo's joint `stiffness`,
+/// `springref` and `damping` define them: the generalized force −stiffness (angle − spring_ref)
+/// − damping · rate (docs/model-format.md, "Springs and dampers")
+struct JointSpring {
+  double stiffness = 0.0;   ///< N m/rad
+  double damping = 0.0;     ///< N m s/rad
+  double spring_ref = 0.0;  ///< rad: the angle where the spring is slack (a hinge's, a box's)
+  bool operator==(const JointSpring&) const = default;
+};
+
 /// A ball joint's limit: a swing ellipse and a twist, or a box of intrinsic Euler angles
 /// (euler_box.h: q_rel = R(a₀, θ₀) R(a₁, θ₁) R(a₂, θ₂), each angle within its own range)
 enum class BallLimit { kSwingTwist, kEulerBox };
@@ -102,6 +112,11 @@ struct Joint {
   double twist_half_sin = 0.0, twist_half_cos = 1.0;
   double lower_half_sin = 0.0, lower_half_cos = 1.0;
   double upper_half_sin = 0.0, upper_half_cos = 1.0;
+  /// springs and dampers (passive_joint_wrenches in joint_springs.h): a hinge's on its angle in
+  /// entry 0; an Euler box's on its angle k in entry k (MuJoCo's three hinges); a swing–twist
+  /// ball's entry 0 on each coordinate of its rotation from rest as a rotation vector (MuJoCo's
+  /// ball: spring_ref 0); a fixed joint has none
+  std::array<JointSpring, 3> springs{};
 };
 
 /// fills the segment's inverse mass and inertia; call after setting mass and inertia
@@ -149,6 +164,9 @@ struct Model {
   /// index of the named segment or -1
   int find_segment(const std::string& segment_name) const;
 };
+
+/// whether any joint of the model has a spring or a damper
+bool has_joint_springs(const Model& model);
 
 /// How a model file is read (MJCF's options; a JSON file has none)
 struct ReadOptions {

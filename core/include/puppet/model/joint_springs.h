@@ -1,0 +1,43 @@
+/// \file
+/// Joint springs and dampers (MuJoCo's passive joint forces), the same formulas in every engine
+/// that does not build them natively. Each engine evaluates them on the state at the start of each
+/// of its steps and applies them as external torques, equal and opposite on the child and its
+/// parent, as it applies the environment's forces.
+#pragma once
+
+#include <span>
+
+#include "puppet/model/environment.h"
+
+namespace puppet {
+
+/// Adds every joint's spring and damper torques (world) to `out` (one wrench per segment) for a
+/// step of length h from `bodies`. About each degree of freedom the generalized force is
+///   f = −stiffness (angle − spring_ref) − damping′ · rate,
+/// with the angle and rate MuJoCo's: a hinge's angle about its axis; an Euler box's three angles
+/// (their rates through euler_gradients); a swing–twist ball's rotation from rest as a rotation
+/// vector in the child's joint frame, its rate the child's angular velocity relative to the parent.
+/// The damper is integrated implicitly per joint, as MuJoCo's Euler integrates damping: with
+/// K = I_p⁻¹ + I_c⁻¹ the two segments' world inverse inertias, the rate it acts on is the rate
+/// after the step, (1 + h · damping · K)⁻¹ · rate (a hinge's or a box angle's K along its own
+/// direction; a ball's the 3×3), so that a stiff damper on a light segment slows it without
+/// overshooting for any h (h = 0: the explicit damper). The joint's constraints only add
+/// inertia, so this is what the pair alone would do. No allocation.
+void add_joint_spring_wrenches(const Model& model, std::span<const BodyState> bodies, double h,
+                               std::span<Wrench> out);
+
+/// one joint's generalized spring and damper forces (one per degree of freedom: 1 for a hinge,
+/// 3 for a ball), explicit (h = 0 above), for tests and for the engines that build the joint
+/// natively but not its spring
+struct JointCoordinates {
+  Vector3d angle{0, 0, 0};  ///< hinge: [0]; box: the Euler angles; ball: the rotation vector
+  Vector3d rate{0, 0, 0};   ///< the same coordinates' rates
+};
+JointCoordinates joint_coordinates(const Joint& joint, const BodyState& parent,
+                                   const BodyState& child);
+
+/// the energy the joints' springs hold: Σ ½ stiffness (angle − spring_ref)² over every degree of
+/// freedom (a ball's: ½ stiffness |r|²)
+double joint_spring_energy(const Model& model, std::span<const BodyState> bodies);
+
+}  // namespace puppet

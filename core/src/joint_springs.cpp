@@ -1,0 +1,139 @@
+#include "puppet/model/joint_springs.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "puppet/model/euler_box.h"
+#include "puppet/model/rotation.h"
+
+namespace puppet {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// the joint's frame in world as each segment carries it
+Quaterniond parent_frame(const Joint& joint, const BodyState& parent) {
+  return parent.q * joint.frame_in_parent;
+}
+Quaterniond child_frame(const Joint& joint, const BodyState& child) {
+  return child.q * joint.frame_in_child;
+}
+
+// the world inverse inertia of relative rotation between the two segments, K = I_p⁻¹ + I_c⁻¹
+// (the joint's point constraint only adds inertia, so K bounds what the joint sees)
+Matrix3d relative_inverse_inertia(const Segment& parent, const BodyState& p, const Segment& child,
+                                  const BodyState& c) {
+  const Matrix3d rp = p.q.toRotationMatrix(), rc = c.q.toRotationMatrix();
+  return rp * parent.inv_inertia.asDiagonal() * rp.transpose() +
+         rc * child.inv_inertia.asDiagonal() * rc.transpose();
+}
+
+// the damper's coefficient over a step of length h, integrated implicitly about one degree of
+// freedom of inverse inertia k: d / (1 + h d k)
+double implicit_damping(double damping, double h, double inverse_inertia) {
+  return damping / (1.0 + h * damping * inverse_inertia);
+}
+
+}  // namespace
+
+JointCoordinates joint_coordinates(const Joint& joint, const BodyState& parent,
+                                   const BodyState& child) {
+  JointCoordinates c;
+  const Quaterniond fp = parent_frame(joint, parent), fc = child_frame(joint, child);
+  Quaterniond relative = fp.conjugate() * fc;
+  if (relative.w() < 0.0) relative.coeffs() = -relative.coeffs();
+  const Vector3d omega = fc.conjugate() * (child.w - parent.w);  // in the child's joint frame
+  if (joint.type == JointType::kHinge) {
+    const Vector3d& a = joint.hinge_axis;
+    c.angle[0] = 2.0 * std::atan2(a.dot(relative.vec()), relative.w());
+    if (c.angle[0] > kPi) c.angle[0] -= 2.0 * kPi;
+    c.rate[0] = a.dot(omega);
+  } else if (joint.type == JointType::kBall && joint.ball_limit == BallLimit::kEulerBox) {
+    c.angle = euler_angles(joint.box_order, relative);
+    c.rate = euler_gradients(joint.box_order, c.angle) * omega;
+  } else if (joint.type == JointType::kBall) {
+    c.angle = quat_log(relative);
+    c.rate = omega;
+  }
+  return c;
+}
+
+void add_joint_spring_wrenches(const Model& model, std::span<const BodyState> bodies, double h,
+                               std::span<Wrench> out) {
+  for (const Joint& joint : model.joints) {
+    if (joint.type == JointType::kFixed) continue;
+    const JointSpring* spring = joint.springs.data();
+    if (std::all_of(spring, spring + 3,
+                    [](const JointSpring& s) { return s.stiffness == 0.0 && s.damping == 0.0; })) {
+      continue;
+    }
+    const BodyState& parent = bodies[static_cast<size_t>(joint.parent)];
+    const BodyState& child = bodies[static_cast<size_t>(joint.child)];
+    const JointCoordinates c = joint_coordinates(joint, parent, child);
+    const Quaterniond frame = child_frame(joint, child);
+    const Matrix3d r = frame.toRotationMatrix();
+    // K in the child's joint frame, where the coordinates' rates are taken
+    const Matrix3d k =
+        r.transpose() *
+        relative_inverse_inertia(model.segments[static_cast<size_t>(joint.parent)], parent,
+                                 model.segments[static_cast<size_t>(joint.child)], child) *
+        r;
+    Vector3d torque_in_joint{0, 0, 0};  // on the child, in its joint frame
+    if (joint.type == JointType::kHinge) {
+      const JointSpring& s = spring[0];
+      const Vector3d& a = joint.hinge_axis;
+      const double f = -s.stiffness * (c.angle[0] - s.spring_ref) -
+                       implicit_damping(s.damping, h, a.dot(k * a)) * c.rate[0];
+      torque_in_joint = f * a;
+    } else if (joint.ball_limit == BallLimit::kEulerBox) {
+      // f·θ̇ = f·(G ω) = (Gᵀ f)·ω: the torque is Gᵀ f; angle a's inverse inertia g_a K g_aᵀ
+      const Matrix3d g = euler_gradients(joint.box_order, c.angle);
+      Vector3d f;
+      for (int a = 0; a < 3; ++a) {
+        const JointSpring& s = spring[a];
+        const double k_a = g.row(a) * k * g.row(a).transpose();
+        f[a] = -s.stiffness * (c.angle[a] - s.spring_ref) -
+               implicit_damping(s.damping, h, k_a) * c.rate[a];
+      }
+      torque_in_joint = g.transpose() * f;
+    } else {
+      // the three rates together: ω' = (1 + h d K)⁻¹ ω, the damper's torque d ω'
+      const JointSpring& s = spring[0];
+      const Vector3d rate =
+          s.damping == 0.0
+              ? c.rate
+              : Vector3d((Matrix3d::Identity() + h * s.damping * k).ldlt().solve(c.rate));
+      torque_in_joint = -s.stiffness * c.angle - s.damping * rate;
+    }
+    const Vector3d torque = child_frame(joint, child) * torque_in_joint;
+    out[static_cast<size_t>(joint.child)].torque += torque;
+    out[static_cast<size_t>(joint.parent)].torque -= torque;
+  }
+}
+
+double joint_spring_energy(const Model& model, std::span<const BodyState> bodies) {
+  double energy = 0.0;
+  for (const Joint& joint : model.joints) {
+    if (joint.type == JointType::kFixed) continue;
+    const JointSpring* spring = joint.springs.data();
+    if (std::all_of(spring, spring + 3, [](const JointSpring& s) { return s.stiffness == 0.0; })) {
+      continue;
+    }
+    const JointCoordinates c = joint_coordinates(joint, bodies[static_cast<size_t>(joint.parent)],
+                                                 bodies[static_cast<size_t>(joint.child)]);
+    if (joint.type == JointType::kHinge) {
+      const double stretch = c.angle[0] - spring[0].spring_ref;
+      energy += 0.5 * spring[0].stiffness * stretch * stretch;
+    } else if (joint.ball_limit == BallLimit::kEulerBox) {
+      for (int a = 0; a < 3; ++a) {
+        const double stretch = c.angle[a] - spring[a].spring_ref;
+        energy += 0.5 * spring[a].stiffness * stretch * stretch;
+      }
+    } else {
+      energy += 0.5 * spring[0].stiffness * c.angle.squaredNorm();
+    }
+  }
+  return energy;
+}
+
+}  // namespace puppet
