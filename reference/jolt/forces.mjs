@@ -243,8 +243,149 @@ export function userWrenches(model, environment, pins, bodies, time, out) {
   return pull;
 }
 
-// every segment's external wrench for a step of h from `bodies`: the environment's, the user's
-// and the compliant pins' springs (reference/src/pin_springs.h, PinSprings::wrenches)
+// q·r, quaternions [x, y, z, w]
+function multiply(q, r) {
+  const [qx, qy, qz, qw] = q;
+  const [rx, ry, rz, rw] = r;
+  return [
+    qw * rx + qx * rw + qy * rz - qz * ry,
+    qw * ry - qx * rz + qy * rw + qz * rx,
+    qw * rz + qx * ry - qy * rx + qz * rw,
+    qw * rw - qx * rx - qy * ry - qz * rz,
+  ];
+}
+
+// the rotation matrix of q, as rows
+function matrix(q) {
+  const columns = [rotate(q, [1, 0, 0]), rotate(q, [0, 1, 0]), rotate(q, [0, 0, 1])];
+  return [0, 1, 2].map((r) => columns.map((c) => c[r]));
+}
+const mulMv = (m, v) => m.map((row) => dot(row, v));
+const transpose = (m) => m[0].map((_, c) => m.map((row) => row[c]));
+const mulMm = (a, b) => a.map((row) => transpose(b).map((col) => dot(row, col)));
+const addM = (a, b) => a.map((row, r) => row.map((x, c) => x + b[r][c]));
+
+// a 3×3 solve by Cramer's rule
+function solve3(m, b) {
+  const det = dot(m[0], cross(m[1], m[2]));
+  const cols = transpose(m);
+  const replaced = (k) => cols.map((c, i) => (i === k ? b : c));
+  return [0, 1, 2].map((k) => {
+    const r = transpose(replaced(k));
+    return dot(r[0], cross(r[1], r[2])) / det;
+  });
+}
+const identity = () => [unit(0), unit(1), unit(2)];
+const inverse3 = (m) => transpose(identity().map((e) => solve3(m, e)));
+
+// the rotation vector of q, shortest arc (core: quat_log)
+function quatLog(q) {
+  const sign = q[3] < 0.0 ? -1.0 : 1.0;
+  const v = scale(sign, q.slice(0, 3));
+  const s = norm(v);
+  if (s === 0.0) return [0, 0, 0];
+  return scale((2.0 * Math.atan2(s, sign * q[3])) / s, v);
+}
+
+const unit = (a) => [0, 1, 2].map((i) => (i === a ? 1 : 0));
+const axisRotation = (a, angle) => {
+  const half = 0.5 * angle;
+  return [...scale(Math.sin(half), unit(a)), Math.cos(half)];
+};
+
+// the angles of R = R(a₀, θ₀) R(a₁, θ₁) R(a₂, θ₂) about three different axes, θ₁ within
+// [−π/2, π/2] (core: euler_angles; a box's middle angle stays within ±85°, off the lock)
+function eulerAngles(axes, q) {
+  const [i, j, k] = axes;
+  const m = matrix(q);
+  const s = (j - i + 3) % 3 === 1 ? 1.0 : -1.0; // a cyclic order of x, y, z
+  return [
+    Math.atan2(-s * m[j][k], m[k][k]),
+    Math.asin(Math.max(-1.0, Math.min(1.0, s * m[i][k]))),
+    Math.atan2(-s * m[i][j], m[i][i]),
+  ];
+}
+
+// row k: ∂θₖ/∂δ for a turn δ of q's own frame (core: euler_gradients)
+function eulerGradients(axes, angles) {
+  const last = conjugate(axisRotation(axes[2], angles[2]));
+  const middle = conjugate(axisRotation(axes[1], angles[1]));
+  const rates = transpose([
+    rotate(last, rotate(middle, unit(axes[0]))),
+    rotate(last, unit(axes[1])),
+    unit(axes[2]),
+  ]);
+  return inverse3(rates);
+}
+
+// the joints' springs and dampers (core/src/joint_springs.cpp, add_joint_spring_wrenches) added
+// to `out`, the damper implicit per joint over a step of h
+export function addJointSpringWrenches(model, bodies, h, out) {
+  for (const joint of model.joints) {
+    if (joint.type === 'fixed') continue;
+    const springs = joint.springs;
+    if (springs.every((s) => s.stiffness === 0.0 && s.damping === 0.0)) continue;
+    const parent = bodies[joint.parent];
+    const child = bodies[joint.child];
+    const fp = multiply(parent.q, joint.frame_in_parent);
+    const fc = multiply(child.q, joint.frame_in_child);
+    let relative = multiply(conjugate(fp), fc);
+    if (relative[3] < 0.0) relative = scale(-1.0, relative);
+    const omega = rotate(conjugate(fc), sub(child.w, parent.w));
+    const inverseInertia = (segment, q) => {
+      const r = matrix(q);
+      return mulMm(
+        r.map((row) => row.map((x, c) => x * segment.inv_inertia[c])),
+        transpose(r),
+      );
+    };
+    const rc = matrix(fc);
+    const k = mulMm(
+      mulMm(
+        transpose(rc),
+        addM(
+          inverseInertia(model.segments[joint.parent], parent.q),
+          inverseInertia(model.segments[joint.child], child.q),
+        ),
+      ),
+      rc,
+    );
+    const implicit = (d, kk) => d / (1.0 + h * d * kk);
+    let torque;
+    if (joint.type === 'hinge') {
+      const a = joint.hinge_axis;
+      let angle = 2.0 * Math.atan2(dot(a, relative.slice(0, 3)), relative[3]);
+      if (angle > Math.PI) angle -= 2.0 * Math.PI;
+      const s = springs[0];
+      const damping = implicit(s.damping, dot(a, mulMv(k, a)));
+      const f = -s.stiffness * (angle - s.spring_ref) - damping * dot(a, omega);
+      torque = scale(f, a);
+    } else if (joint.ball_limit === 'box') {
+      const angles = eulerAngles(joint.box_order, relative);
+      const g = eulerGradients(joint.box_order, angles);
+      const rate = mulMv(g, omega);
+      const f = [0, 1, 2].map((a) => {
+        const s = springs[a];
+        const ka = dot(g[a], mulMv(k, g[a]));
+        return -s.stiffness * (angles[a] - s.spring_ref) - implicit(s.damping, ka) * rate[a];
+      });
+      torque = mulMv(transpose(g), f);
+    } else {
+      const s = springs[0];
+      // the three rates together: ω' = (1 + h d K)⁻¹ ω, the damper's torque d ω'
+      const hdk = k.map((row) => row.map((x) => h * s.damping * x));
+      const rate = s.damping === 0.0 ? omega : solve3(addM(identity(), hdk), omega);
+      torque = sub(scale(-s.stiffness, quatLog(relative)), scale(s.damping, rate));
+    }
+    const world = rotate(fc, torque);
+    out[joint.child].torque = add(out[joint.child].torque, world);
+    out[joint.parent].torque = sub(out[joint.parent].torque, world);
+  }
+}
+
+// every segment's external wrench for a step of h from `bodies`: the environment's, the user's,
+// the compliant pins' springs and the joints' springs and dampers
+// (reference/src/pin_springs.h, PinSprings::wrenches)
 export function allWrenches(model, environment, pins, bodies, time, h, user) {
   userWrenches(model, environment, pins, bodies, time, user);
   const applied = [];
@@ -259,5 +400,6 @@ export function allWrenches(model, environment, pins, bodies, time, h, user) {
     a.force = add(a.force, pull.force);
     a.torque = add(a.torque, pull.torque);
   }
+  addJointSpringWrenches(model, bodies, h, applied);
   return applied;
 }

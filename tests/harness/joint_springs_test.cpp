@@ -115,7 +115,6 @@ struct Candidate {
 std::vector<Candidate> every_solver() {
   std::vector<Candidate> out;
   for (const std::string& solver : solver_names()) {
-    if (solver == "jolt") continue;  // refuses joint springs (jolt_model_problem)
     if (solver != "procedural") {
       out.push_back({solver, solver, {}});
       continue;

@@ -19,6 +19,7 @@
 #include "puppet/compare/scenario.h"
 #include "puppet/compare/simulator.h"
 #include "puppet/model/euler_box.h"
+#include "puppet/model/joint_springs.h"
 #include "puppet/model/rotation.h"
 #include "puppet/model/user_forces.h"
 #include "support/pendulum.h"
@@ -169,6 +170,61 @@ TEST(Jolt, ForcesAgreeWithTheTestbeds) {
                         (user[s].torque - expected_user[s].torque).norm()});
     }
     EXPECT_LE(worst, 1e-12 * largest) << "trial " << trial;
+  }
+}
+
+// The driver's joint springs and dampers (forces.mjs, addJointSpringWrenches) are the testbed's
+// (add_joint_spring_wrenches) on random states near rest of a model with hinges, a ball and a box
+// of three hinges with springs (tests/data/mjcf/springs.xml), and of Pinocchio with a spring and
+// a damper on every joint, to 1e-12 of the largest torque; the damper's implicit factor is taken
+// at h = 1/30 s, where it matters.
+TEST(Jolt, JointSpringsAgreeWithTheTestbeds) {
+  SKIP_WITHOUT_JOLT();
+  Model sprung_pinocchio = load_model(kPinocchio);
+  for (size_t j = 0; j < sprung_pinocchio.joints.size(); ++j) {
+    for (JointSpring& spring : sprung_pinocchio.joints[j].springs) {
+      spring = {.stiffness = 3.0 + j, .damping = 0.2 + 0.1 * j, .spring_ref = 0.0};
+    }
+    if (sprung_pinocchio.joints[j].type == JointType::kHinge) {
+      sprung_pinocchio.joints[j].springs[0].spring_ref = 0.3;
+    }
+  }
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Environment environment;
+  for (const Model& model :
+       {load_model(std::string(PUPPET_SOURCE_DIR) + "/tests/data/mjcf/springs.xml"),
+        sprung_pinocchio}) {
+    SCOPED_TRACE(model.name);
+    ASSERT_TRUE(has_joint_springs(model));
+    for (int trial = 0; trial < 20; ++trial) {
+      std::vector<BodyState> bodies = rest_pose(model);
+      for (BodyState& b : bodies) {
+        // within ±0.6 rad of rest: a box's middle angle stays far from its lock
+        b.q = (b.q * quat_exp(0.35 * Vector3d(u(rng), u(rng), u(rng)))).normalized();
+        b.v = Vector3d(u(rng), u(rng), u(rng));
+        b.w = 5.0 * Vector3d(u(rng), u(rng), u(rng));
+      }
+      const double h = trial % 2 == 0 ? 1.0 / 30.0 : kDt;
+      std::vector<Wrench> applied, user;
+      std::string error;
+      ASSERT_TRUE(jolt_driver_forces(model, environment, {}, bodies, 0.0, h, applied, user, error))
+          << error;
+      std::vector<Wrench> expected(model.segment_count());
+      for (int s = 0; s < model.segment_count(); ++s) {
+        expected[s] = environment_wrench(model.segments[s], environment, bodies[s], h);
+      }
+      std::vector<Wrench> springs(model.segment_count());
+      add_joint_spring_wrenches(model, bodies, h, springs);
+      double largest = 0.0, worst = 0.0;
+      for (int s = 0; s < model.segment_count(); ++s) {
+        largest = std::max(largest, springs[s].torque.norm());
+        worst = std::max({worst, (applied[s].force - expected[s].force).norm(),
+                          (applied[s].torque - expected[s].torque - springs[s].torque).norm()});
+      }
+      EXPECT_GT(largest, 1.0);  // N m: the springs pull
+      EXPECT_LE(worst, 1e-12 * largest) << "trial " << trial;
+    }
   }
 }
 

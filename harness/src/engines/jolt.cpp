@@ -410,12 +410,6 @@ std::string jolt_model_problem(const Model& model) {
     if (joint.type == JointType::kHinge && (joint.lower > 0.0 || joint.upper < 0.0)) {
       return "joint \"" + joint.name + "\": Jolt's hinge limits must hold the rest angle 0";
     }
-    for (const JointSpring& spring : joint.springs) {
-      if (spring.stiffness != 0.0 || spring.damping != 0.0) {
-        return "joint \"" + joint.name +
-               "\" has a spring or a damper, which the Jolt driver does not apply yet";
-      }
-    }
   }
   // last, as it starts a driver when none is pooled
   return driver_problem();

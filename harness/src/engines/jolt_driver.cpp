@@ -147,6 +147,12 @@ json model_json(const Model& model) {
                  {"lower", {angle(p.lower[0]), angle(p.lower[1]), angle(p.lower[2])}},
                  {"upper", {angle(p.upper[0]), angle(p.upper[1]), angle(p.upper[2])}}};
     }
+    json springs = json::array();
+    for (const JointSpring& spring : j.springs) {
+      springs.push_back({{"stiffness", spring.stiffness},
+                         {"damping", spring.damping},
+                         {"spring_ref", spring.spring_ref}});
+    }
     joints.push_back({{"type", type},
                       {"parent", j.parent},
                       {"child", j.child},
@@ -161,7 +167,9 @@ json model_json(const Model& model) {
                       {"pyramid", pyramid},
                       {"hinge_axis", vec(j.hinge_axis)},
                       {"lower", angle(j.lower)},
-                      {"upper", angle(j.upper)}});
+                      {"upper", angle(j.upper)},
+                      {"box_order", j.box_order.axes},
+                      {"springs", springs}});
   }
   return {{"segments", segments}, {"joints", joints}};
 }
