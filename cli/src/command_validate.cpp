@@ -59,6 +59,9 @@ int validate(const std::string& path, const ReadOptions& reading, double budget)
     const std::string problem = compare::engine_model_problem(solver, model, {}, budget);
     if (problem.empty()) {
       engines += (engines.empty() ? "" : ", ") + solver;
+      if (std::string note = compare::engine_model_note(solver, model); !note.empty()) {
+        refusals += "  " + solver + " approximates: " + note + "\n";
+      }
     } else {
       refusals += "  not " + solver + ": " + one_line(problem, 300) + "\n";
     }

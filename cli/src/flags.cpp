@@ -213,12 +213,23 @@ std::vector<SolverConfig> parse_solver_configs(const Flags& f) {
 }
 
 void apply_engine_verdicts(std::vector<SolverConfig>& configs, const Model& model, const Flags& f) {
-  std::vector<std::string> refused;
+  std::vector<std::string> refused, noted;
+  const auto among = [](const std::vector<std::string>& names, const std::string& name) {
+    return std::find(names.begin(), names.end(), name) != names.end();
+  };
   for (const SolverConfig& config : configs) {
-    if (std::find(refused.begin(), refused.end(), config.solver) != refused.end()) continue;
+    if (among(refused, config.solver)) continue;
     const std::string problem =
         compare::engine_model_problem(config.solver, model, config.options, f.engine_budget);
-    if (problem.empty()) continue;
+    if (problem.empty()) {
+      // what it approximates, once per engine
+      const std::string note = compare::engine_model_note(config.solver, model);
+      if (!note.empty() && !among(noted, config.solver)) {
+        print_error("testbed: ", "note: " + config.solver + ": " + note);
+        noted.push_back(config.solver);
+      }
+      continue;
+    }
     if (f.solver != "all") {
       throw UsageError("--solver: " + config.solver + " cannot run " + shown(f.model) + ": " +
                        problem);
@@ -227,9 +238,7 @@ void apply_engine_verdicts(std::vector<SolverConfig>& configs, const Model& mode
                                  shown(f.model) + ": " + problem);
     refused.push_back(config.solver);
   }
-  std::erase_if(configs, [&](const SolverConfig& c) {
-    return std::find(refused.begin(), refused.end(), c.solver) != refused.end();
-  });
+  std::erase_if(configs, [&](const SolverConfig& c) { return among(refused, c.solver); });
 }
 
 }  // namespace puppet::testbed

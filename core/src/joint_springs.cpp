@@ -62,9 +62,9 @@ void add_joint_spring_wrenches(const Model& model, std::span<const BodyState> bo
                                std::span<Wrench> out) {
   for (const Joint& joint : model.joints) {
     if (joint.type == JointType::kFixed) continue;
-    const JointSpring* spring = joint.springs.data();
+    const JointPassive* spring = joint.passive.data();
     if (std::all_of(spring, spring + 3,
-                    [](const JointSpring& s) { return s.stiffness == 0.0 && s.damping == 0.0; })) {
+                    [](const JointPassive& s) { return s.stiffness == 0.0 && s.damping == 0.0; })) {
       continue;
     }
     const BodyState& parent = bodies[static_cast<size_t>(joint.parent)];
@@ -80,7 +80,7 @@ void add_joint_spring_wrenches(const Model& model, std::span<const BodyState> bo
         r;
     Vector3d torque_in_joint{0, 0, 0};  // on the child, in its joint frame
     if (joint.type == JointType::kHinge) {
-      const JointSpring& s = spring[0];
+      const JointPassive& s = spring[0];
       const Vector3d& a = joint.hinge_axis;
       const double f = -s.stiffness * (c.angle[0] - s.spring_ref) -
                        implicit_damping(s.damping, h, a.dot(k * a)) * c.rate[0];
@@ -90,7 +90,7 @@ void add_joint_spring_wrenches(const Model& model, std::span<const BodyState> bo
       const Matrix3d g = euler_gradients(joint.box_order, c.angle);
       Vector3d f;
       for (int a = 0; a < 3; ++a) {
-        const JointSpring& s = spring[a];
+        const JointPassive& s = spring[a];
         const double k_a = g.row(a) * k * g.row(a).transpose();
         f[a] = -s.stiffness * (c.angle[a] - s.spring_ref) -
                implicit_damping(s.damping, h, k_a) * c.rate[a];
@@ -98,7 +98,7 @@ void add_joint_spring_wrenches(const Model& model, std::span<const BodyState> bo
       torque_in_joint = g.transpose() * f;
     } else {
       // the three rates together: ω' = (1 + h d K)⁻¹ ω, the damper's torque d ω'
-      const JointSpring& s = spring[0];
+      const JointPassive& s = spring[0];
       const Vector3d rate =
           s.damping == 0.0
               ? c.rate
@@ -115,8 +115,8 @@ double joint_spring_energy(const Model& model, std::span<const BodyState> bodies
   double energy = 0.0;
   for (const Joint& joint : model.joints) {
     if (joint.type == JointType::kFixed) continue;
-    const JointSpring* spring = joint.springs.data();
-    if (std::all_of(spring, spring + 3, [](const JointSpring& s) { return s.stiffness == 0.0; })) {
+    const JointPassive* spring = joint.passive.data();
+    if (std::all_of(spring, spring + 3, [](const JointPassive& s) { return s.stiffness == 0.0; })) {
       continue;
     }
     const JointCoordinates c = joint_coordinates(joint, bodies[static_cast<size_t>(joint.parent)],
@@ -134,6 +134,29 @@ double joint_spring_energy(const Model& model, std::span<const BodyState> bodies
     }
   }
   return energy;
+}
+
+const Model& armature_in_inertia(const Model& model, std::optional<Model>& holder) {
+  if (!has_armature(model)) return model;
+  holder = model;
+  for (const Joint& joint : model.joints) {
+    Segment& child = holder->segments[static_cast<size_t>(joint.child)];
+    const auto add_about = [&](const Vector3d& axis_in_joint, double armature) {
+      const Vector3d a = joint.frame_in_child * axis_in_joint;  // in the child's frame
+      child.inertia += armature * a.cwiseProduct(a);
+    };
+    if (joint.type == JointType::kHinge) {
+      add_about(joint.hinge_axis, joint.passive[0].armature);
+    } else if (joint.type == JointType::kBall && joint.ball_limit == BallLimit::kEulerBox) {
+      for (size_t k = 0; k < 3; ++k) {
+        add_about(Vector3d::Unit(joint.box_order.axes[k]), joint.passive[k].armature);
+      }
+    } else if (joint.type == JointType::kBall) {
+      child.inertia += Vector3d::Constant(joint.passive[0].armature);
+    }
+    derive_mass_terms(child);
+  }
+  return *holder;
 }
 
 }  // namespace puppet

@@ -52,20 +52,19 @@ Reader::JointElement Reader::read_joint_element(const XMLElement* e, int child, 
   JointElement out;
   out.name = attribute(e, "name").value_or(segments_[child].name);
   if (std::string problem = detail::name_problem(out.name); !problem.empty()) fail(e, problem);
-  for (const char* physics : {"armature", "frictionloss"}) {
-    const auto v = value(e, physics, cls);
-    if (v && single(e, physics, *v) != 0.0) {
-      fail(e, std::string(physics) +
-                  " is not supported (the testbed's joints have springs and "
-                  "dampers, no rotor inertia or dry friction)");
-    }
+  if (const auto v = value(e, "frictionloss", cls); v && single(e, "frictionloss", *v) != 0.0) {
+    fail(e,
+         "frictionloss is not supported (the testbed's joints have springs and dampers, no dry "
+         "friction)");
   }
   out.type = value(e, "type", cls).value_or("hinge");
-  for (const char* physics : {"stiffness", "damping"}) {
+  for (auto [physics, field] : {std::pair{"stiffness", &JointPassive::stiffness},
+                                std::pair{"damping", &JointPassive::damping},
+                                std::pair{"armature", &JointPassive::armature}}) {
     const auto v = value(e, physics, cls);
     const double given = v ? single(e, physics, *v) : 0.0;
     if (given < 0.0) fail(e, std::string(physics) + " must not be negative");
-    (physics[0] == 's' ? out.spring.stiffness : out.spring.damping) = given;
+    out.spring.*field = given;
   }
   // MuJoCo reads ref and springref for hinges and slides only
   const auto angle_of = [&](const char* key) {
@@ -156,7 +155,7 @@ detail::RawJoint Reader::read_box(const std::vector<const XMLElement*>& hinges, 
   for (int k = 0; k < 3; ++k) {
     j.box_lower[k] = h[k].lower;
     j.box_upper[k] = h[k].upper;
-    j.springs[static_cast<size_t>(k)] = h[k].spring;
+    j.passive[static_cast<size_t>(k)] = h[k].spring;
   }
   const std::string stem = h[0].name.substr(0, h[0].name.rfind(':'));
   j.name = h[0].name;
@@ -194,7 +193,7 @@ detail::RawJoint Reader::read_box(const std::vector<const XMLElement*>& hinges, 
       frame.col(2) = -frame.col(2);
       j.box_lower[2] = -h[2].upper;
       j.box_upper[2] = -h[2].lower;
-      j.springs[2].spring_ref = -h[2].spring.spring_ref;
+      j.passive[2].spring_ref = -h[2].spring.spring_ref;
     }
     j.frame_world = Quaterniond(frame).normalized();
   }
@@ -232,7 +231,7 @@ detail::RawJoint Reader::read_joint(const XMLElement* body, const XMLElement* e,
   j.name = element.name;
   j.anchor_world = element.anchor_world;
   const auto& user = element.user;
-  j.springs[0] = element.spring;
+  j.passive[0] = element.spring;
   if (element.type == "ball") {
     j.type = JointType::kBall;
     // the twist axis is the segment's own z: its long axis for a capsule

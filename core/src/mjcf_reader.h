@@ -306,7 +306,7 @@ class Reader {
     double lower = -kPi, upper = kPi;
     // stiffness, damping and (a hinge's) springref less ref: the testbed's angles start at 0 in
     // the body's pose as written, MuJoCo's hinge at ref
-    JointSpring spring;
+    JointPassive spring;
   };
 
   JointElement read_joint_element(const XMLElement* e, int child, const Vector3d& x,

@@ -277,7 +277,7 @@ class Writer {
         out_ << " limited=\"true\" range=\"" << nums({joint.lower, joint.upper}) << "\"";
       }
     }
-    write_spring(joint.springs[0], 1.0);
+    write_spring(joint.passive[0], 1.0);
     if (options_.user_data) {
       const Vector3d third = joint.type == JointType::kBall
                                  ? Vector3d(joint.swing_x, joint.swing_y, joint.twist)
@@ -309,7 +309,7 @@ class Writer {
       if (lower > -kPi || upper < kPi) {
         out_ << " limited=\"true\" range=\"" << nums({lower, upper}) << "\"";
       }
-      write_spring(joint.springs[static_cast<size_t>(k)], forward ? 1.0 : -1.0);
+      write_spring(joint.passive[static_cast<size_t>(k)], forward ? 1.0 : -1.0);
       if (options_.user_data) {
         out_ << " user=\"" << vec(joint.anchor_world) << ' ' << quat(joint.frame_world) << ' '
              << vec(e) << "\"";
@@ -318,12 +318,13 @@ class Writer {
     }
   }
 
-  // a joint's spring and damper as MuJoCo's attributes (its angle turned by `sign`, -1 when the
-  // joint is written from its child's side)
-  void write_spring(const JointSpring& spring, double sign) {
+  // a joint's spring, damper and armature as MuJoCo's attributes (its angle turned by `sign`, -1
+  // when the joint is written from its child's side)
+  void write_spring(const JointPassive& spring, double sign) {
     if (spring.stiffness != 0.0) out_ << " stiffness=\"" << num(spring.stiffness) << "\"";
     if (spring.damping != 0.0) out_ << " damping=\"" << num(spring.damping) << "\"";
     if (spring.spring_ref != 0.0) out_ << " springref=\"" << num(sign * spring.spring_ref) << "\"";
+    if (spring.armature != 0.0) out_ << " armature=\"" << num(spring.armature) << "\"";
   }
 
   std::string body_name(int s) const {

@@ -247,18 +247,19 @@ Segment read_segment(const Element& e) {
   return s;
 }
 
-// a joint's optional spring and damper (MuJoCo's stiffness and damping; a hinge's springref),
-// the same on each of its angles
+// a joint's optional spring, damper and armature (MuJoCo's stiffness, damping and armature; a
+// hinge's springref), the same on each of its angles
 void read_springs(const Element& e, Joint& j) {
-  JointSpring spring;
+  JointPassive spring;
   if (e.has("stiffness")) spring.stiffness = e.non_negative("stiffness");
   if (e.has("damping")) spring.damping = e.non_negative("damping");
+  if (e.has("armature")) spring.armature = e.non_negative("armature");
   if (e.has("springref_deg")) {
     const double ref = e.number("springref_deg");
     if (std::abs(ref) > 180.0) e.fail("field \"springref_deg\" must lie in [-180, 180]");
     spring.spring_ref = ref * kDegToRad;
   }
-  j.springs.fill(spring);
+  j.passive.fill(spring);
 }
 
 detail::RawJoint read_joint(const Element& e) {
@@ -268,8 +269,8 @@ detail::RawJoint read_joint(const Element& e) {
   const std::string type = e.string("type");
   if (type == "ball" && e.has("box_deg")) {
     // a box of intrinsic Euler angles: {"order": "xyz", "lower": [..], "upper": [..]} (deg)
-    e.reject_unknown(
-        {"name", "parent", "child", "anchor", "type", "frame", "box_deg", "stiffness", "damping"});
+    e.reject_unknown({"name", "parent", "child", "anchor", "type", "frame", "box_deg", "stiffness",
+                      "damping", "armature"});
     j.type = JointType::kBall;
     j.ball_limit = BallLimit::kEulerBox;
     j.swing_x = j.swing_y = j.twist = M_PI;
@@ -296,7 +297,7 @@ detail::RawJoint read_joint(const Element& e) {
     j.box_upper = upper * kDegToRad;
   } else if (type == "ball") {
     e.reject_unknown({"name", "parent", "child", "anchor", "type", "frame", "swing_deg",
-                      "twist_deg", "box_deg", "stiffness", "damping"});
+                      "twist_deg", "box_deg", "stiffness", "damping", "armature"});
     j.type = JointType::kBall;
     const Eigen::Vector2d swing = e.vector<2>("swing_deg");
     if ((swing.array() < 0.0).any()) e.fail("field \"swing_deg\" must not be negative");
@@ -308,7 +309,7 @@ detail::RawJoint read_joint(const Element& e) {
     j.twist = twist * kDegToRad;
   } else if (type == "hinge") {
     e.reject_unknown({"name", "parent", "child", "anchor", "type", "frame", "axis", "range_deg",
-                      "stiffness", "damping", "springref_deg"});
+                      "stiffness", "damping", "springref_deg", "armature"});
     j.type = JointType::kHinge;
     raw.hinge_axis_world = e.direction<3>("axis");
     const Eigen::Vector2d range = e.vector<2>("range_deg");
@@ -444,9 +445,18 @@ int Model::find_segment(const std::string& segment_name) const {
   return -1;
 }
 
+bool has_armature(const Model& model) {
+  for (const Joint& joint : model.joints) {
+    for (const JointPassive& dof : joint.passive) {
+      if (dof.armature != 0.0) return true;
+    }
+  }
+  return false;
+}
+
 bool has_joint_springs(const Model& model) {
   for (const Joint& joint : model.joints) {
-    for (const JointSpring& spring : joint.springs) {
+    for (const JointPassive& spring : joint.passive) {
       if (spring.stiffness != 0.0 || spring.damping != 0.0) return true;
     }
   }

@@ -323,7 +323,7 @@ function eulerGradients(axes, angles) {
 export function addJointSpringWrenches(model, bodies, h, out) {
   for (const joint of model.joints) {
     if (joint.type === 'fixed') continue;
-    const springs = joint.springs;
+    const springs = joint.passive;
     if (springs.every((s) => s.stiffness === 0.0 && s.damping === 0.0)) continue;
     const parent = bodies[joint.parent];
     const child = bodies[joint.child];

@@ -182,11 +182,11 @@ TEST(Jolt, JointSpringsAgreeWithTheTestbeds) {
   SKIP_WITHOUT_JOLT();
   Model sprung_pinocchio = load_model(kPinocchio);
   for (size_t j = 0; j < sprung_pinocchio.joints.size(); ++j) {
-    for (JointSpring& spring : sprung_pinocchio.joints[j].springs) {
+    for (JointPassive& spring : sprung_pinocchio.joints[j].passive) {
       spring = {.stiffness = 3.0 + j, .damping = 0.2 + 0.1 * j, .spring_ref = 0.0};
     }
     if (sprung_pinocchio.joints[j].type == JointType::kHinge) {
-      sprung_pinocchio.joints[j].springs[0].spring_ref = 0.3;
+      sprung_pinocchio.joints[j].passive[0].spring_ref = 0.3;
     }
   }
   std::mt19937_64 rng(11);

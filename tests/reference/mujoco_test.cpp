@@ -345,11 +345,12 @@ void expect_read_as_mujoco(const std::string& path) {
     ASSERT_GE(j, 0);
     const Vector3d anchor(d->xanchor[3 * j], d->xanchor[3 * j + 1], d->xanchor[3 * j + 2]);
     EXPECT_LT((anchor - joint.anchor_world).norm(), 1e-12);
-    // the springs and dampers: MuJoCo's angle is ours plus ref (qpos0), its springref ours
-    const auto expect_spring = [&](int jj, const JointSpring& spring, double sign) {
+    // the springs, dampers and armature: MuJoCo's angle is ours plus ref (qpos0)
+    const auto expect_spring = [&](int jj, const JointPassive& spring, double sign) {
       const int q = m->jnt_qposadr[jj];
       EXPECT_EQ(m->jnt_stiffness[jj], spring.stiffness);
       EXPECT_EQ(m->dof_damping[m->jnt_dofadr[jj]], spring.damping);
+      EXPECT_EQ(m->dof_armature[m->jnt_dofadr[jj]], spring.armature);
       if (m->jnt_type[jj] == mjJNT_HINGE) {
         EXPECT_NEAR(m->qpos_spring[q] - m->qpos0[q], sign * spring.spring_ref, 1e-15);
       }
@@ -361,10 +362,10 @@ void expect_read_as_mujoco(const std::string& path) {
       const Vector3d a1(d->xaxis[3 * j + 3], d->xaxis[3 * j + 4], d->xaxis[3 * j + 5]);
       const Vector3d a2(d->xaxis[3 * j + 6], d->xaxis[3 * j + 7], d->xaxis[3 * j + 8]);
       for (int k = 0; k < 3; ++k) {
-        expect_spring(j + k, joint.springs[k], k == 2 && a0.cross(a1).dot(a2) < 0.0 ? -1.0 : 1.0);
+        expect_spring(j + k, joint.passive[k], k == 2 && a0.cross(a1).dot(a2) < 0.0 ? -1.0 : 1.0);
       }
     } else {
-      expect_spring(j, joint.springs[0], 1.0);
+      expect_spring(j, joint.passive[0], 1.0);
     }
     if (joint.type == JointType::kHinge) {
       // an unlimited hinge turns all the way round: ±π (limits switched off are none); ours

@@ -125,6 +125,13 @@ ModelSize model_size(const Model& model) {
   return size;
 }
 
+std::string engine_model_note(std::string_view name, const Model& model) {
+  const Engine* engine = find_engine(name);
+  if (!engine || engine->exact_armature || !has_armature(model)) return {};
+  return "joint armature is added to each child's inertia about its joint's axes at rest "
+         "(MuJoCo adds it to the joint itself; docs/model-format.md measures the difference)";
+}
+
 std::string engine_model_problem(std::string_view name, const Model& model,
                                  const SolverOptions& options, double budget) {
   const Engine* engine = find_engine(name);

@@ -11,12 +11,14 @@
 #include <cstdio>
 #include <cstring>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "jolt_driver.h"
 #include "node_process.h"
 #include "puppet/compare/engines.h"
+#include "puppet/model/joint_springs.h"
 #include "puppet/model/text.h"
 
 namespace puppet::compare {
@@ -94,7 +96,8 @@ class JoltSimulator : public Simulator {
   void reset(const Model& model, const Scenario& scenario) override {
     model_ = &model;
     scenario_ = scenario;
-    model_json_ = model_json(model);
+    std::optional<Model> own_model;
+    model_json_ = model_json(armature_in_inertia(model, own_model));  // armature as inertia
     environment_json_ = environment_json(scenario.environment);
     s_ = JoltState{};
     s_.pins = scenario.initial_pins();

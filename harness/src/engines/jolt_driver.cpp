@@ -147,9 +147,9 @@ json model_json(const Model& model) {
                  {"lower", {angle(p.lower[0]), angle(p.lower[1]), angle(p.lower[2])}},
                  {"upper", {angle(p.upper[0]), angle(p.upper[1]), angle(p.upper[2])}}};
     }
-    json springs = json::array();
-    for (const JointSpring& spring : j.springs) {
-      springs.push_back({{"stiffness", spring.stiffness},
+    json passive = json::array();
+    for (const JointPassive& spring : j.passive) {
+      passive.push_back({{"stiffness", spring.stiffness},
                          {"damping", spring.damping},
                          {"spring_ref", spring.spring_ref}});
     }
@@ -169,7 +169,7 @@ json model_json(const Model& model) {
                       {"lower", angle(j.lower)},
                       {"upper", angle(j.upper)},
                       {"box_order", j.box_order.axes},
-                      {"springs", springs}});
+                      {"passive", passive}});
   }
   return {{"segments", segments}, {"joints", joints}};
 }

@@ -30,10 +30,12 @@ const char* integrator_name(MujocoIntegrator integrator) {
 
 std::unique_ptr<Simulator> make(const SolverOptions& options) {
   const reference::MujocoSettings settings = options.mujoco;
-  return make_reference_simulator("mujoco",
-                                  [settings](const Model& model, const Environment& environment) {
-                                    return reference::make_mujoco(model, environment, settings);
-                                  });
+  return make_reference_simulator(
+      "mujoco",
+      [settings](const Model& model, const Environment& environment) {
+        return reference::make_mujoco(model, environment, settings);
+      },
+      /*exact_armature=*/true);
 }
 
 void add_flags(CLI::App& command, SolverOptions& options) {
@@ -104,6 +106,7 @@ Engine mujoco_engine() {
                     "this build has no MuJoCo (Debian: libmujoco-dev; scripts/setup.sh installs "
                     "it, then build again)");
               },
+          .exact_armature = true,
           .model_problem = reference::mujoco_model_problem,
           .second_cost = mujoco_cost,
           .make = make,

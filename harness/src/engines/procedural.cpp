@@ -12,6 +12,7 @@
 #include "puppet/compare/number.h"
 #include "puppet/compare/output.h"
 #include "puppet/compare/simulator.h"
+#include "puppet/model/joint_springs.h"
 #include "puppet/model/text.h"
 #include "puppet/procedural/solver.h"
 
@@ -35,7 +36,8 @@ class ProceduralSimulator : public Simulator {
   void reset(const Model& model, const Scenario& scenario) override {
     procedural::Settings settings = settings_;
     settings.time_stages = time_stages_;
-    solver_.emplace(model, settings, scenario.environment);
+    solver_.reset();  // before the model it holds
+    solver_.emplace(armature_in_inertia(model, own_model_), settings, scenario.environment);
     solver_->reset(scenario.initial);
     solver_->set_pins(scenario.initial_pins());
   }
@@ -71,6 +73,7 @@ class ProceduralSimulator : public Simulator {
  private:
   procedural::Settings settings_;
   bool time_stages_ = false;
+  std::optional<Model> own_model_;  // the model with armature as inertia (joint_springs.h)
   std::optional<procedural::Solver> solver_;
 };
 

@@ -1,5 +1,9 @@
 #include "reference_adapter.h"
 
+#include <optional>
+
+#include "puppet/model/joint_springs.h"
+
 namespace puppet::compare {
 namespace {
 
@@ -11,13 +15,15 @@ class ReferenceSnapshot : public Snapshot {
 
 class ReferenceSimulator : public Simulator {
  public:
-  ReferenceSimulator(std::string name, ReferenceFactory factory)
-      : name_(std::move(name)), factory_(std::move(factory)) {}
+  ReferenceSimulator(std::string name, ReferenceFactory factory, bool exact_armature)
+      : name_(std::move(name)), factory_(std::move(factory)), exact_armature_(exact_armature) {}
 
   std::string name() const override { return name_; }
   void reset(const Model& model, const Scenario& scenario) override {
     const std::vector<Pin> pins = scenario.initial_pins();
-    solver_ = factory_(model, scenario.environment);
+    solver_.reset();  // before the model it holds
+    solver_ = factory_(exact_armature_ ? model : armature_in_inertia(model, own_model_),
+                       scenario.environment);
     solver_->set_state(scenario.initial);
     solver_->set_pins(pins);
   }
@@ -42,13 +48,16 @@ class ReferenceSimulator : public Simulator {
  private:
   std::string name_;
   ReferenceFactory factory_;
+  bool exact_armature_;
+  std::optional<Model> own_model_;  // the model with armature as inertia, when it has armature
   std::unique_ptr<reference::Solver> solver_;
 };
 
 }  // namespace
 
-std::unique_ptr<Simulator> make_reference_simulator(std::string name, ReferenceFactory factory) {
-  return std::make_unique<ReferenceSimulator>(std::move(name), std::move(factory));
+std::unique_ptr<Simulator> make_reference_simulator(std::string name, ReferenceFactory factory,
+                                                    bool exact_armature) {
+  return std::make_unique<ReferenceSimulator>(std::move(name), std::move(factory), exact_armature);
 }
 
 }  // namespace puppet::compare

@@ -15,6 +15,9 @@ namespace puppet::compare {
 using ReferenceFactory = std::function<std::unique_ptr<reference::Solver>(
     const Model& model, const Environment& environment)>;
 
-std::unique_ptr<Simulator> make_reference_simulator(std::string name, ReferenceFactory factory);
+// `exact_armature`: the engine builds joint armature itself (MuJoCo); else the world is built from
+// armature_in_inertia's model (joint_springs.h), which the simulator keeps
+std::unique_ptr<Simulator> make_reference_simulator(std::string name, ReferenceFactory factory,
+                                                    bool exact_armature = false);
 
 }  // namespace puppet::compare

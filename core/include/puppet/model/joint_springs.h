@@ -5,6 +5,7 @@
 /// parent, as it applies the environment's forces.
 #pragma once
 
+#include <optional>
 #include <span>
 
 #include "puppet/model/environment.h"
@@ -39,5 +40,13 @@ JointCoordinates joint_coordinates(const Joint& joint, const BodyState& parent,
 /// the energy the joints' springs hold: Σ ½ stiffness (angle − spring_ref)² over every degree of
 /// freedom (a ball's: ½ stiffness |r|²)
 double joint_spring_energy(const Model& model, std::span<const BodyState> bodies);
+
+/// Armature as an engine in maximal coordinates builds it: each joint's rotor inertia added to its
+/// child's inertia about the joint's axes at rest (a hinge's axis, a box's three axes, a ball's
+/// every axis), the part off the segment frame's diagonal left out (none when the axes are the
+/// segment's own, as a ball's always are). MuJoCo adds it to the degree of freedom itself; the
+/// two agree while the parent turns slowly about the axis, and the tests measure how far they part
+/// (docs/model-format.md). Returns `model` itself when it has no armature, else `holder` filled.
+const Model& armature_in_inertia(const Model& model, std::optional<Model>& holder);
 
 }  // namespace puppet

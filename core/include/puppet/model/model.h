@@ -63,14 +63,16 @@ struct Segment {
 
 enum class JointType { kBall, kHinge, kFixed };
 
-/// A spring and a damper on one degree of freedom of a joint, as MuJoCo's joint `stiffness`,
-/// `springref` and `damping` define them: the generalized force −stiffness (angle − spring_ref)
-/// − damping · rate (docs/model-format.md, "Springs and dampers")
-struct JointSpring {
+/// The passive dynamics of one degree of freedom of a joint, as MuJoCo's joint `stiffness`,
+/// `springref`, `damping` and `armature` define them (docs/model-format.md, "Springs, dampers and
+/// armature"): the generalized force −stiffness (angle − spring_ref) − damping · rate, and a rotor
+/// inertia `armature` added to the degree of freedom's own inertia
+struct JointPassive {
   double stiffness = 0.0;   ///< N m/rad
   double damping = 0.0;     ///< N m s/rad
   double spring_ref = 0.0;  ///< rad: the angle where the spring is slack (a hinge's, a box's)
-  bool operator==(const JointSpring&) const = default;
+  double armature = 0.0;    ///< kg m²
+  bool operator==(const JointPassive&) const = default;
 };
 
 /// A ball joint's limit: a swing ellipse and a twist, or a box of intrinsic Euler angles
@@ -112,11 +114,11 @@ struct Joint {
   double twist_half_sin = 0.0, twist_half_cos = 1.0;
   double lower_half_sin = 0.0, lower_half_cos = 1.0;
   double upper_half_sin = 0.0, upper_half_cos = 1.0;
-  /// springs and dampers (passive_joint_wrenches in joint_springs.h): a hinge's on its angle in
-  /// entry 0; an Euler box's on its angle k in entry k (MuJoCo's three hinges); a swing–twist
-  /// ball's entry 0 on each coordinate of its rotation from rest as a rotation vector (MuJoCo's
-  /// ball: spring_ref 0); a fixed joint has none
-  std::array<JointSpring, 3> springs{};
+  /// springs, dampers and armature (joint_springs.h): a hinge's on its angle in entry 0; an Euler
+  /// box's on its angle k in entry k (MuJoCo's three hinges); a swing–twist ball's entry 0 on each
+  /// coordinate of its rotation from rest as a rotation vector (MuJoCo's ball: spring_ref 0); a
+  /// fixed joint has none
+  std::array<JointPassive, 3> passive{};
 };
 
 /// fills the segment's inverse mass and inertia; call after setting mass and inertia
@@ -167,6 +169,8 @@ struct Model {
 
 /// whether any joint of the model has a spring or a damper
 bool has_joint_springs(const Model& model);
+/// whether any joint of the model has armature
+bool has_armature(const Model& model);
 
 /// How a model file is read (MJCF's options; a JSON file has none)
 struct ReadOptions {

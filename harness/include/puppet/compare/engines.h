@@ -46,6 +46,9 @@ struct Engine {
   // true: its state is single precision (jolt): what it reads back is rounded to float, and the
   // tests that compare two of its runs allow for it
   bool single_precision = false;
+  // true: it builds joint armature exactly (MuJoCo, in generalized coordinates); false: it runs
+  // armature_in_inertia's model (joint_springs.h) and says so (engine_model_note)
+  bool exact_armature = false;
   // why it cannot run the model (empty when it can), decided before anything runs
   std::string (*model_problem)(const Model& model) = nullptr;
   // an estimate of the CPU seconds it takes to step one simulated second of the model at
@@ -102,6 +105,10 @@ inline constexpr double kDefaultEngineBudget = 60.0;
 // why the engine cannot run the model (empty when it can): its row's model_problem, or an
 // estimated cost per simulated second above `budget` (finite and positive); an unknown name says
 // so
+// what the engine approximates in the model, in one line (empty when nothing): a command prints
+// it as a note before it runs the engine
+std::string engine_model_note(std::string_view name, const Model& model);
+
 std::string engine_model_problem(std::string_view name, const Model& model,
                                  const SolverOptions& options = {},
                                  double budget = kDefaultEngineBudget);
