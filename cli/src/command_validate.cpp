@@ -49,9 +49,24 @@ int validate(const std::string& path, const ReadOptions& reading, double budget)
     const char* type = j.type == JointType::kBall    ? "ball"
                        : j.type == JointType::kHinge ? "hinge"
                                                      : "fixed";
-    std::printf("  %-14s %-6s %-14s %-14s %s\n", j.name.c_str(), type,
-                model.segments[j.parent].name.c_str(), model.segments[j.child].name.c_str(),
-                limits);
+    // its springs, dampers and armature: a box's per angle where its angles' differ
+    std::string passive;
+    const auto describe = [&](const JointPassive& p, const std::string& which) {
+      if (p == JointPassive{}) return;
+      char line[200];
+      std::snprintf(line, sizeof line, "; %sstiffness %g, damping %g, springref %.4g, armature %g",
+                    which.c_str(), p.stiffness, p.damping, p.spring_ref * d, p.armature);
+      passive += line;
+    };
+    const bool box = j.type == JointType::kBall && j.ball_limit == BallLimit::kEulerBox;
+    if (box && !(j.passive[1] == j.passive[0] && j.passive[2] == j.passive[0])) {
+      for (size_t k = 0; k < 3; ++k) describe(j.passive[k], "angle " + std::to_string(k) + ": ");
+    } else if (j.type != JointType::kFixed) {
+      describe(j.passive[0], "");
+    }
+    std::printf("  %-14s %-6s %-14s %-14s %s%s\n", j.name.c_str(), type,
+                model.segments[j.parent].name.c_str(), model.segments[j.child].name.c_str(), limits,
+                passive.c_str());
   }
   // what each engine makes of it: the verdict every command applies before it runs
   std::string engines, refusals;

@@ -214,6 +214,7 @@ std::vector<SolverConfig> parse_solver_configs(const Flags& f) {
 
 void apply_engine_verdicts(std::vector<SolverConfig>& configs, const Model& model, const Flags& f) {
   std::vector<std::string> refused, noted;
+  std::vector<std::pair<std::string, std::string>> notes;  // a note, and the engines it is of
   const auto among = [](const std::vector<std::string>& names, const std::string& name) {
     return std::find(names.begin(), names.end(), name) != names.end();
   };
@@ -225,8 +226,14 @@ void apply_engine_verdicts(std::vector<SolverConfig>& configs, const Model& mode
       // what it approximates, once per engine
       const std::string note = compare::engine_model_note(config.solver, model);
       if (!note.empty() && !among(noted, config.solver)) {
-        print_error("testbed: ", "note: " + config.solver + ": " + note);
         noted.push_back(config.solver);
+        auto same = std::find_if(notes.begin(), notes.end(),
+                                 [&](const auto& n) { return n.first == note; });
+        if (same == notes.end()) {
+          notes.emplace_back(note, config.solver);
+        } else {
+          same->second += ", " + config.solver;
+        }
       }
       continue;
     }
@@ -237,6 +244,9 @@ void apply_engine_verdicts(std::vector<SolverConfig>& configs, const Model& mode
     print_error("testbed: ", "note: " + config.solver + " left out, it cannot run " +
                                  shown(f.model) + ": " + problem);
     refused.push_back(config.solver);
+  }
+  for (const auto& [note, engines] : notes) {
+    print_error("testbed: ", "note: " + engines + ": " + note);
   }
   std::erase_if(configs, [&](const SolverConfig& c) { return among(refused, c.solver); });
 }

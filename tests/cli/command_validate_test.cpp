@@ -20,6 +20,33 @@ TEST(TestbedCli, Validate) {
              "/no/such/gate.json: cannot open");
 }
 
+// A model with joint springs, dampers and armature: validate shows each joint's, a box's per
+// angle where they differ, and which engines approximate armature; a run says so once, in one
+// line naming those engines, and runs them
+TEST(TestbedCli, SpringsAndArmatureAreShownAndTheirApproximationNoted) {
+  const std::string model = std::string(PUPPET_SOURCE_DIR) + "/tests/data/mjcf/springs.xml";
+  const Outcome validated = testbed("validate " + model);
+  EXPECT_EQ(validated.status, 0) << validated.output;
+  EXPECT_NE(validated.output.find("range [0, 150]; stiffness 8, damping 1.5, springref 20, "
+                                  "armature 0.02"),
+            std::string::npos)
+      << validated.output;
+  EXPECT_NE(validated.output.find("angle 1: stiffness 5, damping 0.4, springref 10"),
+            std::string::npos);
+  EXPECT_NE(validated.output.find("ode approximates: joint armature"), std::string::npos);
+  EXPECT_EQ(validated.output.find("mujoco approximates"), std::string::npos);
+  const fs::path out = fresh_folder("sprung");
+  const Outcome run = testbed("run --model " + model +
+                              " --scenario spin --solver mujoco,ode,procedural --rule xpbd "
+                              "--duration 0.05 --no-timing --out " +
+                              out.string());
+  EXPECT_EQ(run.status, 0) << run.output;
+  const std::string note = "note: ode, procedural: joint armature is added to each child's";
+  const auto at = run.output.find(note);
+  EXPECT_NE(at, std::string::npos) << run.output;
+  EXPECT_EQ(run.output.find("joint armature", at + note.size()), std::string::npos) << "once";
+}
+
 // A published-style MJCF file: what it has that the testbed does not model is one line on stderr,
 // once, and the command goes on; with --strict it is refused (exit 2, one line) before anything
 // runs; an include outside the model's folder needs --include-outside
