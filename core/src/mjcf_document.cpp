@@ -283,6 +283,19 @@ std::optional<std::string> Reader::value(const XMLElement* e, const char* key,
   return std::nullopt;
 }
 
+std::string Reader::set_by(const XMLElement* e, const char* key,
+                           const std::string& class_name) const {
+  if (attribute(e, key)) return {};
+  const auto c = class_index_.find(class_name);
+  for (int k = c == class_index_.end() ? -1 : c->second; k >= 0; k = classes_[k].parent) {
+    const auto kind = classes_[k].own.find(e->Name());
+    if (kind != classes_[k].own.end() && kind->second.count(key)) {
+      return " (set by default class \"" + one_line(classes_[k].name) + "\")";
+    }
+  }
+  return {};
+}
+
 double Reader::single(const XMLElement* e, const char* key, const std::string& text) const {
   const std::vector<double> v = numbers(e, key, text);
   if (v.size() != 1) fail(e, std::string("attribute \"") + key + "\" must be one number");
@@ -394,7 +407,7 @@ void Reader::read_default(const XMLElement* e, const std::string& name, int pare
     if (!class_index_.emplace(name, index).second) {
       fail(e, "a second default class \"" + one_line(name) + "\"");
     }
-    classes_.push_back({parent, {}});
+    classes_.push_back({parent, name, {}});
   }
   const std::vector<const XMLElement*> kinds = children(e);
   for (const XMLElement* c : kinds) {

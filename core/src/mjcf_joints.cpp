@@ -20,7 +20,8 @@ void Reader::check_free(const XMLElement* joint, const std::string& class_name) 
   for (const char* physics : {"damping", "armature", "stiffness", "frictionloss"}) {
     const auto v = value(joint, physics, cls);
     if (v && single(joint, physics, *v) != 0.0) {
-      fail(joint, std::string(physics) + " on the free root is not supported");
+      fail(joint, std::string(physics) + " on the free root is not supported" +
+                      set_by(joint, physics, cls));
     }
   }
   if (value(joint, "limited", cls).value_or("false") == "true") {
@@ -55,7 +56,8 @@ Reader::JointElement Reader::read_joint_element(const XMLElement* e, int child, 
   if (const auto v = value(e, "frictionloss", cls); v && single(e, "frictionloss", *v) != 0.0) {
     fail(e,
          "frictionloss is not supported (the testbed's joints have springs and dampers, no dry "
-         "friction)");
+         "friction)" +
+             set_by(e, "frictionloss", cls));
   }
   out.type = value(e, "type", cls).value_or("hinge");
   for (auto [physics, field] : {std::pair{"stiffness", &JointPassive::stiffness},
@@ -63,7 +65,9 @@ Reader::JointElement Reader::read_joint_element(const XMLElement* e, int child, 
                                 std::pair{"armature", &JointPassive::armature}}) {
     const auto v = value(e, physics, cls);
     const double given = v ? single(e, physics, *v) : 0.0;
-    if (given < 0.0) fail(e, std::string(physics) + " must not be negative");
+    if (given < 0.0) {
+      fail(e, std::string(physics) + " must not be negative" + set_by(e, physics, cls));
+    }
     out.spring.*field = given;
   }
   // MuJoCo reads ref and springref for hinges and slides only

@@ -108,6 +108,7 @@ std::pair<int, std::string> xml_shape_problem(const std::string& text);
 // copies its parent's attributes.
 struct DefaultClass {
   int parent = -1;
+  std::string name;
   std::map<std::string, std::map<std::string, std::string>> own;
 };
 
@@ -194,6 +195,10 @@ class Reader {
   // an attribute of a body element, else its class's default
   std::optional<std::string> value(const XMLElement* e, const char* key,
                                    const std::string& class_name) const;
+
+  // where a value value() finds came from, for a refusal: " (set by default class \"limb\")"
+  // when a class gave it, empty when the element itself did (or nothing)
+  std::string set_by(const XMLElement* e, const char* key, const std::string& class_name) const;
 
   // exactly one number (an empty attribute, or two numbers, is refused)
   double single(const XMLElement* e, const char* key, const std::string& text) const;
