@@ -94,6 +94,12 @@ Model Reader::read(const std::string& text, std::string* note) {
   // copies: locate reads the members while assemble consumes its arguments
   Model model = detail::assemble(name_, segments_, joints_, locate);
   model.gravity = gravity_off_ ? Vector3d::Zero() : gravity_;
+  if (passive_off_) {
+    // MuJoCo's passive flag switches the joints' springs and dampers off, not their armature
+    for (Joint& joint : model.joints) {
+      for (JointPassive& dof : joint.passive) dof.stiffness = dof.damping = 0.0;
+    }
+  }
   if (note) *note = skipped_note(skipped_);
   return model;
 }
@@ -231,6 +237,21 @@ void Reader::read_flags(const XMLElement* e) {
   };
   if (off("gravity")) gravity_off_ = true;
   if (off("limit") || off("constraint")) limits_off_ = true;
+  if (off("passive")) passive_off_ = true;
+  // contact switched off, or its parameters overridden, change what the scenarios decide (the
+  // ground and its contact): named in the note, never dropped unsaid
+  const auto contact_flag = [&](const char* flag, const char* changed) {
+    if (attribute(e, flag).value_or("") != changed) return;
+    const std::string what = std::string("flag ") + flag + "=\"" + changed + "\"";
+    if (options_.strict) {
+      fail(e, what +
+                  " is not modelled by the testbed: the scenarios decide the ground and its "
+                  "contact (skipped unless --strict)");
+    }
+    ++skipped_[what];
+  };
+  contact_flag("contact", "disable");
+  contact_flag("override", "enable");
 }
 
 void Reader::read_size(const XMLElement* e) {

@@ -360,6 +360,7 @@ class Reader {
   double bound_mass_ = 0.0, bound_inertia_ = 0.0, total_mass_ = -1.0;
   bool balance_inertia_ = false;
   bool gravity_off_ = false, limits_off_ = false;  // <option><flag>
+  bool passive_off_ = false;  // <flag passive="disable">: no joint springs or dampers
   std::array<int, 2> inertia_groups_{0, 5};
 };
 

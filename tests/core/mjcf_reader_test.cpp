@@ -432,6 +432,39 @@ TEST(MjcfReader, WhatIsNotModelledIsSkippedWithANoteOrRefusedStrictly) {
   EXPECT_EQ(note, "");
 }
 
+// <option><flag>s that change the dynamics are honoured or named: passive="disable" switches the
+// joints' springs and dampers off (not their armature), as in MuJoCo; contact switched off or
+// overridden is the scenarios' to decide, so it is named in the note (refused with --strict)
+TEST(MjcfReader, FlagsThatChangeTheDynamicsAreHonouredOrNamed) {
+  const auto text = [](const std::string& flags) {
+    return "<mujoco model=\"m\"><option><flag " + flags +
+           "/></option><worldbody><body name=\"a\"><freejoint/><geom type=\"sphere\" "
+           "size=\"0.1\"/><body name=\"b\" pos=\"0 0 -0.2\"><joint name=\"h\" "
+           "type=\"hinge\" pos=\"0 0 0.1\" stiffness=\"3\" damping=\"1\" "
+           "armature=\"0.01\"/><geom type=\"capsule\" size=\"0.05 0.1\"/></body></body>"
+           "</worldbody></mujoco>";
+  };
+  std::string note;
+  const Model sprung = parse_mjcf(text("energy=\"enable\""), "m.xml", {}, &note);
+  EXPECT_EQ(sprung.joints[0].passive[0].stiffness, 3.0);
+  EXPECT_EQ(note, "");
+  const Model limp = parse_mjcf(text("passive=\"disable\""), "m.xml", {}, &note);
+  EXPECT_EQ(limp.joints[0].passive[0].stiffness, 0.0);
+  EXPECT_EQ(limp.joints[0].passive[0].damping, 0.0);
+  EXPECT_EQ(limp.joints[0].passive[0].armature, 0.01);
+  parse_mjcf(text("contact=\"disable\" override=\"enable\""), "m.xml", {}, &note);
+  EXPECT_EQ(note, "1 <flag contact=\"disable\">, 1 <flag override=\"enable\">");
+  try {
+    parse_mjcf(text("contact=\"disable\""), "m.xml", ReadOptions{.strict = true});
+    ADD_FAILURE() << "read strictly";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("flag contact=\"disable\" is not modelled by the "
+                                         "testbed: the scenarios decide the ground"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 // The compiler's options on mass, as MuJoCo applies them: a body's mass and moments raised to
 // boundmass and boundinertia, moments that break the triangle inequality balanced to their
 // mean, then every mass and moment scaled to settotalmass
