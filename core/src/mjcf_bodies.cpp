@@ -90,11 +90,11 @@ void Reader::read_body(const XMLElement* e, int parent, const Vector3d& parent_x
     }
     check_free(joints[0], child_class);
   } else {
-    if (joints.size() == 3) {
+    if (joints.size() == 2 || joints.size() == 3) {
       joints_.push_back(read_box(joints, index, parent, x, q, child_class));
     } else if (joints.size() > 1) {
-      fail(joints[1], "a second joint in body \"" + name +
-                          "\" (one joint per body, or three hinges at one point for a box)");
+      fail(joints[3], "a fourth joint in body \"" + name +
+                          "\" (one joint per body, or two or three hinges at one point)");
     } else {
       joints_.push_back(
           read_joint(e, joints.empty() ? nullptr : joints[0], index, parent, x, q, child_class));

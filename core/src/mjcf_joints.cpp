@@ -137,20 +137,31 @@ detail::RawJoint Reader::read_box(const std::vector<const XMLElement*>& hinges, 
   raw.parent_name = segments_[parent].name;
   raw.child_name = segments_[child].name;
   joint_where_.push_back(where(hinges[0]));
+  const int count = static_cast<int>(hinges.size());  // 2 or 3
   std::array<JointElement, 3> h;
-  for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < count; ++k) {
     h[k] = read_joint_element(hinges[k], child, x, q, class_name);
     if (h[k].type != "hinge") {
-      fail(hinges[k], "several joints in one body are read only as three hinges (a box limit)");
+      fail(hinges[k],
+           "several joints in one body are read only as two or three hinges at one "
+           "point (a box limit)");
     }
     if ((h[k].anchor_world - h[0].anchor_world).norm() > 1e-9) {
-      fail(hinges[k], "a box limit's three hinges must share one pos");
+      fail(hinges[k], "a box limit's hinges must share one pos");
     }
     for (int m = 0; m < k; ++m) {
       if (std::abs(h[k].axis_world.dot(h[m].axis_world)) > 1e-6) {
-        fail(hinges[k], "a box limit's three hinges must have orthogonal axes");
+        fail(hinges[k], "a box limit's hinges must have orthogonal axes");
       }
     }
+  }
+  if (count == 2) {
+    // two hinges are a box whose third angle, about the axis they leave, is held at 0: the same
+    // rotations, R(a₀, θ₀) R(a₁, θ₁), composed in MuJoCo's order
+    h[2].name = h[1].name;
+    h[2].anchor_world = h[0].anchor_world;
+    h[2].axis_world = h[0].axis_world.cross(h[1].axis_world).normalized();
+    h[2].lower = h[2].upper = 0.0;
   }
   j.type = JointType::kBall;
   j.ball_limit = BallLimit::kEulerBox;
@@ -163,19 +174,20 @@ detail::RawJoint Reader::read_box(const std::vector<const XMLElement*>& hinges, 
   }
   const std::string stem = h[0].name.substr(0, h[0].name.rfind(':'));
   j.name = h[0].name;
-  for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < count; ++k) {
     const std::string& name = h[k].name;
     if (stem.empty() || name.size() != stem.size() + 2 || name.compare(0, stem.size(), stem) ||
         name[stem.size()] != ':') {
       break;
     }
-    if (k == 2) j.name = stem;
+    if (k == count - 1) j.name = stem;
   }
-  if (h[0].user && h[1].user && h[2].user) {
+  if (h[0].user && h[1].user && (count == 2 || h[2].user)) {
     const auto& u = *h[0].user;
     j.anchor_world = user_anchor(hinges[0], u, j.anchor_world);
     j.frame_world = unit_quaternion(Quaterniond(u[3], u[4], u[5], u[6]));
-    for (int k = 0; k < 3; ++k) {
+    if (count == 2) j.box_order.axes[2] = -1;  // the axis the two leave, below
+    for (int k = 0; k < count; ++k) {
       const auto& uk = *h[k].user;
       const Vector3d e(uk[7], uk[8], uk[9]);
       int axis = 0;
@@ -186,9 +198,10 @@ detail::RawJoint Reader::read_box(const std::vector<const XMLElement*>& hinges, 
       }
       j.box_order.axes[k] = axis;
     }
+    if (count == 2) j.box_order.axes[2] = 3 - j.box_order.axes[0] - j.box_order.axes[1];
     if (j.box_order.axes[0] == j.box_order.axes[1] || j.box_order.axes[1] == j.box_order.axes[2] ||
         j.box_order.axes[2] == j.box_order.axes[0]) {
-      fail(hinges[2], "its user data names a box frame's axis twice");
+      fail(hinges[count - 1], "its user data names a box frame's axis twice");
     }
   } else {
     Eigen::Matrix3d frame;

@@ -324,8 +324,9 @@ class Reader {
   // Three hinges in one body, at one point, about orthogonal axes: MuJoCo turns the body by
   // R(a₀, θ₀) R(a₁, θ₁) R(a₂, θ₂), a ball joint with a box limit (euler_box.h) whose frame has
   // the axes as its columns in the order x, y, z (the third negated, with its range, if they
-  // are left-handed). With user data on all three (as export-mjcf writes it) the frame, the
-  // order and the anchor are the exact ones; a name "<joint>:x" ... gives the joint's name.
+  // are left-handed). Two hinges are such a box whose third angle, about a₀ × a₁, is held at 0.
+  // With user data on each (as export-mjcf writes it) the frame, the order and the anchor are
+  // the exact ones; a name "<joint>:x" ... gives the joint's name.
   detail::RawJoint read_box(const std::vector<const XMLElement*>& hinges, int child, int parent,
                             const Vector3d& x, const Quaterniond& q, const std::string& class_name);
 

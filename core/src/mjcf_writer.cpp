@@ -300,6 +300,11 @@ class Writer {
         options_.model_names ? escaped(joint.name) : indexed("j", joint.child - 1);
     for (int n = 0; n < 3; ++n) {
       const int k = forward ? n : 2 - n;
+      // a third angle held at 0 without a spring is no hinge at all: two hinges are the joint
+      if (k == 2 && joint.box_lower[2] == 0.0 && joint.box_upper[2] == 0.0 &&
+          joint.passive[2] == JointPassive{}) {
+        continue;
+      }
       const int axis = joint.box_order.axes[k];
       const Vector3d e = Vector3d::Unit(axis);
       const double lower = forward ? joint.box_lower[k] : -joint.box_upper[k];

@@ -204,7 +204,9 @@ std::string joint_problem(const Joint& j) {
       const double bound = k == 1 ? kMaxBoxMiddle : kPi;
       if (!within(j.box_lower[k], -bound, 0.0) || !within(j.box_upper[k], 0.0, bound)) {
         return "the box's angle " + std::to_string(k) + " range [" + number(j.box_lower[k]) + ", " +
-               number(j.box_upper[k]) + "] rad must contain 0 and lie within ±" + number(bound);
+               number(j.box_upper[k]) + "] rad must contain 0 and lie within [" + number(-bound) +
+               ", " + number(bound) + "]" +
+               (k == 1 ? " (the middle angle: Euler angles lose an axis at 90 degrees)" : "");
       }
     }
   } else if (j.type == JointType::kBall) {

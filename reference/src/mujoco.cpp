@@ -4,7 +4,8 @@
 //   free   qpos = (x, q_b), qvel = (v, q_b⁻¹ ω) (the angular part in the body frame)
 //   ball   qpos = Q, qvel = q_b⁻¹ (ω_b − ω_P) (in the body frame)
 //   hinge  qpos = θ with Q = rotation by θ about the axis a, qvel = a · q_b⁻¹ (ω_b − ω_P)
-//   box    three hinges in one body, Q = R(a₀, θ₀) R(a₁, θ₁) R(a₂, θ₂) (set_hinge_triple)
+//   box    three hinges in one body, Q = R(a₀, θ₀) R(a₁, θ₁) R(a₂, θ₂) (set_hinge_triple); two
+//          where the third angle is held at 0
 // The pins' configuration (which one hangs the tree, which are mocap-driven) is part of the
 // compiled model: a change rebuilds it and carries the state over through world poses.
 #include "puppet/reference/mujoco.h"
@@ -299,10 +300,10 @@ class MujocoSolver final : public Solver {
       mjtNum* qpos = d_->qpos + m_->jnt_qposadr[j];
       mjtNum* qvel = d_->qvel + m_->jnt_dofadr[j];
       const Vector3d relative_w = body.q.conjugate() * (body.w - wp);
-      if (m_->body_jntnum[b] == 3) {
-        // a box limit's three hinges (their coordinates are consecutive)
+      if (m_->body_jntnum[b] >= 2) {
+        // a box limit's two or three hinges (their coordinates are consecutive)
         const Quaterniond q = quat4(m_->body_quat + 4 * b).conjugate() * qp.conjugate() * body.q;
-        set_hinge_triple(j, q, relative_w, qpos, qvel);
+        set_hinge_triple(j, m_->body_jntnum[b], q, relative_w, qpos, qvel);
         continue;
       }
       switch (m_->jnt_type[j]) {
@@ -477,11 +478,13 @@ class MujocoSolver final : public Solver {
   // Q = R(a₀, θ₀) R(a₁, θ₁) R(a₂, θ₂) = A R_xyz(θ) A⁻¹ with A = [a₀ a₁ a₂] (right-handed; the
   // third axis and angle negated if not), so θ are the xyz Euler angles of A⁻¹ Q A. MuJoCo turns
   // hinge k about its axis after the earlier hinges' turns, so the body-frame relative angular
-  // velocity is ω = R₂ᵀR₁ᵀ a₀ θ̇₀ + R₂ᵀ a₁ θ̇₁ + a₂ θ̇₂, solved for θ̇.
-  void set_hinge_triple(int first, const Quaterniond& q, const Vector3d& relative_w, mjtNum* qpos,
-                        mjtNum* qvel) const {
+  // velocity is ω = R₂ᵀR₁ᵀ a₀ θ̇₀ + R₂ᵀ a₁ θ̇₁ + a₂ θ̇₂, solved for θ̇. Two hinges (`count` 2)
+  // are three whose third, about a₀ × a₁, is held at 0: its angle and rate are left out.
+  void set_hinge_triple(int first, int count, const Quaterniond& q, const Vector3d& relative_w,
+                        mjtNum* qpos, mjtNum* qvel) const {
     Eigen::Matrix3d axes;
-    for (int k = 0; k < 3; ++k) axes.col(k) = vec3(m_->jnt_axis + 3 * (first + k));
+    for (int k = 0; k < count; ++k) axes.col(k) = vec3(m_->jnt_axis + 3 * (first + k));
+    if (count == 2) axes.col(2) = axes.col(0).cross(axes.col(1)).normalized();
     const double handed = axes.determinant() < 0.0 ? -1.0 : 1.0;
     axes.col(2) *= handed;
     const Quaterniond a(axes);
@@ -494,7 +497,7 @@ class MujocoSolver final : public Solver {
     rates.col(1) = r2.inverse() * axes.col(1);
     rates.col(2) = axes.col(2);
     const Vector3d angle_rates = rates.partialPivLu().solve(relative_w);
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < count; ++k) {
       qpos[m_->jnt_qposadr[first + k] - m_->jnt_qposadr[first]] = angles[k];
       qvel[m_->jnt_dofadr[first + k] - m_->jnt_dofadr[first]] = angle_rates[k];
     }

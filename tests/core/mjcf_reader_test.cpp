@@ -143,9 +143,9 @@ TEST(MjcfReader, ABoxLimitIsThreeHingesAndComesBack) {
   }
 }
 
-// Several joints in one body are read only as a box: three hinges at one point about orthogonal
-// axes
-TEST(MjcfReader, ABoxNeedsThreeOrthogonalHingesAtOnePoint) {
+// Several joints in one body are read only as a box: two or three hinges at one point about
+// orthogonal axes (two: the third angle, about a₀ × a₁, held at 0)
+TEST(MjcfReader, ABoxNeedsTwoOrThreeOrthogonalHingesAtOnePoint) {
   auto read = [](const std::string& joints) {
     return "<mujoco><compiler angle=\"degree\"/><worldbody><body name=\"a\"><freejoint/>"
            "<geom type=\"sphere\" size=\"0.1\"/><body name=\"b\" pos=\"0 0 -0.3\">" +
@@ -170,12 +170,25 @@ TEST(MjcfReader, ABoxNeedsThreeOrthogonalHingesAtOnePoint) {
   EXPECT_NEAR(j.box_lower[2], -30.0 * kPi / 180.0, 1e-15);
   EXPECT_NEAR(j.box_upper[2], 20.0 * kPi / 180.0, 1e-15);
   EXPECT_LT((j.frame_world * Vector3d::UnitZ() - Vector3d(0, -1, 0)).norm(), 1e-15);
-  refused(hinge("1 0 0") + hinge("0 1 0"), "a second joint in body \"b\"");
-  refused(hinge("1 0 0") + hinge("0 1 0") + hinge("0 0 1") + hinge("1 0 0"), "a second joint");
+  // two hinges: the same rotations, R(a₀, θ₀) R(a₁, θ₁), their third axis a₀ × a₁ held at 0
+  const Model two = parse_mjcf(read(hinge("0 1 1") + hinge("0 -1 1")), "t.xml");
+  const Joint& pair = two.joints[0];
+  EXPECT_EQ(pair.ball_limit, BallLimit::kEulerBox);
+  EXPECT_NEAR(pair.box_lower[1], -20.0 * kPi / 180.0, 1e-15);
+  EXPECT_EQ(pair.box_lower[2], 0.0);
+  EXPECT_EQ(pair.box_upper[2], 0.0);
+  const Vector3d a0 = Vector3d(0, 1, 1).normalized(), a1 = Vector3d(0, -1, 1).normalized();
+  EXPECT_LT((pair.frame_world * Vector3d::Unit(pair.box_order.axes[0]) - a0).norm(), 1e-15);
+  EXPECT_LT((pair.frame_world * Vector3d::Unit(pair.box_order.axes[2]) - a0.cross(a1)).norm(),
+            1e-15);
+  refused(hinge("1 0 0") + hinge("0 1 0") + hinge("0 0 1") + hinge("1 0 0"),
+          "a fourth joint in body \"b\"");
   refused(hinge("1 0 0") + hinge("0 1 0") + hinge("1 1 0"), "orthogonal axes");
+  refused(hinge("1 0 0") + hinge("1 1 0"), "orthogonal axes");
   refused(hinge("1 0 0") + hinge("0 1 0") + hinge("0 0 1", "0 0 0.1"), "share one pos");
+  refused(hinge("1 0 0") + hinge("0 1 0", "0 0 0.1"), "share one pos");
   refused(hinge("1 0 0") + "<joint type=\"ball\" pos=\"0 0 0.15\"/>" + hinge("0 0 1"),
-          "only as three hinges");
+          "only as two or three hinges");
   // the middle angle within ±85°
   refused(
       hinge("1 0 0") + "<joint type=\"hinge\" axis=\"0 1 0\" pos=\"0 0 0.15\"/>" + hinge("0 0 1"),

@@ -358,11 +358,20 @@ void expect_read_as_mujoco(const std::string& path) {
     if (joint.type == JointType::kBall && joint.ball_limit == BallLimit::kEulerBox) {
       // the box's angle k is the body's hinge k (the third's sign turned when its axes are a
       // left-handed frame, as read_box reads them)
+      // left-handed axes: two hinges are a box whose third angle, about a₀ × a₁, is held at 0
+      const int count = m->body_jntnum[m->jnt_bodyid[j]];
       const Vector3d a0(d->xaxis[3 * j], d->xaxis[3 * j + 1], d->xaxis[3 * j + 2]);
       const Vector3d a1(d->xaxis[3 * j + 3], d->xaxis[3 * j + 4], d->xaxis[3 * j + 5]);
-      const Vector3d a2(d->xaxis[3 * j + 6], d->xaxis[3 * j + 7], d->xaxis[3 * j + 8]);
-      for (int k = 0; k < 3; ++k) {
+      const Vector3d a2 =
+          count == 3 ? Vector3d(d->xaxis[3 * j + 6], d->xaxis[3 * j + 7], d->xaxis[3 * j + 8])
+                     : Vector3d(a0.cross(a1));
+      for (int k = 0; k < count; ++k) {
         expect_spring(j + k, joint.passive[k], k == 2 && a0.cross(a1).dot(a2) < 0.0 ? -1.0 : 1.0);
+      }
+      if (count == 2) {
+        EXPECT_EQ(joint.box_lower[2], 0.0);
+        EXPECT_EQ(joint.box_upper[2], 0.0);
+        EXPECT_EQ(joint.passive[2], JointPassive{});
       }
     } else {
       expect_spring(j, joint.passive[0], 1.0);
@@ -378,7 +387,7 @@ void expect_read_as_mujoco(const std::string& path) {
       const Vector3d axis(d->xaxis[3 * j], d->xaxis[3 * j + 1], d->xaxis[3 * j + 2]);
       EXPECT_LT((axis - joint.frame_world * joint.hinge_axis).norm(), 1e-12);
     } else if (joint.ball_limit == BallLimit::kEulerBox) {
-      for (int k = 0; k < 3; ++k) {
+      for (int k = 0; k < m->body_jntnum[m->jnt_bodyid[j]]; ++k) {
         if (!m->jnt_limited[j + k]) continue;
         const double ref = m->qpos0[m->jnt_qposadr[j + k]];
         const double lower = m->jnt_range[2 * (j + k)] - ref;
