@@ -55,7 +55,7 @@ int validate(const std::string& path, const ReadOptions& reading, double budget)
       if (p == JointPassive{}) return;
       char line[200];
       std::snprintf(line, sizeof line, "; %sstiffness %g, damping %g, springref %.4g, armature %g",
-                    which.c_str(), p.stiffness, p.damping, p.spring_ref * d, p.armature);
+                    which.c_str(), p.stiffness, p.damping, p.spring_ref * d + 0.0, p.armature);
       passive += line;
     };
     const bool box = j.type == JointType::kBall && j.ball_limit == BallLimit::kEulerBox;

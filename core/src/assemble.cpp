@@ -12,8 +12,6 @@
 namespace puppet::detail {
 namespace {
 
-constexpr double kAnchorTolerance = 0.05;  // m from either shape's surface
-
 // throws the ModelError naming the part
 struct Failure {
   const Locate& locate;
@@ -124,7 +122,7 @@ std::vector<int> order_tree(const std::vector<Segment>& segments,
 // the joint `ji` between the placed segments of indices `parent` and `child`: its anchors and
 // frames in each, its hinge's axis in its frame, and the anchor within reach of both shapes
 Joint place_joint(const RawJoint& raw, int ji, const Model& model, int parent_index,
-                  int child_index, const Failure& fail) {
+                  int child_index, double anchor_reach, const Failure& fail) {
   Joint j = raw.joint;
   j.parent = parent_index;
   j.child = child_index;
@@ -137,10 +135,11 @@ Joint place_joint(const RawJoint& raw, int ji, const Model& model, int parent_in
   for (const auto* seg : {&parent, &child}) {
     const Vector3d local = seg == &parent ? j.anchor_in_parent : j.anchor_in_child;
     const double distance = signed_distance(*seg, local);
-    if (distance > kAnchorTolerance) {
+    if (distance > anchor_reach) {
       fail(Part::kJoint, ji,
            "anchor is " + number(std::round(distance * 1000.0) / 10.0) +
-               " cm from the surface of segment \"" + seg->name + "\" (at most 5 cm allowed)");
+               " cm from the surface of segment \"" + seg->name + "\" (at most " +
+               number(anchor_reach * 100.0) + " cm allowed)");
     }
   }
   j.frame_in_parent = parent.rest_orientation.conjugate() * j.frame_world;
@@ -167,7 +166,7 @@ void derive_totals(Model& model) {
 }  // namespace
 
 Model assemble(const std::string& name, std::vector<Segment> segments,
-               std::vector<RawJoint> raw_joints, const Locate& locate) {
+               std::vector<RawJoint> raw_joints, const Locate& locate, double anchor_reach) {
   const Failure fail{locate};
   Model model;
   if (std::string problem = name_problem(name); !problem.empty()) {
@@ -183,7 +182,7 @@ Model assemble(const std::string& name, std::vector<Segment> segments,
   for (int i = 1; i < model.segment_count(); ++i) {
     const int ji = parent_joint_of[order[i]];
     const int parent = new_index[raw_joints[ji].joint.parent];
-    Joint joint = place_joint(raw_joints[ji], ji, model, parent, i, fail);
+    Joint joint = place_joint(raw_joints[ji], ji, model, parent, i, anchor_reach, fail);
     model.segments[i].parent_joint = i - 1;
     model.segments[i].parent = parent;
     model.joints.push_back(std::move(joint));

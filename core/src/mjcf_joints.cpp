@@ -3,6 +3,8 @@
 // write_mjcf gives back the exact rest values
 #include "mjcf_reader.h"
 
+#include <cstdio>
+
 namespace puppet::mjcf {
 
 bool Reader::is_free(const XMLElement* joint, const std::string& class_name) const {
@@ -146,8 +148,14 @@ detail::RawJoint Reader::read_box(const std::vector<const XMLElement*>& hinges, 
            "several joints in one body are read only as two or three hinges at one "
            "point (a box limit)");
     }
-    if ((h[k].anchor_world - h[0].anchor_world).norm() > 1e-9) {
-      fail(hinges[k], "a box limit's hinges must share one pos");
+    if (const double apart = (h[k].anchor_world - h[0].anchor_world).norm(); apart > 1e-9) {
+      char line[200];
+      std::snprintf(
+          line, sizeof line,
+          "a box limit's hinges must share one pos: this one is %.3g m from the "
+          "first's (a joint turns about one point; hinges at two points are not modelled)",
+          apart);
+      fail(hinges[k], line);
     }
     for (int m = 0; m < k; ++m) {
       if (std::abs(h[k].axis_world.dot(h[m].axis_world)) > 1e-6) {

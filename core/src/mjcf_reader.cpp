@@ -92,7 +92,7 @@ Model Reader::read(const std::string& text, std::string* note) {
     return source_ + ":" + std::to_string(root_line_) + ": <mujoco>";
   };
   // copies: locate reads the members while assemble consumes its arguments
-  Model model = detail::assemble(name_, segments_, joints_, locate);
+  Model model = detail::assemble(name_, segments_, joints_, locate, detail::kMjcfAnchorReach);
   model.gravity = gravity_off_ ? Vector3d::Zero() : gravity_;
   if (passive_off_) {
     // MuJoCo's passive flag switches the joints' springs and dampers off, not their armature

@@ -91,11 +91,17 @@ struct RawJoint {
 enum class Part { kModel, kSegment, kJoint };
 using Locate = std::function<std::string(Part part, int index)>;
 
+// How far outside either shape a joint's anchor may lie: a JSON file's 5 cm catches a typo; an
+// MJCF file's anchors are MuJoCo's, which takes any (published ankles and hips sit 5 to 11 cm
+// outside their geoms), so only one past half a metre, a unit's slip, is refused there
+inline constexpr double kJsonAnchorReach = 0.05;  // m
+inline constexpr double kMjcfAnchorReach = 0.5;   // m
+
 // Builds the model from segments (each complete, in any order) and joints: one root, no cycle,
-// each segment the child of at most one joint, anchors within 5 cm of both shapes; orders the
-// segments parent first and derives the local anchors and frames. Throws ModelError
+// each segment the child of at most one joint, anchors within `anchor_reach` of both shapes;
+// orders the segments parent first and derives the local anchors and frames. Throws ModelError
 // "<locate(part, index)>: <problem>".
 Model assemble(const std::string& name, std::vector<Segment> segments, std::vector<RawJoint> joints,
-               const Locate& locate);
+               const Locate& locate, double anchor_reach = kJsonAnchorReach);
 
 }  // namespace puppet::detail
