@@ -9,8 +9,6 @@
 namespace puppet {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // the joint's frame in world as each segment carries it
 Quaterniond parent_frame(const Joint& joint, const BodyState& parent) {
   return parent.q * joint.frame_in_parent;
@@ -45,8 +43,7 @@ JointCoordinates joint_coordinates(const Joint& joint, const BodyState& parent,
   const Vector3d omega = fc.conjugate() * (child.w - parent.w);  // in the child's joint frame
   if (joint.type == JointType::kHinge) {
     const Vector3d& a = joint.hinge_axis;
-    c.angle[0] = 2.0 * std::atan2(a.dot(relative.vec()), relative.w());
-    if (c.angle[0] > kPi) c.angle[0] -= 2.0 * kPi;
+    c.angle[0] = 2.0 * std::atan2(a.dot(relative.vec()), relative.w());  // w ≥ 0: within ±π
     c.rate[0] = a.dot(omega);
   } else if (joint.type == JointType::kBall && joint.ball_limit == BallLimit::kEulerBox) {
     c.angle = euler_angles(joint.box_order, relative);

@@ -354,8 +354,7 @@ export function addJointSpringWrenches(model, bodies, h, out) {
     let torque;
     if (joint.type === 'hinge') {
       const a = joint.hinge_axis;
-      let angle = 2.0 * Math.atan2(dot(a, relative.slice(0, 3)), relative[3]);
-      if (angle > Math.PI) angle -= 2.0 * Math.PI;
+      const angle = 2.0 * Math.atan2(dot(a, relative.slice(0, 3)), relative[3]); // w ≥ 0: ±π
       const s = springs[0];
       const damping = implicit(s.damping, dot(a, mulMv(k, a)));
       const f = -s.stiffness * (angle - s.spring_ref) - damping * dot(a, omega);

@@ -27,9 +27,8 @@ namespace puppet {
 void add_joint_spring_wrenches(const Model& model, std::span<const BodyState> bodies, double h,
                                std::span<Wrench> out);
 
-/// one joint's generalized spring and damper forces (one per degree of freedom: 1 for a hinge,
-/// 3 for a ball), explicit (h = 0 above), for tests and for the engines that build the joint
-/// natively but not its spring
+/// one joint's coordinates as MuJoCo reads them, those its springs and dampers act on (one per
+/// degree of freedom: 1 for a hinge, 3 for a ball), and their rates
 struct JointCoordinates {
   Vector3d angle{0, 0, 0};  ///< hinge: [0]; box: the Euler angles; ball: the rotation vector
   Vector3d rate{0, 0, 0};   ///< the same coordinates' rates
