@@ -26,6 +26,14 @@ Matrix3d relative_inverse_inertia(const Segment& parent, const BodyState& p, con
          rc * child.inv_inertia.asDiagonal() * rc.transpose();
 }
 
+// whether the joint has a spring or a damper on any of its degrees of freedom
+bool sprung(const Joint& joint) {
+  return joint.type != JointType::kFixed &&
+         std::any_of(joint.passive.begin(), joint.passive.end(), [](const JointPassive& dof) {
+           return dof.stiffness != 0.0 || dof.damping != 0.0;
+         });
+}
+
 // the damper's coefficient over a step of length h, integrated implicitly about one degree of
 // freedom of inverse inertia k: d / (1 + h d k)
 double implicit_damping(double damping, double h, double inverse_inertia) {
@@ -33,6 +41,17 @@ double implicit_damping(double damping, double h, double inverse_inertia) {
 }
 
 }  // namespace
+
+bool has_joint_springs(const Model& model) {
+  return std::any_of(model.joints.begin(), model.joints.end(), sprung);
+}
+
+bool has_armature(const Model& model) {
+  return std::any_of(model.joints.begin(), model.joints.end(), [](const Joint& joint) {
+    return std::any_of(joint.passive.begin(), joint.passive.end(),
+                       [](const JointPassive& dof) { return dof.armature != 0.0; });
+  });
+}
 
 JointCoordinates joint_coordinates(const Joint& joint, const BodyState& parent,
                                    const BodyState& child) {
@@ -58,17 +77,12 @@ JointCoordinates joint_coordinates(const Joint& joint, const BodyState& parent,
 void add_joint_spring_wrenches(const Model& model, std::span<const BodyState> bodies, double h,
                                std::span<Wrench> out) {
   for (const Joint& joint : model.joints) {
-    if (joint.type == JointType::kFixed) continue;
+    if (!sprung(joint)) continue;
     const JointPassive* spring = joint.passive.data();
-    if (std::all_of(spring, spring + 3,
-                    [](const JointPassive& s) { return s.stiffness == 0.0 && s.damping == 0.0; })) {
-      continue;
-    }
     const BodyState& parent = bodies[static_cast<size_t>(joint.parent)];
     const BodyState& child = bodies[static_cast<size_t>(joint.child)];
     const JointCoordinates c = joint_coordinates(joint, parent, child);
-    const Quaterniond frame = child_frame(joint, child);
-    const Matrix3d r = frame.toRotationMatrix();
+    const Matrix3d r = child_frame(joint, child).toRotationMatrix();  // the child's joint frame
     // K in the child's joint frame, where the coordinates' rates are taken
     const Matrix3d k =
         r.transpose() *
@@ -102,7 +116,7 @@ void add_joint_spring_wrenches(const Model& model, std::span<const BodyState> bo
               : Vector3d((Matrix3d::Identity() + h * s.damping * k).ldlt().solve(c.rate));
       torque_in_joint = -s.stiffness * c.angle - s.damping * rate;
     }
-    const Vector3d torque = child_frame(joint, child) * torque_in_joint;
+    const Vector3d torque = r * torque_in_joint;
     out[static_cast<size_t>(joint.child)].torque += torque;
     out[static_cast<size_t>(joint.parent)].torque -= torque;
   }

@@ -194,7 +194,6 @@ detail::RawJoint Reader::read_box(const std::vector<const XMLElement*>& hinges, 
     const auto& u = *h[0].user;
     j.anchor_world = user_anchor(hinges[0], u, j.anchor_world);
     j.frame_world = unit_quaternion(Quaterniond(u[3], u[4], u[5], u[6]));
-    if (count == 2) j.box_order.axes[2] = -1;  // the axis the two leave, below
     for (int k = 0; k < count; ++k) {
       const auto& uk = *h[k].user;
       const Vector3d e(uk[7], uk[8], uk[9]);
@@ -206,6 +205,7 @@ detail::RawJoint Reader::read_box(const std::vector<const XMLElement*>& hinges, 
       }
       j.box_order.axes[k] = axis;
     }
+    // two hinges: the third axis is the one they leave
     if (count == 2) j.box_order.axes[2] = 3 - j.box_order.axes[0] - j.box_order.axes[1];
     if (j.box_order.axes[0] == j.box_order.axes[1] || j.box_order.axes[1] == j.box_order.axes[2] ||
         j.box_order.axes[2] == j.box_order.axes[0]) {

@@ -445,24 +445,6 @@ int Model::find_segment(const std::string& segment_name) const {
   return -1;
 }
 
-bool has_armature(const Model& model) {
-  for (const Joint& joint : model.joints) {
-    for (const JointPassive& dof : joint.passive) {
-      if (dof.armature != 0.0) return true;
-    }
-  }
-  return false;
-}
-
-bool has_joint_springs(const Model& model) {
-  for (const Joint& joint : model.joints) {
-    for (const JointPassive& spring : joint.passive) {
-      if (spring.stiffness != 0.0 || spring.damping != 0.0) return true;
-    }
-  }
-  return false;
-}
-
 Model parse_model(const std::string& json_text, const std::string& source) {
   if (std::string problem = detail::text_problem(json_text); !problem.empty()) {
     throw ModelError(source + ": " + problem);

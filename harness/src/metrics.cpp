@@ -124,7 +124,6 @@ MetricsProbe::MetricsProbe(const Model& model, const Environment& environment,
       environment_(environment),
       pins_(pins.begin(), pins.end()),
       kinetic0_(kinetic_energy(model, initial)),
-      springs_(has_joint_springs(model)),
       spring0_(joint_spring_energy(model, initial)),
       energy_ref_(energy_reference(model, environment, initial)),
       momentum0_(linear_momentum(model, initial)),
@@ -165,7 +164,7 @@ StepMetrics MetricsProbe::measure(double t, std::span<const BodyState> bodies,
         model_.segments[i].mass * environment_.gravity.dot(bodies[i].x - initial_x_[i]);
   }
   // the joints' springs hold energy of their own (their dampers take it away, as drag does)
-  if (springs_) potential_change += joint_spring_energy(model_, bodies) - spring0_;
+  potential_change += joint_spring_energy(model_, bodies) - spring0_;
   m.energy_drift = (kinetic_energy(model_, bodies) - kinetic0_ + potential_change) / energy_ref_;
   if (momentum_scale_ > 0.0) {
     m.linear_momentum_drift =

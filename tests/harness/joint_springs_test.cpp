@@ -59,9 +59,7 @@ Scenario twisting(const Model& model) {
   Scenario scenario;
   scenario.name = "twist";
   scenario.duration = 2.0;
-  scenario.environment.gravity = Vector3d::Zero();
-  scenario.environment.ground = false;
-  scenario.environment.air_drag = 0.0;
+  scenario.environment.gravity = Vector3d::Zero();  // no ground and no air: the defaults
   const double ia = model.segments[0].inertia.x(), ib = model.segments[1].inertia.x();
   scenario.initial.resize(2);
   for (int s = 0; s < 2; ++s) {

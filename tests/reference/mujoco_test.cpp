@@ -632,9 +632,7 @@ TEST(Mujoco, FollowsNativeMujocoOnASprungModel) {
   Scenario scenario;
   scenario.name = "sprung";
   scenario.duration = 1.0;
-  scenario.environment.gravity = Vector3d::Zero();
-  scenario.environment.ground = false;
-  scenario.environment.air_drag = 0.0;
+  scenario.environment.gravity = Vector3d::Zero();  // no ground and no air: the defaults
   scenario.initial.resize(n);
   read_native(scenario.initial);
   auto simulator = make_simulator("mujoco", SolverOptions{});

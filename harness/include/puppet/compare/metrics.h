@@ -103,10 +103,8 @@ class MetricsProbe {
   std::vector<Pin> pins_;
   // energy drift as ΔKE + ΔPE from the initial state, so that no offset of the model costs
   // precision: ΔPE = −Σ m g·(x − x(0))
-  // with the joints' springs' energy (joint_springs.h) when the model has springs
-  double kinetic0_;
-  bool springs_;
-  double spring0_, energy_ref_;
+  // and the joints' springs' energy (joint_springs.h): ΔE_spring
+  double kinetic0_, spring0_, energy_ref_;
   std::vector<Vector3d> initial_x_;
   Vector3d momentum0_, angular0_;
   double momentum_scale_;

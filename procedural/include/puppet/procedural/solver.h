@@ -98,7 +98,7 @@ class Solver {
   const Model& model_;
   Settings settings_;
   bool joint_springs_ = false;  ///< the model's joints have springs or dampers
-  bool limit_pass_ = false;  ///< the limits' velocity pass runs (settings and the rule's row)
+  bool limit_pass_ = false;     ///< the limits' velocity pass runs (settings and the rule's row)
   Environment environment_;
   State state_;
   std::unique_ptr<Workspace> workspace_;  ///< never null but in a moved-from solver
