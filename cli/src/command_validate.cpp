@@ -9,6 +9,7 @@
 #include "puppet/compare/engines.h"
 #include "puppet/compare/scenario.h"
 #include "puppet/model/euler_box.h"
+#include "puppet/model/root_joint.h"
 #include "puppet/model/text.h"
 
 namespace puppet::testbed {
@@ -19,6 +20,36 @@ int validate(const std::string& path, const ReadOptions& reading, double budget)
   std::printf("model \"%s\": %d segments, %d joints, total mass %.3f kg, rest height %.3f m\n",
               model.name.c_str(), model.segment_count(), model.joint_count(), model.total_mass,
               model.rest_height);
+  if (const RootJoint& root = model.root; root.hold == RootHold::kFree) {
+    std::printf("root \"%s\": free\n", model.segments[0].name.c_str());
+  } else {
+    // the world's hold: its joints, each with its axis, range and spring
+    std::printf("root \"%s\": held by the world, %s at (%.4g, %.4g, %.4g)\n",
+                model.segments[0].name.c_str(), root_hold_name(root.hold),
+                root.anchor_world.x() + 0.0, root.anchor_world.y() + 0.0,
+                root.anchor_world.z() + 0.0);
+    const bool planar = root.hold == RootHold::kPlanar;
+    const int count = root.hold == RootHold::kWeld ? 0 : planar ? 3 : 1;
+    for (int k = 0; k < count; ++k) {
+      const size_t dof = static_cast<size_t>(k);
+      const bool slide = root.hold == RootHold::kSlide || (planar && k < 2);
+      const Vector3d& a = root.axes[dof];
+      const JointPassive& p = root.passive[dof];
+      const double unit = slide ? 1.0 : 180.0 / M_PI;
+      char range[64] = "unlimited";
+      if (root.limited) {
+        std::snprintf(range, sizeof range, "range [%.4g, %.4g] %s", root.lower * unit + 0.0,
+                      root.upper * unit + 0.0, slide ? "m" : "deg");
+      }
+      std::printf(
+          "  %-14s %-6s axis (%.4g, %.4g, %.4g), %s; stiffness %g, damping %g, armature %g\n",
+          root.names[dof].c_str(),
+          root.hold == RootHold::kBall ? "ball"
+          : slide                      ? "slide"
+                                       : "hinge",
+          a.x() + 0.0, a.y() + 0.0, a.z() + 0.0, range, p.stiffness, p.damping, p.armature);
+    }
+  }
   std::printf("  %-14s %-14s %8s  %s\n", "segment", "parent", "mass kg", "shape");
   for (const Segment& s : model.segments) {
     std::string shapes;

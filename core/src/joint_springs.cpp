@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "puppet/model/euler_box.h"
+#include "puppet/model/root_joint.h"
 #include "puppet/model/rotation.h"
 
 namespace puppet {
@@ -43,14 +44,18 @@ double implicit_damping(double damping, double h, double inverse_inertia) {
 }  // namespace
 
 bool has_joint_springs(const Model& model) {
-  return std::any_of(model.joints.begin(), model.joints.end(), sprung);
+  return std::any_of(model.joints.begin(), model.joints.end(), sprung) ||
+         std::any_of(
+             model.root.passive.begin(), model.root.passive.end(),
+             [](const JointPassive& dof) { return dof.stiffness != 0.0 || dof.damping != 0.0; });
 }
 
 bool has_armature(const Model& model) {
-  return std::any_of(model.joints.begin(), model.joints.end(), [](const Joint& joint) {
-    return std::any_of(joint.passive.begin(), joint.passive.end(),
-                       [](const JointPassive& dof) { return dof.armature != 0.0; });
-  });
+  const auto armed = [](const JointPassive& dof) { return dof.armature != 0.0; };
+  return std::any_of(model.root.passive.begin(), model.root.passive.end(), armed) ||
+         std::any_of(model.joints.begin(), model.joints.end(), [&](const Joint& joint) {
+           return std::any_of(joint.passive.begin(), joint.passive.end(), armed);
+         });
 }
 
 JointCoordinates joint_coordinates(const Joint& joint, const BodyState& parent,
@@ -120,6 +125,37 @@ void add_joint_spring_wrenches(const Model& model, std::span<const BodyState> bo
     out[static_cast<size_t>(joint.child)].torque += torque;
     out[static_cast<size_t>(joint.parent)].torque -= torque;
   }
+  add_root_spring_wrench(model, bodies[0], h, out[0]);
+}
+
+void add_root_spring_wrench(const Model& model, const BodyState& body, double h, Wrench& out) {
+  const RootCoordinates c = root_coordinates(model, body);
+  const RootJoint& root = model.root;
+  const Segment& segment = model.segments[0];
+  const Vector3d arm = body.q * root.anchor_in_root;
+  for (int k = 0; k < c.count; ++k) {
+    const JointPassive& s = root.passive[static_cast<size_t>(k)];
+    if (s.stiffness == 0.0 && s.damping == 0.0) continue;
+    const Vector3d& a = root.axes[static_cast<size_t>(k)];
+    const bool slide = root.hold == RootHold::kSlide || (root.hold == RootHold::kPlanar && k < 2);
+    if (slide) {
+      // a force along the slide at the anchor: a generalized force on the slide alone (its lever
+      // about a planar root's hinge is the hinge's own); the damper implicit in the mass
+      const double f = -s.stiffness * (c.value[k] - s.spring_ref) -
+                       implicit_damping(s.damping, h, segment.inv_mass) * c.rate[k];
+      out.force += f * a;
+      out.torque += arm.cross(f * a);
+    } else {
+      // a torque about the hinge; the damper implicit in the inertia about the hinge's line
+      const Matrix3d rotation = body.q.toRotationMatrix();
+      const double about_centre =
+          a.dot(rotation * segment.inertia.cwiseProduct(rotation.transpose() * a));
+      const double about_line = about_centre + segment.mass * a.cross(arm).squaredNorm();
+      const double f = -s.stiffness * (c.value[k] - s.spring_ref) -
+                       implicit_damping(s.damping, h, 1.0 / about_line) * c.rate[k];
+      out.torque += f * a;
+    }
+  }
 }
 
 double joint_spring_energy(const Model& model, std::span<const BodyState> bodies) {
@@ -144,6 +180,13 @@ double joint_spring_energy(const Model& model, std::span<const BodyState> bodies
       energy += 0.5 * spring[0].stiffness * c.angle.squaredNorm();
     }
   }
+  // the world's joint on the root: one spring per coordinate
+  const RootCoordinates root = root_coordinates(model, bodies[0]);
+  for (int k = 0; k < root.count; ++k) {
+    const JointPassive& spring = model.root.passive[static_cast<size_t>(k)];
+    const double stretch = root.value[k] - spring.spring_ref;
+    energy += 0.5 * spring.stiffness * stretch * stretch;
+  }
   return energy;
 }
 
@@ -166,6 +209,16 @@ const Model& armature_in_inertia(const Model& model, std::optional<Model>& holde
       child.inertia += Vector3d::Constant(joint.passive[0].armature);
     }
     derive_mass_terms(child);
+  }
+  // the world's hinge on the root: its rotor about the hinge's axis (a slide's armature is refused
+  // by the engines that take this model: no inertia of a body gives it)
+  const RootJoint& root = model.root;
+  const int hinge = root.hold == RootHold::kHinge ? 0 : root.hold == RootHold::kPlanar ? 2 : -1;
+  if (hinge >= 0) {
+    Segment& base = holder->segments[0];
+    const Vector3d a = base.rest_orientation.conjugate() * root.axes[static_cast<size_t>(hinge)];
+    base.inertia += root.passive[static_cast<size_t>(hinge)].armature * a.cwiseProduct(a);
+    derive_mass_terms(base);
   }
   return *holder;
 }

@@ -17,8 +17,18 @@ void Reader::read_world(const std::vector<const XMLElement*>& worlds) {
         root = e;
       } else if (tag == "geom") {
         check_attributes(e, kGeomAttributes);
-        if (value(e, "type", class_of(e, "main")).value_or("sphere") != "plane") {
-          fail(e, "a geom on the world is not supported (only a floor plane, which is ignored)");
+        const std::string cls = class_of(e, "main");
+        if (value(e, "type", cls).value_or("sphere") != "plane") {
+          // a rail or a marker that collides with nothing changes nothing: skipped with a note
+          const bool inert = contact_off_ || (value(e, "contype", cls).value_or("1") == "0" &&
+                                              value(e, "conaffinity", cls).value_or("1") == "0");
+          if (!inert) {
+            fail(e,
+                 "a geom on the world that collides is not supported (only a floor plane, which "
+                 "is ignored, and geoms with contype and conaffinity 0)");
+          }
+          if (options_.strict) fail(e, "is not modelled by the testbed (skipped unless --strict)");
+          ++skipped_["<geom> on the world that collides with nothing"];
         }
       } else if (tag == "light" || tag == "camera" || tag == "site") {
         check_ornament(e);
@@ -85,10 +95,7 @@ void Reader::read_body(const XMLElement* e, int parent, const Vector3d& parent_x
   segment_where_.push_back(where(e));
 
   if (parent < 0) {
-    if (joints.size() != 1 || !is_free(joints[0], child_class)) {
-      fail(e, "the root body needs exactly one free joint (the scenarios hold it or let it go)");
-    }
-    check_free(joints[0], child_class);
+    root_ = read_root(joints, x, q, child_class);
   } else {
     if (joints.size() == 2 || joints.size() == 3) {
       joints_.push_back(read_box(joints, index, parent, x, q, child_class));

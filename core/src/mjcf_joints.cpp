@@ -1,6 +1,7 @@
-// MJCF's joints (mjcf_reader.h): a body's joints into its joint to its parent: a free root, a
-// weld, a hinge, a ball, or several hinges at one point as an Euler box; user data written by
-// write_mjcf gives back the exact rest values
+// MJCF's joints (mjcf_reader.h): the root body's joints into the world's hold on it (free, weld,
+// hinge, slide, ball, planar); every other body's into its joint to its parent: a weld, a hinge, a
+// ball, or several hinges at one point as an Euler box; user data written by write_mjcf gives back
+// the exact rest values
 #include "mjcf_reader.h"
 
 #include <cstdio>
@@ -72,10 +73,12 @@ Reader::JointElement Reader::read_joint_element(const XMLElement* e, int child, 
     }
     out.spring.*field = given;
   }
-  // MuJoCo reads ref and springref for hinges and slides only
+  // MuJoCo reads ref and springref for hinges (an angle) and slides (a distance, m) only
+  const bool slide = out.type == "slide";
+  const auto coordinate = [&](double v) { return slide ? v : angle(v); };
   const auto angle_of = [&](const char* key) {
     const auto v = value(e, key, cls);
-    return v && out.type == "hinge" ? angle(single(e, key, *v)) : 0.0;
+    return v && (out.type == "hinge" || slide) ? coordinate(single(e, key, *v)) : 0.0;
   };
   const double ref = angle_of("ref");
   out.spring.spring_ref = angle_of("springref") - ref;
@@ -94,9 +97,22 @@ Reader::JointElement Reader::read_joint_element(const XMLElement* e, int child, 
     if (!range_text) fail(e, "limited but has no range");
     out.range = numbers(e, "range", *range_text);
     if (out.range.size() != 2) fail(e, "attribute \"range\" must have 2 numbers");
-    out.range = {angle(out.range[0]) - ref, angle(out.range[1]) - ref};
+    out.range = {coordinate(out.range[0]) - ref, coordinate(out.range[1]) - ref};
   }
   out.user = user_data(e, user_joint_, kJointUserSize, cls);
+  if (slide) {
+    const Vector3d axis = vector3(e, "axis", cls, {0, 0, 1});
+    check_norm(e, "axis", axis);
+    out.axis_world = detail::normalized(Vector3d(q * axis));
+    if (out.limited) {
+      if (out.range[0] > out.range[1]) fail(e, "its range has lo > hi");
+      if (out.range[0] > 0.0 || out.range[1] < 0.0) {
+        fail(e, "its range must contain ref (0 unless given), the body's place as written");
+      }
+      out.lower = out.range[0];
+      out.upper = out.range[1];
+    }
+  }
   if (out.type == "hinge") {
     const Vector3d axis = vector3(e, "axis", cls, {0, 0, 1});
     check_norm(e, "axis", axis);
@@ -274,8 +290,8 @@ detail::RawJoint Reader::read_joint(const XMLElement* body, const XMLElement* e,
     j.lower = element.lower;
     j.upper = element.upper;
   } else {
-    fail(e,
-         "type \"" + one_line(element.type) + "\" is not supported below the root (hinge or ball)");
+    fail(e, "type \"" + one_line(element.type) +
+                "\" is not supported below the root (hinge or ball; a slide only on the root)");
   }
   if (user) {
     // write_mjcf's exact rest anchor, frame and limits
@@ -293,6 +309,90 @@ detail::RawJoint Reader::read_joint(const XMLElement* body, const XMLElement* e,
   }
   derive_limit_terms(j);
   return raw;
+}
+
+RootJoint Reader::read_root(const std::vector<const XMLElement*>& joints, const Vector3d& x,
+                            const Quaterniond& q, const std::string& class_name) {
+  RootJoint root;
+  const Segment& segment = segments_[0];
+  if (joints.size() == 1 && is_free(joints[0], class_name)) {
+    check_free(joints[0], class_name);
+    return root;
+  }
+  if (joints.empty()) {
+    // no joint: MuJoCo welds the root body to the world
+    root.hold = RootHold::kWeld;
+    root.names[0] = segment.name;
+    root.anchor_world = segment.rest_position;
+    return root;
+  }
+  for (const XMLElement* e : joints) {
+    if (is_free(e, class_name)) fail(e, "a free joint beside other joints in the root body");
+  }
+  std::vector<JointElement> elements;
+  for (const XMLElement* e : joints) elements.push_back(read_joint_element(e, 0, x, q, class_name));
+  const char* kForms =
+      "the root body's joints must be one free joint, none (a weld to the world), one hinge, "
+      "slide or ball, or two orthogonal slides then a hinge about their plane's normal (planar)";
+  const JointElement& first = elements[0];
+  if (elements.size() == 1) {
+    if (first.type == "hinge") {
+      root.hold = RootHold::kHinge;
+    } else if (first.type == "slide") {
+      root.hold = RootHold::kSlide;
+    } else if (first.type == "ball") {
+      root.hold = RootHold::kBall;
+      if (first.limited) {
+        fail(joints[0],
+             "a limited ball joint on the root is not modelled (a ball's limit is held "
+             "between two segments)");
+      }
+      if (first.spring != JointPassive{}) {
+        fail(joints[0], "springs, dampers and armature on a ball root are not modelled");
+      }
+    } else {
+      fail(joints[0], std::string(kForms));
+    }
+    root.axes[0] = first.axis_world;
+    root.limited = first.limited;
+    root.lower = first.lower;
+    root.upper = first.upper;
+  } else if (elements.size() == 3 && elements[0].type == "slide" && elements[1].type == "slide" &&
+             elements[2].type == "hinge") {
+    root.hold = RootHold::kPlanar;
+    for (int k = 0; k < 3; ++k) {
+      if (elements[k].limited) {
+        fail(joints[k], "a planar root's joints must be unlimited (as dm_control's are)");
+      }
+      root.axes[k] = elements[k].axis_world;
+    }
+    if (std::abs(root.axes[0].dot(root.axes[1])) > 1e-6 ||
+        std::abs(root.axes[0].dot(root.axes[2])) > 1e-6 ||
+        std::abs(root.axes[1].dot(root.axes[2])) > 1e-6) {
+      fail(joints[2], "a planar root's slides and hinge must have orthogonal axes");
+    }
+  } else {
+    fail(joints[elements.size() > 1 ? 1 : 0], std::string(kForms));
+  }
+  // the hinge's point; a slide's own point moves with the root, so any point of it serves
+  const JointElement& pivot = elements.back();
+  root.anchor_world = pivot.anchor_world;
+  for (size_t k = 0; k < elements.size(); ++k) {
+    root.names[k] = elements[k].name;
+    root.passive[k] = elements[k].spring;
+    if (const auto& user = elements[k].user) {
+      // write_mjcf's exact anchor and axis (world, at rest)
+      const auto& u = *user;
+      if (k + 1 == elements.size())
+        root.anchor_world = user_anchor(joints[k], u, root.anchor_world);
+      const Vector3d axis(u[7], u[8], u[9]);
+      if ((axis - root.axes[k]).norm() > 1e-6) {
+        fail(joints[k], "its user data (the root joint's axis) disagrees with its axis");
+      }
+      root.axes[k] = axis;
+    }
+  }
+  return root;
 }
 
 }  // namespace puppet::mjcf

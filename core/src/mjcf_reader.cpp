@@ -15,7 +15,10 @@ namespace {
 std::string skipped_note(const std::map<std::string, int>& skipped) {
   std::string note;
   for (const auto& [kind, count] : skipped) {
-    note += (note.empty() ? "" : ", ") + std::to_string(count) + " <" + kind + ">";
+    // a tag, or a phrase that names its tag itself ("<geom> on the world ...")
+    const bool phrase = kind.front() == '<';
+    note += (note.empty() ? "" : ", ") + std::to_string(count) +
+            (phrase ? " " + kind : " <" + kind + ">");
   }
   return note;
 }
@@ -94,11 +97,16 @@ Model Reader::read(const std::string& text, std::string* note) {
   // copies: locate reads the members while assemble consumes its arguments
   Model model = detail::assemble(name_, segments_, joints_, locate, detail::kMjcfAnchorReach);
   model.gravity = gravity_off_ ? Vector3d::Zero() : gravity_;
+  model.root = root_;
+  const Segment& base = model.segments[0];
+  model.root.anchor_in_root =
+      base.rest_orientation.conjugate() * (model.root.anchor_world - base.rest_position);
   if (passive_off_) {
     // MuJoCo's passive flag switches the joints' springs and dampers off, not their armature
     for (Joint& joint : model.joints) {
       for (JointPassive& dof : joint.passive) dof.stiffness = dof.damping = 0.0;
     }
+    for (JointPassive& dof : model.root.passive) dof.stiffness = dof.damping = 0.0;
   }
   if (note) *note = skipped_note(skipped_);
   return model;
@@ -250,6 +258,7 @@ void Reader::read_flags(const XMLElement* e) {
     }
     ++skipped_[what];
   };
+  if (off("contact")) contact_off_ = true;
   contact_flag("contact", "disable");
   contact_flag("override", "enable");
 }

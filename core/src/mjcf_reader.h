@@ -330,6 +330,12 @@ class Reader {
   detail::RawJoint read_box(const std::vector<const XMLElement*>& hinges, int child, int parent,
                             const Vector3d& x, const Quaterniond& q, const std::string& class_name);
 
+  // The root body's joints as the world's hold on it (RootJoint, model.h): one free joint (checked
+  // by check_free), none (a weld), one hinge, slide or unlimited ball, or slide, slide, hinge about
+  // orthogonal axes (a planar root). Its anchor in the root's frame is set once the root is placed.
+  RootJoint read_root(const std::vector<const XMLElement*>& joints, const Vector3d& x,
+                      const Quaterniond& q, const std::string& class_name);
+
   detail::RawJoint read_joint(const XMLElement* body, const XMLElement* e, int child, int parent,
                               const Vector3d& x, const Quaterniond& q,
                               const std::string& class_name);
@@ -348,6 +354,8 @@ class Reader {
   std::vector<Segment> segments_;
   std::set<std::string> body_names_;
   std::vector<detail::RawJoint> joints_;
+  RootJoint root_;            // the world's hold on the root body
+  bool contact_off_ = false;  // <flag contact="disable">: no geom collides with anything
   std::vector<std::string> segment_where_, joint_where_;  // file:line
   ReadOptions options_;
   std::filesystem::path folder_;  // the model file's

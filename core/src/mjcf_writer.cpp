@@ -216,7 +216,7 @@ class Writer {
         out_ << pad << "  <joint name=\"pin\" type=\"ball\" pos=\"" << vec(options_.pinned_point)
              << "\"/>\n";
       } else {
-        out_ << pad << "  <joint name=\"root\" type=\"free\"/>\n";
+        write_root(pad + "  ");
       }
     } else {
       write_joint(model_.joints[via_joint], model_.joints[via_joint].child == s, pad + "  ");
@@ -318,6 +318,43 @@ class Writer {
       if (options_.user_data) {
         out_ << " user=\"" << vec(joint.anchor_world) << ' ' << quat(joint.frame_world) << ' '
              << vec(e) << "\"";
+      }
+      out_ << "/>\n";
+    }
+  }
+
+  // The world's hold on the root (RootJoint): nothing for a weld, a free joint, or its joints in
+  // their order at the anchor, each with its axis in the body frame, its range and its spring; the
+  // user data holds the exact anchor and axis in world (a frame of its own it has none)
+  void write_root(const std::string& pad) {
+    const RootJoint& root = model_.root;
+    if (root.hold == RootHold::kWeld) return;
+    if (root.hold == RootHold::kFree) {
+      out_ << pad << "<joint name=\"root\" type=\"free\"/>\n";
+      return;
+    }
+    const Quaterniond to_body = model_.segments[0].rest_orientation.conjugate();
+    const int count = root.hold == RootHold::kPlanar ? 3 : 1;
+    for (int k = 0; k < count; ++k) {
+      const char* type = root.hold == RootHold::kBall    ? "ball"
+                         : root.hold == RootHold::kSlide ? "slide"
+                         : root.hold == RootHold::kHinge ? "hinge"
+                         : k < 2                         ? "slide"
+                                                         : "hinge";
+      const size_t dof = static_cast<size_t>(k);
+      out_ << pad << "<joint name=\""
+           << (options_.model_names ? escaped(root.names[dof]) : indexed("r", k)) << "\" type=\""
+           << type << "\" pos=\"" << vec(root.anchor_in_root) << "\"";
+      if (root.hold != RootHold::kBall) {
+        out_ << " axis=\"" << vec(to_body * root.axes[dof]) << "\"";
+      }
+      if (root.limited) {
+        out_ << " limited=\"true\" range=\"" << nums({root.lower, root.upper}) << "\"";
+      }
+      write_spring(root.passive[dof], 1.0);
+      if (options_.user_data) {
+        out_ << " user=\"" << vec(root.anchor_world) << ' ' << quat(Quaterniond::Identity()) << ' '
+             << vec(root.axes[dof]) << "\"";
       }
       out_ << "/>\n";
     }

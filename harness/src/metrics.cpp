@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "puppet/model/joint_springs.h"
+#include "puppet/model/root_joint.h"
 #include "puppet/model/rotation.h"
 
 namespace puppet::compare {
@@ -154,6 +155,8 @@ StepMetrics MetricsProbe::measure(double t, std::span<const BodyState> bodies,
     sum2 += g * g;
   }
   if (!joint_buffer_.empty()) m.joint_gap_rms = std::sqrt(sum2 / joint_buffer_.size());
+  // the world's hold on the root is a joint too: its point's stray
+  m.joint_gap_max = std::max(m.joint_gap_max, root_gap(model_, bodies[0]).distance);
   pin_gaps(pins_, targets, bodies, pin_buffer_);
   for (double g : pin_buffer_) m.pin_gap_max = std::max(m.pin_gap_max, g);
   limit_violations_deg(model_, bodies, joint_buffer_);

@@ -55,7 +55,7 @@ bool Scenario::conserves_energy() const {
 }
 
 bool Scenario::conserves_momentum() const {
-  return conserves_energy() && pins.empty() && environment.gravity.isZero();
+  return conserves_energy() && pins.empty() && !root_held && environment.gravity.isZero();
 }
 
 GrabSpring grab_spring(const Model& model, const GrabSettings& settings) {

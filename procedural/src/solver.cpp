@@ -15,6 +15,7 @@
 #include <stdexcept>
 
 #include "puppet/model/joint_springs.h"
+#include "puppet/model/root_joint.h"
 #include "puppet/model/user_forces.h"
 #include "rules/catalogue.h"
 #include "stages.h"
@@ -25,6 +26,24 @@ std::shared_ptr<const ModelTables> make_model_tables(const Model& model) {
   return make_model_tables(model, joint_preparers());
 }
 
+std::string rule_model_problem(const Model& model, Rule rule) {
+  if (!root_held(model)) return {};
+  if (rule != Rule::kXpbd) {
+    return std::string("its root is joined to the world (a ") + root_hold_name(model.root.hold) +
+           " root), which only rule xpbd holds (rule " + std::string(rule_name(rule)) +
+           " does not)";
+  }
+  const RootJoint& root = model.root;
+  const int slides = root.hold == RootHold::kSlide ? 1 : root.hold == RootHold::kPlanar ? 2 : 0;
+  for (int k = 0; k < slides; ++k) {
+    if (root.passive[static_cast<size_t>(k)].armature != 0.0) {
+      return "the armature of the root's slide \"" + root.names[static_cast<size_t>(k)] +
+             "\" has no inertia of a segment to stand in for it";
+    }
+  }
+  return {};
+}
+
 Solver::Solver(const Model& model, const Settings& settings, const Environment& environment,
                std::shared_ptr<const ModelTables> tables)
     : model_(model),
@@ -33,6 +52,9 @@ Solver::Solver(const Model& model, const Settings& settings, const Environment& 
       tables_(std::move(tables)) {
   const std::string problem = validate(settings);
   if (!problem.empty()) throw std::invalid_argument(problem);
+  if (std::string held = rule_model_problem(model, settings_.rule); !held.empty()) {
+    throw ModelError("procedural: " + held);
+  }
   joint_springs_ = has_joint_springs(model_);
   limit_pass_ = settings_.limit_velocity_pass && settings_.derive_velocities &&
                 rule_row(settings_.rule).limit_velocities;

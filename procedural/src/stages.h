@@ -81,6 +81,12 @@ void share_pin_correction(const Model& model, const Pin& pin, const Vector3d& ta
 void share_joint_correction(const Model& model, const JointTerms& terms, const Joint& joint,
                             double alpha_tilde, Vector3d* lambda, const Matrix3d* start,
                             State& state);
+// the world's hold on the root (RootJoint), rigid: the anchor's stray from where the hold lets it
+// be closed as a pin's (the segment's generalised inverse mass at the anchor, its turns limited to
+// those the hold leaves free, along the held directions only, and a slide's range along its own),
+// then the held directions of its orientation turned back about the anchor (a weld's and a
+// slide's all; a hinge's axis, and its range about it), which leaves the anchor where it is
+void hold_root(const Model& model, const Matrix3d* start, State& state);
 // each segment's inverse inertia in world at the substep's start (state.q_prev), for `start`
 void start_inverse_inertias(const Model& model, const State& state, std::span<Matrix3d> out);
 // the limit's, by the limit functions (xpbd) or the clamp (`functions` false: relaxed); true

@@ -25,6 +25,8 @@
 //
 // Müller, Macklin, Chentanez, Jeschke, Kim 2020, "Detailed rigid body simulation with extended
 // position based dynamics", §3.3–3.4; Macklin, Müller, Chentanez 2016 (XPBD).
+#include <algorithm>
+
 #include "puppet/model/rotation.h"
 #include "stages.h"
 
@@ -102,6 +104,79 @@ void share_pin_correction(const Model& model, const Pin& pin, const Vector3d& ta
       [&](const Vector3d& f) { return Vector3d(body.q * f); });
   body.x += segment.inv_mass * (body.q * impulse);
   body.q = times_exp(body.q, segment.inv_inertia.cwiseProduct(r.cross(impulse)));
+}
+
+void hold_root(const Model& model, const Matrix3d* start, State& state) {
+  const RootJoint& root = model.root;
+  if (root.hold == RootHold::kFree) return;
+  BodyState& body = state.bodies[0];
+  const Segment& segment = model.segments[0];
+  const bool planar = root.hold == RootHold::kPlanar;
+  const int slides = root.hold == RootHold::kSlide ? 1 : planar ? 2 : 0;
+  // the anchor: the gap to where the hold lets it be, and the projector on the held directions
+  const Vector3d r = body.q * root.anchor_in_root;
+  Vector3d gap = root.anchor_world - (body.x + r);
+  Matrix3d held = Matrix3d::Identity();
+  for (int k = 0; k < slides; ++k) {
+    const Vector3d& a = root.axes[static_cast<size_t>(k)];
+    const double along = -a.dot(gap);  // the slide's coordinate
+    held -= a * a.transpose();
+    gap -= a.dot(gap) * a;
+    // a slide's range: past an end, the direction is held back to it
+    if (root.limited && (along > root.upper || along < root.lower)) {
+      gap += (std::clamp(along, root.lower, root.upper) - along) * a;
+      held += a * a.transpose();
+    }
+  }
+  if (gap.squaredNorm() > 0.0) {
+    // the lever arms at the substep's start or at the current pose (Settings::start_lever_arms);
+    // the root turns only as its hold lets it (W restricted to its free rotations: none under a
+    // weld or a slide, the hinge's axis, a ball's all), so the anchor's correction moves it along
+    // no free direction
+    const Quaterniond& arms = start ? state.q_prev[0] : body.q;
+    const Vector3d r0 = arms * root.anchor_in_root;
+    const Matrix3d rotation = arms.toRotationMatrix();
+    Matrix3d w0 = Matrix3d::Zero();
+    if (root.hold == RootHold::kBall) {
+      w0 = start ? start[0]
+                 : Matrix3d(rotation * segment.inv_inertia.asDiagonal() * rotation.transpose());
+    } else if (root.hold == RootHold::kHinge || planar) {
+      const Vector3d& a = root.axes[planar ? 2 : 0];
+      const Vector3d local = rotation.transpose() * a;
+      w0 = a * a.transpose() / local.dot(segment.inertia.cwiseProduct(local));
+    }
+    Matrix3d k = start_arm_response(r, w0, r0);
+    k.diagonal().array() += segment.inv_mass;
+    // K restricted to the held directions; the free ones take no impulse
+    const Matrix3d restricted = held * k * held + (Matrix3d::Identity() - held);
+    const Vector3d impulse = held * solve3(restricted, gap);
+    body.x += segment.inv_mass * impulse;
+    body.q = renormalized(quat_exp(w0 * r0.cross(impulse)) * body.q);
+  }
+  // the orientation, turned about the anchor
+  const Quaterniond rest = segment.rest_orientation;
+  Vector3d turn = Vector3d::Zero();  // the rotation (world) the root needs
+  if (root.hold == RootHold::kWeld || root.hold == RootHold::kSlide) {
+    turn = quat_log(rest * body.q.conjugate());
+  } else if (root.hold == RootHold::kHinge || planar) {
+    const Vector3d& a = root.axes[planar ? 2 : 0];
+    const Vector3d now = body.q * (rest.conjugate() * a);
+    const Vector3d across = now.cross(a);
+    const double sine = across.norm();
+    if (sine > 0.0) turn = std::atan2(sine, now.dot(a)) / sine * across;
+    if (root.limited && !planar) {
+      Quaterniond from_rest = body.q * rest.conjugate();
+      if (from_rest.w() < 0.0) from_rest.coeffs() = -from_rest.coeffs();
+      const double angle = 2.0 * std::atan2(from_rest.vec().dot(a), from_rest.w());
+      turn += (std::clamp(angle, root.lower, root.upper) - angle) * a;
+    }
+  }
+  if (turn.squaredNorm() > 0.0) {
+    const Vector3d anchor = body.x + body.q * root.anchor_in_root;
+    const Quaterniond rotation = quat_exp(turn);
+    body.x = anchor + rotation * (body.x - anchor);
+    body.q = renormalized(rotation * body.q);
+  }
 }
 
 void share_joint_correction(const Model& model, const JointTerms& terms, const Joint& joint,

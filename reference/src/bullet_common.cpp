@@ -1,5 +1,7 @@
 #include "bullet_common.h"
+
 #include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
+#include "puppet/model/root_joint.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -75,7 +77,7 @@ void clear_contact_caches(btCollisionDispatcher& dispatcher) {
 
 }  // namespace detail
 
-std::string bullet_model_problem(const Model& /*model*/) { return {}; }
+std::string bullet_model_problem(const Model& model) { return held_root_problem(model); }
 
 int bullet_shared_fixed_body_constraints() {
   return btTypedConstraint::getFixedBody().getNumConstraintRefs();

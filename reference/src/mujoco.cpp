@@ -23,6 +23,7 @@
 #include "pin_springs.h"
 #include "puppet/model/euler_box.h"
 #include "puppet/model/mjcf.h"
+#include "puppet/model/root_joint.h"
 #include "puppet/model/text.h"
 #include "world_poses.h"
 
@@ -201,8 +202,8 @@ class MujocoSolver final : public Solver {
       }
     }
     // else the first hard pin whose point is on its target (a pin that must first pull its
-    // point there is a constraint, not a joint)
-    for (size_t k = 0; exact < 0 && k < pins.size(); ++k) {
+    // point there is a constraint, not a joint); none when the world holds the root already
+    for (size_t k = 0; exact < 0 && !root_held(model_) && k < pins.size(); ++k) {
       const Pin& pin = pins[k];
       const BodyState& b = bodies_[pin.segment];
       if (pin.is_hard() && (b.x + b.q * pin.local_point - pin.target).norm() <= 1e-9) {
@@ -299,6 +300,16 @@ class MujocoSolver final : public Solver {
       const int j = m_->body_jntadr[b];
       mjtNum* qpos = d_->qpos + m_->jnt_qposadr[j];
       mjtNum* qvel = d_->qvel + m_->jnt_dofadr[j];
+      if (s == 0 && exact_ < 0 && root_held(model_) && model_.root.hold != RootHold::kBall) {
+        // the world's hinge, slide or planar joints: their coordinates, one qpos and one qvel
+        // each, in the joints' order
+        const RootCoordinates c = root_coordinates(model_, body);
+        for (int k = 0; k < c.count; ++k) {
+          qpos[m_->jnt_qposadr[j + k] - m_->jnt_qposadr[j]] = c.value[k];
+          qvel[m_->jnt_dofadr[j + k] - m_->jnt_dofadr[j]] = c.rate[k];
+        }
+        continue;
+      }
       const Vector3d relative_w = body.q.conjugate() * (body.w - wp);
       if (m_->body_jntnum[b] >= 2) {
         // a box limit's two or three hinges (their coordinates are consecutive)

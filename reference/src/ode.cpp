@@ -29,6 +29,7 @@
 
 #include "ode_library.h"
 #include "pin_springs.h"
+#include "puppet/model/root_joint.h"
 #include "puppet/model/rotation.h"
 
 namespace puppet::reference {
@@ -572,6 +573,7 @@ std::string validate(const OdeSettings& settings) {
 bool have_ode() { return true; }
 
 std::string ode_model_problem(const Model& model) {
+  if (std::string problem = held_root_problem(model); !problem.empty()) return problem;
   for (const Segment& segment : model.segments) {
     for (const Shape& shape : segment.shapes) {
       if (shape.type == ShapeType::kEllipsoid) {

@@ -451,11 +451,12 @@ TEST(Jolt, ModelsItCannotBuildAreRefusedUpFront) {
             "segment \"egg\" has an ellipsoid, for which Jolt has no shape");
   EXPECT_NE(row->model_problem(bent).find("Jolt's hinge limits must hold the rest angle 0"),
             std::string::npos);
+  // (a model it can build is refused only where the driver is missing)
+  SKIP_WITHOUT_JOLT();
   for (const Model& model : {load_model(kPinocchio), make_chain(3),
                              load_model(std::string(PUPPET_SOURCE_DIR) + "/models/humanoid.xml")}) {
     EXPECT_TRUE(row->model_problem(model).empty()) << model.name;
   }
-  SKIP_WITHOUT_JOLT();
   EXPECT_EQ(engine_model_problem("jolt", ellipsoid),
             "segment \"egg\" has an ellipsoid, for which Jolt has no shape");
   SolverOptions options;

@@ -8,6 +8,7 @@
 #include "puppet/compare/engines.h"
 #include "puppet/compare/number.h"
 #include "puppet/model/text.h"
+#include "puppet/procedural/solver.h"
 
 namespace puppet::compare {
 
@@ -141,6 +142,12 @@ std::string engine_model_problem(std::string_view name, const Model& model,
            shown(std::to_string(budget));
   }
   if (std::string problem = engine->model_problem(model); !problem.empty()) return problem;
+  if (engine->has_rules) {
+    const procedural::Rule rule = procedural::rule_defaults(options.procedural).rule;
+    if (std::string problem = procedural::rule_model_problem(model, rule); !problem.empty()) {
+      return problem;
+    }
+  }
   if (!engine->second_cost) return {};
   const double cost = engine->second_cost(model, options);
   if (cost <= budget) return {};

@@ -88,7 +88,9 @@ std::unique_ptr<Simulator> make(const SolverOptions& options) {
   return std::make_unique<ProceduralSimulator>(settings_from(options));
 }
 
-std::string model_problem(const Model&) { return {}; }  // it runs every valid model
+// every valid model, as far as the engine goes: what a rule cannot step, it says itself
+// (procedural::rule_model_problem, asked by engine_model_problem with the rule)
+std::string model_problem(const Model&) { return {}; }
 
 // what --iterations and --substeps mean to each rule, from the rule catalogue (rule_info):
 // "relaxed, xpbd: two-sided sweeps per substep; tree: Newton iterations per substep (default:

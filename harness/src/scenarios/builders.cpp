@@ -85,10 +85,53 @@ HandPath circling_hand(const ScenarioOptions& options, bool grab) {
           .grab = grab};
 }
 
+std::vector<HeldTurn> held_turns(const Model& model) {
+  const RootJoint& root = model.root;
+  if (root.hold == RootHold::kBall) return {{0, root.anchor_world, std::nullopt}};
+  if (root.hold == RootHold::kHinge) return {{0, root.anchor_world, root.axes[0]}};
+  if (root.hold == RootHold::kPlanar) return {{0, root.anchor_world, root.axes[2]}};
+  std::vector<HeldTurn> turns;
+  for (const Joint& joint : model.joints) {
+    if (joint.parent != 0 || joint.type == JointType::kFixed) continue;
+    HeldTurn turn{joint.child, joint.anchor_world, std::nullopt};
+    if (joint.type == JointType::kHinge) turn.axis = joint.frame_world * joint.hinge_axis;
+    turns.push_back(turn);
+  }
+  return turns;
+}
+
+void turn_subtree(const Model& model, int top, const Quaterniond& rotation, const Vector3d& centre,
+                  std::vector<BodyState>& bodies) {
+  for (int s = 0; s < model.segment_count(); ++s) {
+    int up = s;
+    while (up > top) up = model.segments[up].parent;
+    if (up != top) continue;
+    BodyState& body = bodies[s];
+    body.x = centre + rotation * (body.x - centre);
+    body.q = (rotation * body.q).normalized();
+    body.v = rotation * body.v;
+    body.w = rotation * body.w;
+  }
+}
+
+void spin_subtree(const Model& model, int top, const Vector3d& omega, const Vector3d& centre,
+                  std::vector<BodyState>& bodies) {
+  for (int s = 0; s < model.segment_count(); ++s) {
+    int up = s;
+    while (up > top) up = model.segments[up].parent;
+    if (up != top) continue;
+    bodies[s].w += omega;
+    bodies[s].v += omega.cross(bodies[s].x - centre);
+  }
+}
+
 Scenario held_figure(const Model& model, const ScenarioOptions& options, bool head,
                      const std::optional<HandPath>& hand) {
   Scenario s;
   s.environment.gravity = model.gravity;
+  s.root_held = root_held(model);
+  // the world's hold stands where the head's pin would (a pin the user names still holds)
+  if (s.root_held && !options.pin) head = false;
   const std::optional<StartInputs>& start = options.start;
   // the pins, chosen on the rest pose
   Pin head_pin, hand_pin;
@@ -108,10 +151,21 @@ Scenario held_figure(const Model& model, const ScenarioOptions& options, bool he
   const int anchor = head ? head_pin.segment : hand ? hand_pin.segment : 0;
   s.initial = start ? posed_start(model, *start, anchor) : rest_pose(model);
 
+  if (s.root_held && !head) {
+    // the tilt as far as the world's hold lets the figure turn: about the root's hinge (its ball
+    // about world x), else each of the root's children about its joint
+    const double tilt = (start ? start->tilt_deg : options.tilt_deg) * M_PI / 180.0;
+    for (const HeldTurn& turn : held_turns(model)) {
+      const Vector3d axis = turn.axis.value_or(Vector3d::UnitX());
+      turn_subtree(model, turn.top, Quaterniond(Eigen::AngleAxisd(tilt, axis)), turn.centre,
+                   s.initial);
+    }
+  }
   if (head) {
     // a marionette: the pin point fixed, the figure tilted about world x through it
     const Vector3d pivot = world_of(s.initial, head_pin);
-    const double tilt_deg = start ? start->tilt_deg : options.tilt_deg;
+    // (a figure the world holds is not tilted about the pin: that would break the hold)
+    const double tilt_deg = s.root_held ? 0.0 : start ? start->tilt_deg : options.tilt_deg;
     rotate_about(s.initial,
                  Quaterniond(Eigen::AngleAxisd(tilt_deg * M_PI / 180.0, Vector3d::UnitX())), pivot);
     PinPath fixed;
@@ -139,6 +193,11 @@ Scenario held_figure(const Model& model, const ScenarioOptions& options, bool he
 
 Scenario figure_on_ground(const Model& model, const ScenarioOptions& options, double tilt_deg,
                           double height) {
+  if (root_held(model)) {
+    throw ScenarioError(std::string("the model's root is joined to the world (a ") +
+                        root_hold_name(model.root.hold) +
+                        " root): a scene on the ground drops a free figure");
+  }
   Scenario s = held_figure(model, options, /*head=*/false, std::nullopt);
   s.duration = 3.0;
   s.environment.air_drag = 0.05;

@@ -5,8 +5,10 @@
 
 #include <optional>
 #include <string_view>
+#include <vector>
 
 #include "puppet/compare/scenario.h"
+#include "puppet/model/root_joint.h"
 
 namespace puppet::compare {
 
@@ -44,6 +46,22 @@ HandPath circling_hand(const ScenarioOptions& options, bool grab);
 // model's and no other force. `head`: a marionette, its head's top (--pin) fixed where it is, the
 // figure tilted by --tilt (or the start's) about world x through it. `hand`: a second pin on a
 // hand whose target follows the path: the grab, or a pin compliant by --grab-compliance.
+// The turns a held root's figure can make without leaving its hold: the whole figure about the
+// root's hinge through its anchor (a ball's: about any axis, `axis` empty); for a welded or a
+// sliding root, each child of the root with its subtree about its joint (a hinge's axis, a ball's
+// any)
+struct HeldTurn {
+  int top = 0;  // the subtree's top segment
+  Vector3d centre{0, 0, 0};
+  std::optional<Vector3d> axis;
+};
+std::vector<HeldTurn> held_turns(const Model& model);
+// turns (or sets spinning at ω about `centre`) the segments of the subtree under `top`
+void turn_subtree(const Model& model, int top, const Quaterniond& rotation, const Vector3d& centre,
+                  std::vector<BodyState>& bodies);
+void spin_subtree(const Model& model, int top, const Vector3d& omega, const Vector3d& centre,
+                  std::vector<BodyState>& bodies);
+
 Scenario held_figure(const Model& model, const ScenarioOptions& options, bool head,
                      const std::optional<HandPath>& hand);
 

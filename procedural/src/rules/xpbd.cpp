@@ -4,8 +4,9 @@
 // to. Per substep of h = dt / substeps:
 //
 //   update            every segment alone under its forces (the same stage as every rule)
-//   adjust            `iterations` Gauss–Seidel sweeps (default 1): pins, then every joint's
-//                     point, then every limit, then the ground, each constraint re-evaluated
+//   adjust            `iterations` Gauss–Seidel sweeps (default 1): pins and the world's hold on
+//                     the root, then every limit, then every joint's point (the joints first
+//                     with Settings::limits_before_joints off), then the ground, each re-evaluated
 //                     from the current poses and closed by both of its bodies in proportion to
 //                     their generalised inverse masses, with compliance α (two_sided.cpp)
 //   velocities        v = Δx/h, ω = log(q q_prev⁻¹)/h, then the velocity pass: the ground's
@@ -56,6 +57,7 @@ void xpbd_adjust(const Model& model, std::span<const JointTerms> joints, const S
       share_pin_correction(model, state.pins[i], targets[i], state.pins[i].compliance * inv_h2,
                            &ws.pin_lambda[i], start, state);
     }
+    hold_root(model, start, state);
     // every limit, then every joint's point parent before child from the anchor (a limit's turn
     // about its sides' centres opens the joint, which the joints' pass then closes); or the
     // joints first (Settings::limits_before_joints)

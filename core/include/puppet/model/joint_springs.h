@@ -26,6 +26,10 @@ namespace puppet {
 /// inertia, so this is what the pair alone would do. No allocation.
 void add_joint_spring_wrenches(const Model& model, std::span<const BodyState> bodies, double h,
                                std::span<Wrench> out);
+/// the part of it that the world's joint on the root gives (RootJoint): along each slide a force
+/// at the anchor, about the hinge a torque, each damper implicit in the mass or the inertia about
+/// the hinge's line; nothing for a free, welded or ball root
+void add_root_spring_wrench(const Model& model, const BodyState& root, double h, Wrench& out);
 
 /// one joint's coordinates as MuJoCo reads them, those its springs and dampers act on (one per
 /// degree of freedom: 1 for a hinge, 3 for a ball), and their rates

@@ -121,6 +121,41 @@ struct Joint {
   std::array<JointPassive, 3> passive{};
 };
 
+/// How the world holds the root segment (MJCF: the joints of the root body). Free: a floating
+/// base, the scenarios hold it or let it go. The others join it to the static world: a weld (no
+/// joint), a hinge, a slide, an unlimited ball, or a planar root: two orthogonal slides, then a
+/// hinge about the normal of their plane (dm_control's walker, hopper and cheetah)
+enum class RootHold { kFree, kWeld, kHinge, kSlide, kBall, kPlanar };
+
+/// The joint between the world and the root segment (segment 0). Its coordinates are measured from
+/// the rest pose: a hinge's angle θ about its axis through the anchor, a slide's distance s along
+/// its direction, a planar root's (s₀, s₁, θ). The root's pose at coordinates c is its rest pose
+/// turned by θ about the axis through the anchor, then moved by s along the slides.
+struct RootJoint {
+  RootHold hold = RootHold::kFree;
+  /// the file's names for its degrees of freedom, in the order of `axes` (a weld's is the root's)
+  std::array<std::string, 3> names;
+  /// the point the joint holds or moves, at rest in world and in the root's frame (a hinge's or a
+  /// ball's centre; a slide's point; a weld's, the root's centre of mass)
+  Vector3d anchor_world{0, 0, 0};
+  Vector3d anchor_in_root{0, 0, 0};
+  /// unit axes in world at rest, one per degree of freedom: a hinge's axis or a slide's direction
+  /// in entry 0; a planar root's two slides, then its hinge
+  std::array<Vector3d, 3> axes{Vector3d::UnitX(), Vector3d::UnitY(), Vector3d::UnitZ()};
+  /// a hinge's (rad) or a slide's (m) range of its coordinate; none when not limited
+  bool limited = false;
+  double lower = 0.0, upper = 0.0;
+  /// springs, dampers and armature per degree of freedom, in the order of `axes` (a slide's in
+  /// N/m, N s/m and kg)
+  std::array<JointPassive, 3> passive{};
+  bool operator==(const RootJoint&) const = default;
+};
+
+/// how many degrees of freedom the root's joint leaves it (free 6, weld 0, ball 3, planar 3)
+int root_dofs(RootHold hold);
+/// the hold's name as MJCF and the docs say it: "free", "weld", "hinge", "slide", "ball", "planar"
+const char* root_hold_name(RootHold hold);
+
 /// fills the segment's inverse mass and inertia; call after setting mass and inertia
 void derive_mass_terms(Segment& segment);
 /// The segment's shapes together, in the segment frame: the point furthest along `direction`,
@@ -156,6 +191,7 @@ struct Model {
   std::string name;
   std::vector<Segment> segments;  ///< parent before child: segments[i].parent < i
   std::vector<Joint> joints;      ///< joints[j].child == j + 1 (the root is segment 0)
+  RootJoint root;                 ///< how the world holds segment 0 (free by default)
   double total_mass = 0.0;
   double rest_height = 0.0;  ///< top minus bottom of every shape at rest
   /// the file's gravity (m/s²; JSON "gravity", MJCF `<option gravity>`), the scenarios' default

@@ -86,6 +86,9 @@ struct Scenario {
   Environment environment;
   std::vector<BodyState> initial;
   std::vector<PinPath> pins;
+  // the model's root is joined to the world (RootJoint): the world's hold stands where the head's
+  // pin would, and neither momentum is conserved
+  bool root_held = false;
 
   // pin targets at time t (the end of the step being taken), ramped in with a smoothstep over
   // the first 0.5 s

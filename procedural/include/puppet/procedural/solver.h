@@ -32,6 +32,10 @@ inline constexpr std::array<std::string_view, kStageCount> kStageNames = {"updat
 struct ModelTables;
 std::shared_ptr<const ModelTables> make_model_tables(const Model& model);
 
+/// why `rule` cannot step the model (empty when it can): a root the world holds is held by xpbd's
+/// sweep alone so far, and no rule gives a slide's armature an inertia
+std::string rule_model_problem(const Model& model, Rule rule);
+
 struct Workspace;  ///< a solver's scratch (private)
 namespace lanes {
 class LaneStepper;  ///< the crowd's lane path (private)

@@ -1,0 +1,46 @@
+/// \file
+/// The joint between the world and a model's root segment (RootJoint, model.h): its coordinates
+/// read from a pose, the pose at given coordinates, and how far a pose strays from what the joint
+/// allows (the hold's gap, which the metrics add to the joints').
+#pragma once
+
+#include <array>
+#include <string>
+
+#include "puppet/model/environment.h"
+#include "puppet/model/model.h"
+
+namespace puppet {
+
+/// a root joint's coordinates and their rates, one per degree of freedom in the order of its axes
+/// (a hinge's angle in rad, a slide's distance in m); `count` of them (none for free, weld, ball)
+struct RootCoordinates {
+  int count = 0;
+  std::array<double, 3> value{0, 0, 0};
+  std::array<double, 3> rate{0, 0, 0};
+};
+
+/// the coordinates of the root's pose and velocity (an angle is read within ±π); a pose off the
+/// joint reads as its nearest on it, along the free directions
+RootCoordinates root_coordinates(const Model& model, const BodyState& root);
+
+/// the root's pose and velocity at the given coordinates of its joint (free, weld and ball: its
+/// rest pose, at rest)
+BodyState root_state_at(const Model& model, const RootCoordinates& coordinates);
+
+/// how far the root's pose strays from what its joint allows: the held point's distance from
+/// where the joint lets it be (m) and the held directions' turn (rad); zero for a free root
+struct RootGap {
+  double distance = 0.0;
+  double angle = 0.0;
+};
+RootGap root_gap(const Model& model, const BodyState& root);
+
+/// whether the root is joined to the world
+inline bool root_held(const Model& model) { return model.root.hold != RootHold::kFree; }
+
+/// an engine's refusal of a model whose root the world holds, in one line, when the engine does
+/// not build that joint (empty for a free root)
+std::string held_root_problem(const Model& model);
+
+}  // namespace puppet

@@ -1,0 +1,166 @@
+// Roots the world holds (RootJoint, root_joint.h) against answers derived independently: a slide's
+// fall at its analytic acceleration, a hinged rod's period and decay as a damped compound pendulum,
+// in every engine and rule that builds a held root (mujoco, xpbd); the others refuse it in one
+// line.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "puppet/compare/engines.h"
+#include "puppet/compare/scenario.h"
+#include "puppet/compare/simulator.h"
+#include "puppet/model/mjcf.h"
+#include "puppet/model/root_joint.h"
+#include "puppet/procedural/rule.h"
+#include "puppet/procedural/solver.h"
+#include "support/source_dir.h"
+
+namespace puppet::compare {
+namespace {
+
+// the engines and rules that hold a root: mujoco, and xpbd at its default substeps
+struct Holder {
+  std::string name, solver;
+  SolverOptions options;
+  int substeps = 1;  // the integrator's steps per step
+};
+std::vector<Holder> holders() {
+  Holder mujoco{"mujoco", "mujoco", {}, 1};
+  Holder xpbd{"xpbd", std::string(kProceduralEngine), {}, 1};
+  xpbd.options.procedural.rule = procedural::Rule::kXpbd;
+  xpbd.substeps = procedural::rule_info(procedural::Rule::kXpbd).substeps;
+  return {mujoco, xpbd};
+}
+
+// steps the model in `holder` from its rest pose (the root's coordinates `start`) under
+// `gravity`, calling look(t, root state) after each step of `dt`
+template <class Look>
+void run_held(const Holder& holder, const Model& model, const RootCoordinates& start,
+              const Vector3d& gravity, double dt, double duration, Look look) {
+  Scenario scenario;
+  scenario.name = "held";
+  scenario.duration = duration;
+  scenario.environment.gravity = gravity;
+  scenario.root_held = true;
+  scenario.initial = rest_pose(model);
+  scenario.initial[0] = root_state_at(model, start);
+  auto simulator = make_simulator(holder.solver, holder.options);
+  simulator->reset(model, scenario);
+  std::vector<BodyState> bodies(model.segment_count());
+  for (int k = 1; k <= static_cast<int>(std::lround(duration / dt)); ++k) {
+    simulator->step(dt);
+    ASSERT_FALSE(simulator->diverged());
+    simulator->read_state(bodies);
+    look(k * dt, bodies[0]);
+  }
+}
+
+// A box on a slide at 45° to the vertical slides down at a = g cos 45°; every holder's
+// semi-implicit Euler from rest gives s_n = −a h² n (n + 1)/2 after n of its steps of h, to
+// rounding (the hold removes the fall across the slide and leaves the fall along it; rounding at
+// a few metres over xpbd's 1920 substeps is ~1e-12). With
+// armature, MuJoCo's a = g cos 45° m / (m + armature), exact in its generalized coordinates; the
+// procedural rules refuse a slide's armature, which no inertia of a segment stands in for
+TEST(HeldRoot, ASlideFallsAtItsAnalyticAcceleration) {
+  const auto slide = [](double armature) {
+    return parse_mjcf(R"(<mujoco><worldbody><body name="box" pos="0 0 1">
+      <joint name="s" type="slide" pos="0.05 0 0.1" axis="1 0 1" armature=")" +
+                          std::to_string(armature) + R"("/>
+      <geom type="box" size="0.1 0.1 0.1" mass="2"/></body></worldbody></mujoco>)",
+                      "slide.xml");
+  };
+  const double g = 9.81, dt = 1.0 / 240.0;
+  for (const Holder& holder : holders()) {
+    for (const double armature : {0.0, 0.7}) {
+      SCOPED_TRACE(holder.name + " armature " + std::to_string(armature));
+      const Model model = slide(armature);
+      ASSERT_EQ(model.root.hold, RootHold::kSlide);
+      if (holder.name == "xpbd" && armature != 0.0) {
+        EXPECT_NE(procedural::rule_model_problem(model, procedural::Rule::kXpbd).find("armature"),
+                  std::string::npos);
+        continue;
+      }
+      const double a = g * std::sqrt(0.5) * 2.0 / (2.0 + armature);
+      const double h = dt / holder.substeps;
+      int n = 0;
+      double worst = 0.0, travel = 0.0, stray = 0.0;
+      run_held(holder, model, {}, Vector3d(0, 0, -g), dt, 1.0, [&](double, const BodyState& root) {
+        n += holder.substeps;
+        const double s = root_coordinates(model, root).value[0];
+        worst = std::max(worst, std::abs(s + a * h * h * n * (n + 1) / 2.0));
+        travel = std::abs(s);
+        stray = std::max(stray, root_gap(model, root).distance + root_gap(model, root).angle);
+      });
+      EXPECT_LT(worst, 1e-9);
+      EXPECT_GT(travel, 1.0);  // m
+      EXPECT_LT(stray, 1e-10);
+    }
+  }
+}
+
+// A rod hung from the world by a damped hinge with armature, let go at 3°: a compound pendulum,
+// ω₀² = m g d / (I_pivot + armature), ζ = c / (2 (I_pivot + armature) ω₀). Its period between
+// zero crossings and its amplitude's decay over them match within 1% in every holder (the step's
+// own error at 1/1000 s and the swing's nonlinearity, θ²/16 ≈ 2e-4, are far below). The rod's
+// axis is principal, so the armature added to its inertia (xpbd) is exact too
+TEST(HeldRoot, AHingedRodSwingsAndDecaysAsAPendulum) {
+  const Model model = parse_mjcf(R"(<mujoco><worldbody><body name="rod" pos="0 0 2">
+      <joint name="pivot" type="hinge" axis="0 1 0" pos="0 0 0.3" damping="0.4" armature="0.05"/>
+      <geom type="capsule" fromto="0 0 0.3 0 0 -0.3" size="0.03" mass="1.5"/></body></worldbody>
+      </mujoco>)",
+                                 "pendulum.xml");
+  ASSERT_EQ(model.root.hold, RootHold::kHinge);
+  const Segment& rod = model.segments[0];
+  const double g = 9.81, m = rod.mass, d = 0.3, dt = 1e-3;
+  const double inertia = rod.inertia.y() + m * d * d + 0.05;
+  const double w0 = std::sqrt(m * g * d / inertia);
+  const double zeta = 0.4 / (2.0 * inertia * w0);
+  const double wd = w0 * std::sqrt(1.0 - zeta * zeta);
+  for (const Holder& holder : holders()) {
+    SCOPED_TRACE(holder.name);
+    RootCoordinates start;
+    start.count = 1;
+    start.value[0] = 3.0 * M_PI / 180.0;
+    std::vector<double> crossings, peaks;
+    double previous = start.value[0], peak = 0.0;
+    run_held(holder, model, start, Vector3d(0, 0, -g), dt, 6.0,
+             [&](double t, const BodyState& root) {
+               const double angle = root_coordinates(model, root).value[0];
+               peak = std::max(peak, std::abs(angle));
+               if ((previous > 0.0) != (angle > 0.0)) {
+                 crossings.push_back(t - dt * angle / (angle - previous));
+                 peaks.push_back(peak);
+                 peak = 0.0;
+               }
+               previous = angle;
+             });
+    ASSERT_GE(crossings.size(), 6u);
+    const double half_period = (crossings.back() - crossings.front()) / (crossings.size() - 1);
+    EXPECT_NEAR(half_period, M_PI / wd, 0.01 * M_PI / wd);
+    // each half swing's peak falls by exp(−ζ ω₀ π/ω_d)
+    const double decay = std::pow(peaks.back() / peaks[1], 1.0 / (peaks.size() - 2));
+    EXPECT_NEAR(decay, std::exp(-zeta * w0 * M_PI / wd), 0.005);
+  }
+}
+
+// Every other engine and rule refuses a held root in one line naming it, before anything runs;
+// mujoco and xpbd run it
+TEST(HeldRoot, EnginesThatDoNotBuildItRefuseInOneLine) {
+  const Model model =
+      load_model(std::string(PUPPET_SOURCE_DIR) + "/tests/data/mjcf/held_planar.xml");
+  EXPECT_EQ(engine_model_problem("mujoco", model), "");
+  SolverOptions xpbd;
+  xpbd.procedural.rule = procedural::Rule::kXpbd;
+  EXPECT_EQ(engine_model_problem(std::string(kProceduralEngine), model, xpbd), "");
+  for (const std::string& solver : solver_names()) {
+    if (solver == "mujoco") continue;
+    const std::string problem = engine_model_problem(solver, model);  // procedural: relaxed
+    EXPECT_NE(problem.find("a planar root"), std::string::npos) << solver << ": " << problem;
+    EXPECT_EQ(problem.find('\n'), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace puppet::compare
