@@ -64,7 +64,8 @@ const char* root_hold_name(RootHold hold) {
 std::string held_root_problem(const Model& model) {
   if (!root_held(model)) return {};
   return std::string("its root is joined to the world (a ") + root_hold_name(model.root.hold) +
-         " root), which this engine does not build (mujoco and the procedural rule xpbd do)";
+         " root), which this engine does not build (mujoco and the procedural rules xpbd and tree "
+         "do)";
 }
 
 RootCoordinates root_coordinates(const Model& model, const BodyState& root) {

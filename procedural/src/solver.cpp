@@ -28,9 +28,9 @@ std::shared_ptr<const ModelTables> make_model_tables(const Model& model) {
 
 std::string rule_model_problem(const Model& model, Rule rule) {
   if (!root_held(model)) return {};
-  if (rule != Rule::kXpbd) {
+  if (rule != Rule::kXpbd && rule != Rule::kTree) {
     return std::string("its root is joined to the world (a ") + root_hold_name(model.root.hold) +
-           " root), which only rule xpbd holds (rule " + std::string(rule_name(rule)) +
+           " root), which only rules xpbd and tree hold (rule " + std::string(rule_name(rule)) +
            " does not)";
   }
   const RootJoint& root = model.root;
@@ -56,6 +56,7 @@ Solver::Solver(const Model& model, const Settings& settings, const Environment& 
     throw ModelError("procedural: " + held);
   }
   joint_springs_ = has_joint_springs(model_);
+  state_.root_held = root_held(model_);
   limit_pass_ = settings_.limit_velocity_pass && settings_.derive_velocities &&
                 rule_row(settings_.rule).limit_velocities;
   const int n = model.segment_count();
@@ -258,7 +259,7 @@ void Solver::run_stage(Stage stage, double h) {
       if (settings_.tremble) tremble(model_, settings_, state_, h, ws.tremble_delta);
       break;
     case kAdjust: {
-      const int anchor = state_.pin_count > 0 ? state_.pins[0].segment : 0;
+      const int anchor = state_.pin_count > 0 && !state_.root_held ? state_.pins[0].segment : 0;
       if (limit_pass_) begin_limit_marks(state_, ws);
       adjust(model_, settings_, environment_, *tables_, anchor, substep_targets_, state_, ws, h);
       break;
@@ -302,7 +303,7 @@ void Solver::prefetch() const {
   prefetch_range(state_.user_force);
   prefetch_range(state_.user_torque);
   prefetch_range(workspace_->tremble_delta);
-  const int anchor = state_.pin_count > 0 ? state_.pins[0].segment : 0;
+  const int anchor = state_.pin_count > 0 && !state_.root_held ? state_.pins[0].segment : 0;
   if (!tables_->orders.empty()) {
     prefetch_range(tables_->orders[anchor].links);
     prefetch_range(tables_->orders[anchor].level_links);

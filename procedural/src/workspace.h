@@ -23,9 +23,9 @@ using Matrix36d = Eigen::Matrix<double, 3, 6>;
 // its frame) or a constraint (a joint's point and active limit rows, or the first pin). Blocks
 // are stored 6×6; a three-row constraint uses their top-left 3×3 and 3×6 (or 6×3) corners.
 struct TreeNode {
-  enum Kind { kSegment, kJoint, kPin };
+  enum Kind { kSegment, kJoint, kPin, kHold };
   Kind kind = kSegment;
-  int index = -1;                     // segment, joint or pin
+  int index = -1;                     // segment, joint or pin (the world's hold on the root: -1)
   int parent = -1;                    // node nearer the root, −1 for the root
   int rows = 0;                       // its unknowns: 6 for a segment, a constraint's rows (3 to 6)
   Matrix6d d;                         // diagonal block, then its Schur complement over the subtree
@@ -36,7 +36,8 @@ struct TreeNode {
   Vector6d alpha = Vector6d::Zero();  // a constraint's α̃ per row
   Vector6d lambda = Vector6d::Zero();  // and its multipliers accumulated over the substep
 };
-// a pin after the first: a loop through the world, closed through its Schur complement
+// a pin after the first (every pin, when the world holds the root): a loop through the world,
+// closed through its Schur complement
 struct TreeLoop {
   int node = -1;  // its segment's node
   double alpha = 0.0;
@@ -44,7 +45,7 @@ struct TreeLoop {
   Vector3d c;  // C + α̃ λ
   Vector3d lambda = Vector3d::Zero();
 };
-inline constexpr int kMaxLoopRows = 3 * (kMaxPins - 1);
+inline constexpr int kMaxLoopRows = 3 * kMaxPins;
 using LoopMatrix =
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxLoopRows, kMaxLoopRows>;
 using LoopVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxLoopRows, 1>;
@@ -88,7 +89,7 @@ struct Workspace {
   std::vector<int> tree_path;
   std::vector<char> tree_marked;
   std::vector<Matrix3d> tree_rotations;  // each segment's, at the current linearisation
-  std::array<TreeLoop, kMaxPins - 1> tree_loops{};
+  std::array<TreeLoop, kMaxPins> tree_loops{};
   Eigen::PartialPivLU<LoopMatrix> tree_loop_factor;
   // a large model's anchor orders (ModelTables keeps none): the last two anchors asked for (a
   // pin's and a contact's), filled in place

@@ -20,7 +20,7 @@
 namespace puppet::compare {
 namespace {
 
-// the engines and rules that hold a root: mujoco, and xpbd at its default substeps
+// the engines and rules that hold a root: mujoco, and xpbd and tree at their default substeps
 struct Holder {
   std::string name, solver;
   SolverOptions options;
@@ -31,7 +31,10 @@ std::vector<Holder> holders() {
   Holder xpbd{"xpbd", std::string(kProceduralEngine), {}, 1};
   xpbd.options.procedural.rule = procedural::Rule::kXpbd;
   xpbd.substeps = procedural::rule_info(procedural::Rule::kXpbd).substeps;
-  return {mujoco, xpbd};
+  Holder tree{"tree", std::string(kProceduralEngine), {}, 1};
+  tree.options.procedural.rule = procedural::Rule::kTree;
+  tree.substeps = procedural::rule_info(procedural::Rule::kTree).substeps;
+  return {mujoco, xpbd, tree};
 }
 
 // steps the model in `holder` from its rest pose (the root's coordinates `start`) under
@@ -77,9 +80,10 @@ TEST(HeldRoot, ASlideFallsAtItsAnalyticAcceleration) {
       SCOPED_TRACE(holder.name + " armature " + std::to_string(armature));
       const Model model = slide(armature);
       ASSERT_EQ(model.root.hold, RootHold::kSlide);
-      if (holder.name == "xpbd" && armature != 0.0) {
-        EXPECT_NE(procedural::rule_model_problem(model, procedural::Rule::kXpbd).find("armature"),
-                  std::string::npos);
+      if (holder.name != "mujoco" && armature != 0.0) {
+        EXPECT_NE(
+            procedural::rule_model_problem(model, holder.options.procedural.rule).find("armature"),
+            std::string::npos);
         continue;
       }
       const double a = g * std::sqrt(0.5) * 2.0 / (2.0 + armature);
@@ -146,14 +150,19 @@ TEST(HeldRoot, AHingedRodSwingsAndDecaysAsAPendulum) {
 }
 
 // Every other engine and rule refuses a held root in one line naming it, before anything runs;
-// mujoco and xpbd run it
+// mujoco, xpbd and tree run it
 TEST(HeldRoot, EnginesThatDoNotBuildItRefuseInOneLine) {
   const Model model =
       load_model(std::string(PUPPET_SOURCE_DIR) + "/tests/data/mjcf/held_planar.xml");
   EXPECT_EQ(engine_model_problem("mujoco", model), "");
-  SolverOptions xpbd;
-  xpbd.procedural.rule = procedural::Rule::kXpbd;
-  EXPECT_EQ(engine_model_problem(std::string(kProceduralEngine), model, xpbd), "");
+  for (const procedural::Rule rule : procedural::kAllRules) {
+    SolverOptions options;
+    options.procedural.rule = rule;
+    const std::string problem =
+        engine_model_problem(std::string(kProceduralEngine), model, options);
+    const bool holds = rule == procedural::Rule::kXpbd || rule == procedural::Rule::kTree;
+    EXPECT_EQ(problem.empty(), holds) << procedural::rule_name(rule) << ": " << problem;
+  }
   for (const std::string& solver : solver_names()) {
     if (solver == "mujoco") continue;
     const std::string problem = engine_model_problem(solver, model);  // procedural: relaxed

@@ -80,6 +80,78 @@ void set_pin_rows(const Pin& pin, const Vector3d& target, const BodyState& body,
   jacobian = point_jacobian(rotation, pin.local_point);
 }
 
+// The world's hold on the root (RootJoint), rigid, in the root's (Δx, Δθ): the anchor's rows
+// along the held directions (all three; a slide's two across it, and one along it past an end of
+// its range; a planar root's one along its normal), C its stray from where the hold lets it be;
+// then the orientation's: a weld's and a slide's three, C the rotation from rest (world); a
+// hinge's two across its axis, C the rotation that tilts the axis from its rest direction, and one
+// along it past an end of its range. At most six rows, padded to six when more than three.
+void set_hold_rows(const Model& model, const BodyState& body, const Matrix3d& rotation,
+                   TreeNode& node, Matrix6d& jacobian) {
+  const RootJoint& root = model.root;
+  const bool planar = root.hold == RootHold::kPlanar;
+  jacobian.setZero();
+  Vector6d c = Vector6d::Zero();
+  int rows = 0;
+  const Matrix36d point = point_jacobian(rotation, root.anchor_in_root);
+  const Vector3d stray = world_point(body, root.anchor_in_root) - root.anchor_world;
+  const auto add_row = [&](const Eigen::Matrix<double, 1, 6>& row, double value) {
+    jacobian.row(rows) = row;
+    c(rows) = value;
+    ++rows;
+  };
+  // a unit vector across `a`, and the third completing the pair
+  const auto across = [](const Vector3d& a) {
+    const Vector3d seed = std::abs(a.x()) < 0.9 ? Vector3d::UnitX() : Vector3d::UnitY();
+    return Vector3d(a.cross(seed).normalized());
+  };
+  if (root.hold == RootHold::kSlide) {
+    const Vector3d& a = root.axes[0];
+    const Vector3d u = across(a), v = a.cross(u);
+    add_row(u.transpose() * point, u.dot(stray));
+    add_row(v.transpose() * point, v.dot(stray));
+    const double s = a.dot(stray);
+    if (root.limited && (s > root.upper || s < root.lower)) {
+      add_row(a.transpose() * point, s - std::clamp(s, root.lower, root.upper));
+    }
+  } else if (planar) {
+    const Vector3d& n = root.axes[2];
+    add_row(n.transpose() * point, n.dot(stray));
+  } else {
+    for (int k = 0; k < 3; ++k) add_row(point.row(k), stray(k));
+  }
+  // a turn δ of the root in world is R Δθ
+  Quaterniond from_rest = body.q * model.segments[0].rest_orientation.conjugate();
+  if (from_rest.w() < 0.0) from_rest.coeffs() = -from_rest.coeffs();
+  const auto add_turn_row = [&](const Vector3d& direction, double value) {
+    Eigen::Matrix<double, 1, 6> row = Eigen::Matrix<double, 1, 6>::Zero();
+    row.tail<3>() = direction.transpose() * rotation;
+    add_row(row, value);
+  };
+  if (root.hold == RootHold::kWeld || root.hold == RootHold::kSlide) {
+    const Vector3d turned = quat_log(from_rest);
+    for (int k = 0; k < 3; ++k) add_turn_row(Vector3d::Unit(k), turned(k));
+  } else if (root.hold == RootHold::kHinge || planar) {
+    const Vector3d& a = root.axes[planar ? 2 : 0];
+    const Vector3d now = from_rest * a;
+    const Vector3d tilt_axis = a.cross(now);  // the rotation from a to where it now points
+    const double sine = tilt_axis.norm();
+    const Vector3d tilt =
+        sine > 0.0 ? Vector3d(std::atan2(sine, a.dot(now)) / sine * tilt_axis) : Vector3d::Zero();
+    const Vector3d u = across(a), v = a.cross(u);
+    add_turn_row(u, u.dot(tilt));
+    add_turn_row(v, v.dot(tilt));
+    if (root.limited && !planar) {
+      const double angle = 2.0 * std::atan2(from_rest.vec().dot(a), from_rest.w());
+      if (angle > root.upper || angle < root.lower) {
+        add_turn_row(a, angle - std::clamp(angle, root.lower, root.upper));
+      }
+    }
+  }
+  node.alpha.setZero();
+  set_constraint_node(rows, c, node);
+}
+
 // A ball joint's limit rows (at most three): one per limit function that is positive, along its
 // gradient with respect to a turn of the child (its frame), both from ball_excess (analytic).
 // Swing and twist are not independent coordinates: past 90° of swing a turn across the swing
@@ -214,6 +286,7 @@ std::span<const int> loop_ancestors(int loops, int count, Workspace& ws) {
 struct Topology {
   int count = 0;
   std::span<const int> loop_path;
+  int first_loop = 1;  // the first pin that is a loop (0 when the world holds the root)
 };
 
 // the nodes of one anchor's tree, root first: [the first pin], the anchor's segment, then per
@@ -228,8 +301,15 @@ Topology build_topology(const AnchorOrder& order, const State& state, Workspace&
     node.index = index;
     node.parent = parent;
   };
-  const bool pinned = state.pin_count > 0;
-  if (pinned) place(TreeNode::kPin, 0, -1);
+  // the world's hold on the root, else the first pin, hangs the tree; every other pin is a loop
+  const bool held = state.root_held;
+  const bool pinned = held || state.pin_count > 0;
+  if (held) {
+    place(TreeNode::kHold, -1, -1);
+  } else if (pinned) {
+    place(TreeNode::kPin, 0, -1);
+  }
+  const int first_loop = held ? 0 : 1;
   const int n = static_cast<int>(order.preorder.size());
   // segment node of preorder position k: 0 or 1 for the anchor, then 2k or 2k + 1
   const int first = count;
@@ -241,19 +321,20 @@ Topology build_topology(const AnchorOrder& order, const State& state, Workspace&
     place(TreeNode::kJoint, link.joint, segment_node(order.parent_position[k]));
     place(TreeNode::kSegment, order.preorder[k], joint_node);
   }
-  for (int i = 1; i < state.pin_count; ++i) {
+  for (int i = first_loop; i < state.pin_count; ++i) {
     int k = 0;
     while (order.preorder[k] != state.pins[i].segment) ++k;
-    ws.tree_loops[i - 1].node = segment_node(k);
+    ws.tree_loops[i - first_loop].node = segment_node(k);
   }
-  return {count, loop_ancestors(state.pin_count - 1, count, ws)};
+  return {count, loop_ancestors(state.pin_count - first_loop, count, ws), first_loop};
 }
 
 // every node's diagonal and right side, and each node's coupling to its parent, `up`, from the
 // current poses; then the loops' rows
 void linearise(const Model& model, std::span<const JointTerms> joints, const Settings& settings,
-               int count, const PinTargets& targets, const State& state, Workspace& ws,
-               double inv_h2) {
+               const Topology& topology, const PinTargets& targets, const State& state,
+               Workspace& ws, double inv_h2) {
+  const int count = topology.count;
   std::vector<TreeNode>& nodes = ws.tree_nodes;
   const double point_alpha = settings.joint_compliance * inv_h2;
   const double limit_alpha = settings.limit_compliance * inv_h2;
@@ -268,6 +349,13 @@ void linearise(const Model& model, std::span<const JointTerms> joints, const Set
         // (only d and b: the coupling a joint or the root pin wrote into `up` stands)
         set_segment_node(model.segments[node.index], node);
         break;
+      case TreeNode::kHold: {
+        // the world's hold on the root: node 1 is the root's segment
+        Matrix6d jacobian;
+        set_hold_rows(model, state.bodies[0], rotations[0], node, jacobian);
+        nodes[1].up = -jacobian.transpose();
+        break;
+      }
       case TreeNode::kPin: {
         // the root pin is its segment's parent: node 1, whose `up` is then −Jᵀ
         const Pin& pin = state.pins[node.index];
@@ -301,13 +389,14 @@ void linearise(const Model& model, std::span<const JointTerms> joints, const Set
       }
     }
   }
-  for (int l = 0; l + 1 < state.pin_count; ++l) {
+  for (int l = 0; l + topology.first_loop < state.pin_count; ++l) {
     TreeLoop& loop = ws.tree_loops[l];
-    const Pin& pin = state.pins[l + 1];
+    const int k = l + topology.first_loop;
+    const Pin& pin = state.pins[k];
     const BodyState& body = state.bodies[pin.segment];
     loop.alpha = pin.compliance * inv_h2;
     loop.jacobian = point_jacobian(rotations[pin.segment], pin.local_point);
-    loop.c = world_point(body, pin.local_point) - targets[l + 1] + loop.alpha * loop.lambda;
+    loop.c = world_point(body, pin.local_point) - targets[k] + loop.alpha * loop.lambda;
   }
 }
 
@@ -419,7 +508,7 @@ void solve_once(const Model& model, std::span<const JointTerms> joints, const Se
                 double h) {
   const int count = topology.count;
   std::vector<TreeNode>& nodes = ws.tree_nodes;
-  linearise(model, joints, settings, count, targets, state, ws, 1.0 / (h * h));
+  linearise(model, joints, settings, topology, targets, state, ws, 1.0 / (h * h));
   factor(count, nodes);
   const std::span<Vector6d> y(ws.tree_solution.data(), count);
   for (int i = 0; i < count; ++i) y[i] = nodes[i].b;
@@ -431,7 +520,7 @@ void solve_once(const Model& model, std::span<const JointTerms> joints, const Se
   // Everything but the last is read at the loops' nodes only: G H⁻¹ Gᵀ's columns and G H⁻¹ r
   // are solved on those nodes' ancestors alone (a path each); Gᵀ μ, nonzero on the path, is taken
   // off r's forward pass there, and one backward pass over all nodes gives y
-  const int loops = state.pin_count - 1;
+  const int loops = state.pin_count - topology.first_loop;
   if (loops > 0) {
     const std::span<const int> path = topology.loop_path;
     const int size = 3 * loops;

@@ -33,7 +33,7 @@ struct ModelTables;
 std::shared_ptr<const ModelTables> make_model_tables(const Model& model);
 
 /// why `rule` cannot step the model (empty when it can): a root the world holds is held by xpbd's
-/// sweep alone so far, and no rule gives a slide's armature an inertia
+/// sweep and tree's system alone, and no rule gives a slide's armature an inertia
 std::string rule_model_problem(const Model& model, Rule rule);
 
 struct Workspace;  ///< a solver's scratch (private)

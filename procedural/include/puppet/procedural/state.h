@@ -26,6 +26,9 @@ struct State {
   std::array<Vector3d, kMaxPins> pin_previous_target{};
   std::array<double, kMaxPins> pin_force{};  ///< last correction expressed as a force (N)
   int pin_count = 0;
+  /// the model's root is joined to the world (RootJoint): the hold, not the first pin, anchors
+  /// the adjust, and every pin is held as a pin beside it
+  bool root_held = false;
   /// the grabs (Pin::is_grab): forces, not constraints, applied in the update (user_forces.h)
   std::array<Pin, kMaxPins> grabs{};
   std::array<Vector3d, kMaxPins> grab_previous_target{};
