@@ -64,8 +64,20 @@ const char* root_hold_name(RootHold hold) {
 std::string held_root_problem(const Model& model) {
   if (!root_held(model)) return {};
   return std::string("its root is joined to the world (a ") + root_hold_name(model.root.hold) +
-         " root), which this engine does not build (mujoco and the procedural rules xpbd and tree "
-         "do)";
+         " root), which this engine does not build (mujoco, bullet-rigid, ode and the procedural "
+         "rules xpbd and tree do)";
+}
+
+std::string slide_armature_problem(const Model& model) {
+  const RootJoint& root = model.root;
+  const int slides = slide_count(root.hold);
+  for (int k = 0; k < slides; ++k) {
+    if (root.passive[static_cast<size_t>(k)].armature != 0.0) {
+      return "the armature of the root's slide \"" + root.names[static_cast<size_t>(k)] +
+             "\" has no inertia of a segment to stand in for it";
+    }
+  }
+  return {};
 }
 
 RootCoordinates root_coordinates(const Model& model, const BodyState& root) {

@@ -33,15 +33,7 @@ std::string rule_model_problem(const Model& model, Rule rule) {
            " root), which only rules xpbd and tree hold (rule " + std::string(rule_name(rule)) +
            " does not)";
   }
-  const RootJoint& root = model.root;
-  const int slides = root.hold == RootHold::kSlide ? 1 : root.hold == RootHold::kPlanar ? 2 : 0;
-  for (int k = 0; k < slides; ++k) {
-    if (root.passive[static_cast<size_t>(k)].armature != 0.0) {
-      return "the armature of the root's slide \"" + root.names[static_cast<size_t>(k)] +
-             "\" has no inertia of a segment to stand in for it";
-    }
-  }
-  return {};
+  return slide_armature_problem(model);
 }
 
 Solver::Solver(const Model& model, const Settings& settings, const Environment& environment,

@@ -77,7 +77,15 @@ void clear_contact_caches(btCollisionDispatcher& dispatcher) {
 
 }  // namespace detail
 
-std::string bullet_model_problem(const Model& model) { return held_root_problem(model); }
+std::string bullet_model_problem(Kind kind, const Model& model) {
+  return kind == Kind::kMultibody ? held_root_problem(model) : slide_armature_problem(model);
+}
+std::string bullet_multibody_model_problem(const Model& model) {
+  return bullet_model_problem(Kind::kMultibody, model);
+}
+std::string bullet_rigid_model_problem(const Model& model) {
+  return bullet_model_problem(Kind::kRigid, model);
+}
 
 int bullet_shared_fixed_body_constraints() {
   return btTypedConstraint::getFixedBody().getNumConstraintRefs();
@@ -87,7 +95,9 @@ std::unique_ptr<Solver> make_solver(Kind kind, const Model& model, const Environ
                                     const Settings& settings) {
   const std::string problem = validate(settings);
   if (!problem.empty()) throw std::invalid_argument("reference settings: " + problem);
-  if (std::string p = bullet_model_problem(model); !p.empty()) throw ModelError("bullet: " + p);
+  if (std::string p = bullet_model_problem(kind, model); !p.empty()) {
+    throw ModelError("bullet: " + p);
+  }
   if (kind == Kind::kMultibody) return detail::make_multibody(model, environment, settings);
   return detail::make_rigid(model, environment, settings);
 }

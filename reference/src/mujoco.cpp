@@ -301,8 +301,7 @@ class MujocoSolver final : public Solver {
       mjtNum* qpos = d_->qpos + m_->jnt_qposadr[j];
       mjtNum* qvel = d_->qvel + m_->jnt_dofadr[j];
       if (s == 0 && exact_ < 0 && root_held(model_) && model_.root.hold != RootHold::kBall) {
-        // the world's hinge, slide or planar joints: their coordinates, one qpos and one qvel
-        // each, in the joints' order
+        // the world's hinge, slide or planar joints: one qpos and one qvel each, in order
         const RootCoordinates c = root_coordinates(model_, body);
         for (int k = 0; k < c.count; ++k) {
           qpos[m_->jnt_qposadr[j + k] - m_->jnt_qposadr[j]] = c.value[k];

@@ -185,6 +185,7 @@ OdeSolver::OdeSolver(const Model& model, const Environment& environment,
   states_ = rest_pose(model);
   build_bodies(states_);
   build_joints(states_);
+  detail::make_hold(world_, bodies_[0], model_.root);  // the world owns it
   if (environment.ground) {
     ground_ = dCreatePlane(nullptr, 0, 0, 1, 0);
     contacts_ = dJointGroupCreate(0);
@@ -573,7 +574,11 @@ std::string validate(const OdeSettings& settings) {
 bool have_ode() { return true; }
 
 std::string ode_model_problem(const Model& model) {
-  if (std::string problem = held_root_problem(model); !problem.empty()) return problem;
+  if (model.root.hold == RootHold::kPlanar) {
+    return "its root is joined to the world by a planar joint (slide, slide, hinge), which ODE "
+           "0.16 has no joint for (its Plane2D holds a body to the plane z = 0 only)";
+  }
+  if (std::string problem = slide_armature_problem(model); !problem.empty()) return problem;
   for (const Segment& segment : model.segments) {
     for (const Shape& shape : segment.shapes) {
       if (shape.type == ShapeType::kEllipsoid) {

@@ -1,11 +1,16 @@
 // ODE's process-wide state as the ode engine (ode.cpp) needs it: the library initialised once,
 // its handlers (its errors and internal checks thrown as OdeFailure, never an exit or an abort),
-// each thread's own collision data, and the lock around its one random generator.
+// each thread's own collision data, and the lock around its one random generator; and the world's
+// hold on a ragdoll's root.
 #pragma once
+
+#include <ode/ode.h>
 
 #include <initializer_list>
 #include <mutex>
 #include <stdexcept>
+
+#include "puppet/model/model.h"
 
 namespace puppet::reference::detail {
 
@@ -30,5 +35,10 @@ std::mutex& quick_step_lock();
 // keeps ODE's objects of a world whose step ODE stopped with its error, unfreed and reachable,
 // for the life of the process (freeing them trips ODE's checks again)
 void keep_after_failure(std::initializer_list<const void*> objects);
+
+// the world's hold on the root (RootJoint) as an ODE joint between `body` and the static world,
+// built at the rest pose (ode_hold.cpp); null for a free root, and for a planar one, which ODE has
+// no joint for (ode_model_problem refuses it)
+dJointID make_hold(dWorldID world, dBodyID body, const RootJoint& root);
 
 }  // namespace puppet::reference::detail

@@ -60,6 +60,7 @@ class RigidSolver final : public Solver {
  private:
   void build_bodies();
   void build_joints();
+  void build_hold();
   static std::unique_ptr<btTypedConstraint> make_box(btRigidBody& parent, btRigidBody& child,
                                                      const Joint& joint, const btTransform& frame_a,
                                                      const btTransform& frame_b);
@@ -83,6 +84,7 @@ class RigidSolver final : public Solver {
   btRigidBody anchor_{btRigidBody::btRigidBodyConstructionInfo(0.0, nullptr, nullptr)};
   std::vector<std::unique_ptr<btTypedConstraint>> joints_;
   std::vector<std::unique_ptr<btPoint2PointConstraint>> pins_;
+  std::unique_ptr<btGeneric6DofSpring2Constraint> hold_;  // the world's on the root, if any
   PinSprings springs_;  // which pins are hard, and the compliant ones
   Ground ground_;
   std::unique_ptr<btDiscreteDynamicsWorld> world_;
@@ -105,6 +107,7 @@ RigidSolver::RigidSolver(const Model& model, const Environment& environment,
   info.m_erp = settings.erp;
   build_bodies();
   build_joints();
+  build_hold();
   if (environment.ground) {
     ground_ = make_ground();
     world_->addRigidBody(ground_.body.get(), kGroundGroup, kSegmentGroup);
@@ -116,6 +119,7 @@ RigidSolver::RigidSolver(const Model& model, const Environment& environment,
 RigidSolver::~RigidSolver() {
   for (auto& pin : pins_) world_->removeConstraint(pin.get());
   for (auto& joint : joints_) world_->removeConstraint(joint.get());
+  if (hold_) world_->removeConstraint(hold_.get());
   for (auto& body : bodies_) world_->removeRigidBody(body.get());
   if (ground_.body) world_->removeRigidBody(ground_.body.get());
 }
@@ -201,6 +205,66 @@ void RigidSolver::build_joints() {
     world_->addConstraint(constraint.get(), true);
     joints_.push_back(std::move(constraint));
   }
+}
+
+// The world's hold on the root (RootJoint) as a 6-dof joint between the solver's static body and
+// the root, its frame at the anchor with axes along the hold's: a slide's along x, a hinge's
+// along z, a planar root's slides along x and y and its hinge along z (the third turned round if
+// they are left-handed, with its range). What the hold leaves free is free (lower above upper),
+// the rest locked; a slide's range is its translation's (B's origin from A's, in A's frame: +s),
+// a hinge's its angle's (RO_xyz's angle about z is minus the right-handed one: [−upper, −lower])
+void RigidSolver::build_hold() {
+  const RootJoint& root = model_.root;
+  if (root.hold == RootHold::kFree) return;
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
+  const auto complete = [](const Vector3d& a) {
+    const Vector3d seed = std::abs(a.x()) < 0.9 ? Vector3d::UnitX() : Vector3d::UnitY();
+    const Vector3d u = a.cross(seed).normalized();
+    return std::pair{u, Vector3d(a.cross(u))};
+  };
+  if (root.hold == RootHold::kSlide) {
+    const auto [u, v] = complete(root.axes[0]);
+    axes << root.axes[0], u, v;
+  } else if (root.hold == RootHold::kHinge) {
+    const auto [u, v] = complete(root.axes[0]);
+    axes << u, v, root.axes[0];
+  } else if (root.hold == RootHold::kPlanar) {
+    axes << root.axes[0], root.axes[1], root.axes[2];
+    if (axes.determinant() < 0.0) axes.col(1) = -axes.col(1);
+  }
+  const Quaterniond frame(axes);
+  const Segment& segment = model_.segments[0];
+  const btTransform frame_a = to_bt(frame, root.anchor_world);
+  const btTransform frame_b =
+      to_bt(segment.rest_orientation.conjugate() * frame, root.anchor_in_root);
+  hold_ = std::make_unique<btGeneric6DofSpring2Constraint>(anchor_, *bodies_[0], frame_a, frame_b,
+                                                           RO_XYZ);
+  btVector3 linear_lower(0, 0, 0), linear_upper(0, 0, 0);
+  btVector3 angular_lower(0, 0, 0), angular_upper(0, 0, 0);
+  const bool planar = root.hold == RootHold::kPlanar;
+  if (root.hold == RootHold::kSlide || planar) {
+    // a free slide: lower above upper; a limited one its range
+    linear_lower.setX(root.limited ? root.lower : 1.0);
+    linear_upper.setX(root.limited ? root.upper : -1.0);
+  }
+  if (planar) {
+    linear_lower.setY(1.0);
+    linear_upper.setY(-1.0);
+  }
+  if (root.hold == RootHold::kHinge || planar) {
+    angular_lower.setZ(root.limited ? -root.upper : 1.0);
+    angular_upper.setZ(root.limited ? -root.lower : -1.0);
+  }
+  if (root.hold == RootHold::kBall) {
+    linear_lower = linear_upper = btVector3(0, 0, 0);
+    angular_lower = btVector3(1, 1, 1);
+    angular_upper = btVector3(-1, -1, -1);
+  }
+  hold_->setLinearLowerLimit(linear_lower);
+  hold_->setLinearUpperLimit(linear_upper);
+  hold_->setAngularLowerLimit(angular_lower);
+  hold_->setAngularUpperLimit(angular_upper);
+  world_->addConstraint(hold_.get(), true);
 }
 
 // a box limit as a 6-dof joint: the three translations locked, each angle within its range

@@ -1,9 +1,10 @@
 // Roots the world holds (RootJoint, root_joint.h) against answers derived independently: a slide's
 // fall at its analytic acceleration, a hinged rod's period and decay as a damped compound pendulum,
-// in every engine and rule that builds a held root (mujoco, xpbd); the others refuse it in one
-// line.
+// in every engine and rule that builds a held root (mujoco, xpbd, tree, bullet-rigid, ode); the
+// others refuse it in one line.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -20,7 +21,8 @@
 namespace puppet::compare {
 namespace {
 
-// the engines and rules that hold a root: mujoco, and xpbd and tree at their default substeps
+// the engines and rules that hold a root: mujoco, xpbd and tree at their default substeps, and the
+// bullet-rigid and ode ragdolls where this build has them
 struct Holder {
   std::string name, solver;
   SolverOptions options;
@@ -34,7 +36,14 @@ std::vector<Holder> holders() {
   Holder tree{"tree", std::string(kProceduralEngine), {}, 1};
   tree.options.procedural.rule = procedural::Rule::kTree;
   tree.substeps = procedural::rule_info(procedural::Rule::kTree).substeps;
-  return {mujoco, xpbd, tree};
+  std::vector<Holder> all = {mujoco, xpbd, tree};
+  for (const char* engine : {"bullet-rigid", "ode"}) {
+    if (find_engine(engine) &&
+        std::find(solver_names().begin(), solver_names().end(), engine) != solver_names().end()) {
+      all.push_back({engine, engine, {}, 1});
+    }
+  }
+  return all;
 }
 
 // steps the model in `holder` from its rest pose (the root's coordinates `start`) under
@@ -81,9 +90,8 @@ TEST(HeldRoot, ASlideFallsAtItsAnalyticAcceleration) {
       const Model model = slide(armature);
       ASSERT_EQ(model.root.hold, RootHold::kSlide);
       if (holder.name != "mujoco" && armature != 0.0) {
-        EXPECT_NE(
-            procedural::rule_model_problem(model, holder.options.procedural.rule).find("armature"),
-            std::string::npos);
+        EXPECT_NE(engine_model_problem(holder.solver, model, holder.options).find("armature"),
+                  std::string::npos);
         continue;
       }
       const double a = g * std::sqrt(0.5) * 2.0 / (2.0 + armature);
@@ -97,9 +105,13 @@ TEST(HeldRoot, ASlideFallsAtItsAnalyticAcceleration) {
         travel = std::abs(s);
         stray = std::max(stray, root_gap(model, root).distance + root_gap(model, root).angle);
       });
-      EXPECT_LT(worst, 1e-9);
+      // Bullet's ragdoll holds its constraints by iterated impulses corrected by ERP (Baumgarte):
+      // the hold stays open by tens of micrometres (measured 5.5e-5 m) and the fall along it
+      // strays by micrometres (1.9e-6 m); the others close it to rounding
+      const bool soft = holder.name == "bullet-rigid";
+      EXPECT_LT(worst, soft ? 1e-5 : 1e-9);
       EXPECT_GT(travel, 1.0);  // m
-      EXPECT_LT(stray, 1e-10);
+      EXPECT_LT(stray, soft ? 1e-4 : 1e-10);
     }
   }
 }
@@ -149,8 +161,8 @@ TEST(HeldRoot, AHingedRodSwingsAndDecaysAsAPendulum) {
   }
 }
 
-// Every other engine and rule refuses a held root in one line naming it, before anything runs;
-// mujoco, xpbd and tree run it
+// Every other engine and rule refuses a planar root in one line naming it, before anything runs;
+// mujoco, bullet-rigid, xpbd and tree run it
 TEST(HeldRoot, EnginesThatDoNotBuildItRefuseInOneLine) {
   const Model model =
       load_model(std::string(PUPPET_SOURCE_DIR) + "/tests/data/mjcf/held_planar.xml");
@@ -164,10 +176,26 @@ TEST(HeldRoot, EnginesThatDoNotBuildItRefuseInOneLine) {
     EXPECT_EQ(problem.empty(), holds) << procedural::rule_name(rule) << ": " << problem;
   }
   for (const std::string& solver : solver_names()) {
-    if (solver == "mujoco") continue;
     const std::string problem = engine_model_problem(solver, model);  // procedural: relaxed
-    EXPECT_NE(problem.find("a planar root"), std::string::npos) << solver << ": " << problem;
+    if (solver == "mujoco" || solver == "bullet-rigid") {
+      EXPECT_EQ(problem, "") << solver;  // a 6-dof joint to the world
+      continue;
+    }
+    EXPECT_NE(problem.find("planar"), std::string::npos) << solver << ": " << problem;
     EXPECT_EQ(problem.find('\n'), std::string::npos);
+  }
+  // a slide's armature: exact in mujoco, refused by every engine in maximal coordinates
+  const Model slide =
+      load_model(std::string(PUPPET_SOURCE_DIR) + "/tests/data/mjcf/held_slide.xml");
+  EXPECT_EQ(engine_model_problem("mujoco", slide), "");
+  SolverOptions xpbd;
+  xpbd.procedural.rule = procedural::Rule::kXpbd;
+  for (const std::string& solver : solver_names()) {
+    if (solver == "mujoco") continue;
+    const std::string problem = engine_model_problem(solver, slide, xpbd);
+    const bool holds = solver == "bullet-rigid" || solver == "ode" || solver == kProceduralEngine;
+    EXPECT_NE(problem.find(holds ? "armature" : "joined to the world"), std::string::npos)
+        << solver << ": " << problem;
   }
 }
 

@@ -93,7 +93,7 @@ Engine bullet_multibody_engine() {
           "speculative or Baumgarte impulses iterated ten sweeps (a limit giving back "
           "about 2% of an impact's speed, a moving pin aimed at its target's "
           "velocity); a contact's friction impulses are clamped per direction",
-      .model_problem = reference::bullet_model_problem,
+      .model_problem = reference::bullet_multibody_model_problem,
       .second_cost = multibody_cost,
       .make = make<reference::Kind::kMultibody>,
       .add_flags = add_flags,
@@ -108,7 +108,7 @@ Engine bullet_rigid_engine() {
           .constraints =
               "each joint is a constraint between two free bodies, its impulses "
               "iterated ten sweeps, so joints open under load",
-          .model_problem = reference::bullet_model_problem,
+          .model_problem = reference::bullet_rigid_model_problem,
           .second_cost = rigid_cost,
           .make = make<reference::Kind::kRigid>,
           .search = search};

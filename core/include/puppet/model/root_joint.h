@@ -42,5 +42,8 @@ inline bool root_held(const Model& model) { return model.root.hold != RootHold::
 /// an engine's refusal of a model whose root the world holds, in one line, when the engine does
 /// not build that joint (empty for a free root)
 std::string held_root_problem(const Model& model);
+/// the refusal of a slide's armature by an engine in maximal coordinates (empty when there is
+/// none): no inertia of a segment stands in for a rotor's inertia along a translation
+std::string slide_armature_problem(const Model& model);
 
 }  // namespace puppet

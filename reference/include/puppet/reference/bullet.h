@@ -39,9 +39,12 @@ std::string validate(const Settings& settings);
 
 // why Bullet cannot build the model (empty when it can), decided before anything runs: both
 // solvers build every joint and limit kind the model has (a box limit as the multibody's own
-// rows, limit_rows.cpp, and as the ragdoll's btGeneric6DofSpring2Constraint), so this is the
-// place a limitation would be stated
-std::string bullet_model_problem(const Model& model);
+// rows, limit_rows.cpp, and as the ragdoll's btGeneric6DofSpring2Constraint). A root the world
+// holds the ragdoll builds (a btGeneric6DofSpring2Constraint to the world) but for a slide's
+// armature; the multibody does not build it yet
+std::string bullet_model_problem(Kind kind, const Model& model);
+std::string bullet_multibody_model_problem(const Model& model);
+std::string bullet_rigid_model_problem(const Model& model);
 
 // How many constraints hold to Bullet's process-wide static body (btTypedConstraint::
 // getFixedBody()). No solver of this project uses it (a pin holds to a static body of its own
@@ -51,7 +54,7 @@ int bullet_shared_fixed_body_constraints();
 
 // builds the model at rest in the environment (its ground, gravity and forces); the model must
 // outlive the solver. Throws ModelError when the model cannot be expressed in Bullet
-// (bullet_model_problem).
+// (bullet_model_problem for its kind).
 std::unique_ptr<Solver> make_solver(Kind kind, const Model& model, const Environment& environment,
                                     const Settings& settings = {});
 
