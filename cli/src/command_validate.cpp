@@ -28,11 +28,10 @@ int validate(const std::string& path, const ReadOptions& reading, double budget)
                 model.segments[0].name.c_str(), root_hold_name(root.hold),
                 root.anchor_world.x() + 0.0, root.anchor_world.y() + 0.0,
                 root.anchor_world.z() + 0.0);
-    const bool planar = root.hold == RootHold::kPlanar;
-    const int count = root.hold == RootHold::kWeld ? 0 : planar ? 3 : 1;
+    const int count = root.hold == RootHold::kWeld ? 0 : root.hold == RootHold::kPlanar ? 3 : 1;
     for (int k = 0; k < count; ++k) {
       const size_t dof = static_cast<size_t>(k);
-      const bool slide = root.hold == RootHold::kSlide || (planar && k < 2);
+      const bool slide = k < root_slide_count(root.hold);
       const Vector3d& a = root.axes[dof];
       const JointPassive& p = root.passive[dof];
       const double unit = slide ? 1.0 : 180.0 / M_PI;

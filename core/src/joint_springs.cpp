@@ -137,8 +137,7 @@ void add_root_spring_wrench(const Model& model, const BodyState& body, double h,
     const JointPassive& s = root.passive[static_cast<size_t>(k)];
     if (s.stiffness == 0.0 && s.damping == 0.0) continue;
     const Vector3d& a = root.axes[static_cast<size_t>(k)];
-    const bool slide = root.hold == RootHold::kSlide || (root.hold == RootHold::kPlanar && k < 2);
-    if (slide) {
+    if (k < root_slide_count(root.hold)) {
       // a force along the slide at the anchor: a generalized force on the slide alone (its lever
       // about a planar root's hinge is the hinge's own); the damper implicit in the mass
       const double f = -s.stiffness * (c.value[k] - s.spring_ref) -
@@ -213,7 +212,7 @@ const Model& armature_in_inertia(const Model& model, std::optional<Model>& holde
   // the world's hinge on the root: its rotor about the hinge's axis (a slide's armature is refused
   // by the engines that take this model: no inertia of a body gives it)
   const RootJoint& root = model.root;
-  const int hinge = root.hold == RootHold::kHinge ? 0 : root.hold == RootHold::kPlanar ? 2 : -1;
+  const int hinge = root_hinge_index(root.hold);
   if (hinge >= 0) {
     Segment& base = holder->segments[0];
     const Vector3d a = base.rest_orientation.conjugate() * root.axes[static_cast<size_t>(hinge)];

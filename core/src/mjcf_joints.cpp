@@ -100,40 +100,35 @@ Reader::JointElement Reader::read_joint_element(const XMLElement* e, int child, 
     out.range = {coordinate(out.range[0]) - ref, coordinate(out.range[1]) - ref};
   }
   out.user = user_data(e, user_joint_, kJointUserSize, cls);
-  if (slide) {
+  if (out.type == "hinge" || slide) {
     const Vector3d axis = vector3(e, "axis", cls, {0, 0, 1});
     check_norm(e, "axis", axis);
     out.axis_world = detail::normalized(Vector3d(q * axis));
     if (out.limited) {
       if (out.range[0] > out.range[1]) fail(e, "its range has lo > hi");
       if (out.range[0] > 0.0 || out.range[1] < 0.0) {
-        fail(e, "its range must contain ref (0 unless given), the body's place as written");
+        fail(e, slide ? "its range must contain ref (0 unless given), the body's place as written"
+                      : "its range must contain ref (0 unless given), the angle of the body as "
+                        "written");
       }
-      out.lower = out.range[0];
-      out.upper = out.range[1];
     }
   }
-  if (out.type == "hinge") {
-    const Vector3d axis = vector3(e, "axis", cls, {0, 0, 1});
-    check_norm(e, "axis", axis);
-    out.axis_world = detail::normalized(Vector3d(q * axis));
-    if (out.limited) {
-      if (out.range[0] > out.range[1]) fail(e, "its range has lo > hi");
-      if (out.range[0] > 0.0 || out.range[1] < 0.0) {
-        fail(e, "its range must contain ref (0 unless given), the angle of the body as written");
-      }
-      // a hinge's angle is read within half a turn either way (±180° is a free hinge): a wider
-      // range is one the model cannot hold, and would be read as no limit at all
-      constexpr double kHalfTurn = kPi * (1.0 + 1e-12);  // 180 degrees, as rounded
-      if (out.range[0] < -kHalfTurn || out.range[1] > kHalfTurn) {
-        fail(e,
-             "its range goes past 180 degrees either way, which the testbed's hinges cannot "
-             "hold (their angle is read within [-180, 180] degrees, and that whole range is a "
-             "free hinge)");
-      }
-      out.lower = std::max(out.range[0], -kPi);
-      out.upper = std::min(out.range[1], kPi);
+  if (slide && out.limited) {
+    out.lower = out.range[0];
+    out.upper = out.range[1];
+  }
+  if (out.type == "hinge" && out.limited) {
+    // a hinge's angle is read within half a turn either way (±180° is a free hinge): a wider
+    // range is one the model cannot hold, and would be read as no limit at all
+    constexpr double kHalfTurn = kPi * (1.0 + 1e-12);  // 180 degrees, as rounded
+    if (out.range[0] < -kHalfTurn || out.range[1] > kHalfTurn) {
+      fail(e,
+           "its range goes past 180 degrees either way, which the testbed's hinges cannot "
+           "hold (their angle is read within [-180, 180] degrees, and that whole range is a "
+           "free hinge)");
     }
+    out.lower = std::max(out.range[0], -kPi);
+    out.upper = std::min(out.range[1], kPi);
   }
   return out;
 }

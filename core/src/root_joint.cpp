@@ -15,17 +15,28 @@ Quaterniond turn_from_rest(const Segment& root, const Quaterniond& q) {
   return turn;
 }
 
-// the index of the hinge among the axes (-1: none)
-int hinge_axis(RootHold hold) {
+}  // namespace
+
+int root_hinge_index(RootHold hold) {
   return hold == RootHold::kHinge ? 0 : hold == RootHold::kPlanar ? 2 : -1;
 }
 
-// how many of the axes are slides
-int slide_count(RootHold hold) {
+int root_slide_count(RootHold hold) {
   return hold == RootHold::kSlide ? 1 : hold == RootHold::kPlanar ? 2 : 0;
 }
 
-}  // namespace
+Vector3d root_held_turn(const Model& model, const Quaterniond& q) {
+  const RootJoint& root = model.root;
+  const Quaterniond turn = turn_from_rest(model.segments[0], q);
+  if (root.hold == RootHold::kWeld || root.hold == RootHold::kSlide) return quat_log(turn);
+  const int hinge = root_hinge_index(root.hold);
+  if (hinge < 0) return Vector3d::Zero();
+  const Vector3d& a = root.axes[static_cast<size_t>(hinge)];
+  const Vector3d now = turn * a;
+  const Vector3d tilt = a.cross(now);
+  const double sine = tilt.norm();
+  return sine > 0.0 ? Vector3d(std::atan2(sine, a.dot(now)) / sine * tilt) : Vector3d::Zero();
+}
 
 int root_dofs(RootHold hold) {
   switch (hold) {
@@ -70,7 +81,7 @@ std::string held_root_problem(const Model& model) {
 
 std::string slide_armature_problem(const Model& model) {
   const RootJoint& root = model.root;
-  const int slides = slide_count(root.hold);
+  const int slides = root_slide_count(root.hold);
   for (int k = 0; k < slides; ++k) {
     if (root.passive[static_cast<size_t>(k)].armature != 0.0) {
       return "the armature of the root's slide \"" + root.names[static_cast<size_t>(k)] +
@@ -83,8 +94,8 @@ std::string slide_armature_problem(const Model& model) {
 RootCoordinates root_coordinates(const Model& model, const BodyState& root) {
   const RootJoint& joint = model.root;
   RootCoordinates c;
-  const int hinge = hinge_axis(joint.hold);
-  const int slides = slide_count(joint.hold);
+  const int hinge = root_hinge_index(joint.hold);
+  const int slides = root_slide_count(joint.hold);
   c.count = slides + (hinge >= 0 ? 1 : 0);
   const Vector3d arm = root.q * joint.anchor_in_root;
   const Vector3d moved = root.x + arm - joint.anchor_world;
@@ -108,7 +119,7 @@ BodyState root_state_at(const Model& model, const RootCoordinates& coordinates) 
   BodyState body;
   body.x = segment.rest_position;
   body.q = segment.rest_orientation;
-  const int hinge = hinge_axis(joint.hold);
+  const int hinge = root_hinge_index(joint.hold);
   Vector3d anchor_velocity = Vector3d::Zero();
   if (hinge >= 0) {
     const Vector3d& axis = joint.axes[hinge];
@@ -117,7 +128,7 @@ BodyState root_state_at(const Model& model, const RootCoordinates& coordinates) 
     body.x = joint.anchor_world + turn * (segment.rest_position - joint.anchor_world);
     body.w = coordinates.rate[hinge] * axis;
   }
-  for (int k = 0; k < slide_count(joint.hold); ++k) {
+  for (int k = 0; k < root_slide_count(joint.hold); ++k) {
     body.x += coordinates.value[k] * joint.axes[k];
     anchor_velocity += coordinates.rate[k] * joint.axes[k];
   }
@@ -131,19 +142,11 @@ RootGap root_gap(const Model& model, const BodyState& root) {
   RootGap gap;
   if (joint.hold == RootHold::kFree) return gap;
   Vector3d moved = root.x + root.q * joint.anchor_in_root - joint.anchor_world;
-  for (int k = 0; k < slide_count(joint.hold); ++k)
+  for (int k = 0; k < root_slide_count(joint.hold); ++k) {
     moved -= joint.axes[k].dot(moved) * joint.axes[k];
-  gap.distance = moved.norm();
-  const Quaterniond turn = turn_from_rest(model.segments[0], root.q);
-  const int hinge = hinge_axis(joint.hold);
-  if (joint.hold == RootHold::kBall) {
-    gap.angle = 0.0;
-  } else if (hinge >= 0) {
-    const Vector3d& axis = joint.axes[hinge];
-    gap.angle = std::atan2((turn * axis).cross(axis).norm(), (turn * axis).dot(axis));
-  } else {
-    gap.angle = 2.0 * std::atan2(turn.vec().norm(), turn.w());
   }
+  gap.distance = moved.norm();
+  gap.angle = root_held_turn(model, root.q).norm();
   return gap;
 }
 

@@ -27,6 +27,7 @@
 // position based dynamics", §3.3–3.4; Macklin, Müller, Chentanez 2016 (XPBD).
 #include <algorithm>
 
+#include "puppet/model/root_joint.h"
 #include "puppet/model/rotation.h"
 #include "stages.h"
 
@@ -111,8 +112,8 @@ void hold_root(const Model& model, const Matrix3d* start, State& state) {
   if (root.hold == RootHold::kFree) return;
   BodyState& body = state.bodies[0];
   const Segment& segment = model.segments[0];
-  const bool planar = root.hold == RootHold::kPlanar;
-  const int slides = root.hold == RootHold::kSlide ? 1 : planar ? 2 : 0;
+  const int slides = root_slide_count(root.hold);
+  const int hinge = root_hinge_index(root.hold);
   // the anchor: the gap to where the hold lets it be, and the projector on the held directions
   const Vector3d r = body.q * root.anchor_in_root;
   Vector3d gap = root.anchor_world - (body.x + r);
@@ -140,8 +141,8 @@ void hold_root(const Model& model, const Matrix3d* start, State& state) {
     if (root.hold == RootHold::kBall) {
       w0 = start ? start[0]
                  : Matrix3d(rotation * segment.inv_inertia.asDiagonal() * rotation.transpose());
-    } else if (root.hold == RootHold::kHinge || planar) {
-      const Vector3d& a = root.axes[planar ? 2 : 0];
+    } else if (hinge >= 0) {
+      const Vector3d& a = root.axes[static_cast<size_t>(hinge)];
       const Vector3d local = rotation.transpose() * a;
       w0 = a * a.transpose() / local.dot(segment.inertia.cwiseProduct(local));
     }
@@ -153,23 +154,11 @@ void hold_root(const Model& model, const Matrix3d* start, State& state) {
     body.x += segment.inv_mass * impulse;
     body.q = renormalized(quat_exp(w0 * r0.cross(impulse)) * body.q);
   }
-  // the orientation, turned about the anchor
-  const Quaterniond rest = segment.rest_orientation;
-  Vector3d turn = Vector3d::Zero();  // the rotation (world) the root needs
-  if (root.hold == RootHold::kWeld || root.hold == RootHold::kSlide) {
-    turn = quat_log(rest * body.q.conjugate());
-  } else if (root.hold == RootHold::kHinge || planar) {
-    const Vector3d& a = root.axes[planar ? 2 : 0];
-    const Vector3d now = body.q * (rest.conjugate() * a);
-    const Vector3d across = now.cross(a);
-    const double sine = across.norm();
-    if (sine > 0.0) turn = std::atan2(sine, now.dot(a)) / sine * across;
-    if (root.limited && !planar) {
-      Quaterniond from_rest = body.q * rest.conjugate();
-      if (from_rest.w() < 0.0) from_rest.coeffs() = -from_rest.coeffs();
-      const double angle = 2.0 * std::atan2(from_rest.vec().dot(a), from_rest.w());
-      turn += (std::clamp(angle, root.lower, root.upper) - angle) * a;
-    }
+  // the orientation, turned about the anchor: back by the held turn, and a hinge's range
+  Vector3d turn = -root_held_turn(model, body.q);  // the rotation (world) the root needs
+  if (root.limited && root.hold == RootHold::kHinge) {
+    const double angle = root_coordinates(model, body).value[0];
+    turn += (std::clamp(angle, root.lower, root.upper) - angle) * root.axes[0];
   }
   if (turn.squaredNorm() > 0.0) {
     const Vector3d anchor = body.x + body.q * root.anchor_in_root;

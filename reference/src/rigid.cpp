@@ -20,6 +20,7 @@
 #include <BulletDynamics/ConstraintSolver/btGeneric6DofSpring2Constraint.h>
 
 #include "bullet_common.h"
+#include "puppet/model/rotation.h"
 
 namespace puppet::reference::detail {
 namespace {
@@ -217,17 +218,14 @@ void RigidSolver::build_hold() {
   const RootJoint& root = model_.root;
   if (root.hold == RootHold::kFree) return;
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
-  const auto complete = [](const Vector3d& a) {
-    const Vector3d seed = std::abs(a.x()) < 0.9 ? Vector3d::UnitX() : Vector3d::UnitY();
-    const Vector3d u = a.cross(seed).normalized();
-    return std::pair{u, Vector3d(a.cross(u))};
-  };
-  if (root.hold == RootHold::kSlide) {
-    const auto [u, v] = complete(root.axes[0]);
-    axes << root.axes[0], u, v;
-  } else if (root.hold == RootHold::kHinge) {
-    const auto [u, v] = complete(root.axes[0]);
-    axes << u, v, root.axes[0];
+  if (root.hold == RootHold::kSlide || root.hold == RootHold::kHinge) {
+    const Vector3d& a = root.axes[0];
+    const Vector3d u = any_orthogonal(a), v = a.cross(u);
+    if (root.hold == RootHold::kSlide) {
+      axes << a, u, v;
+    } else {
+      axes << u, v, a;
+    }
   } else if (root.hold == RootHold::kPlanar) {
     axes << root.axes[0], root.axes[1], root.axes[2];
     if (axes.determinant() < 0.0) axes.col(1) = -axes.col(1);

@@ -60,7 +60,7 @@ Vector3d world_of(const std::vector<BodyState>& bodies, const Pin& pin) {
 
 }  // namespace
 
-void rotate_about(std::vector<BodyState>& bodies, const Quaterniond& rotation,
+void rotate_about(std::span<BodyState> bodies, const Quaterniond& rotation,
                   const Vector3d& centre) {
   for (BodyState& body : bodies) {
     body.x = centre + rotation * (body.x - centre);
@@ -100,26 +100,27 @@ std::vector<HeldTurn> held_turns(const Model& model) {
   return turns;
 }
 
+namespace {
+
+// whether segment s lies in the subtree under `top` (segments come parent before child)
+bool in_subtree(const Model& model, int top, int s) {
+  while (s > top) s = model.segments[s].parent;
+  return s == top;
+}
+
+}  // namespace
+
 void turn_subtree(const Model& model, int top, const Quaterniond& rotation, const Vector3d& centre,
                   std::vector<BodyState>& bodies) {
   for (int s = 0; s < model.segment_count(); ++s) {
-    int up = s;
-    while (up > top) up = model.segments[up].parent;
-    if (up != top) continue;
-    BodyState& body = bodies[s];
-    body.x = centre + rotation * (body.x - centre);
-    body.q = (rotation * body.q).normalized();
-    body.v = rotation * body.v;
-    body.w = rotation * body.w;
+    if (in_subtree(model, top, s)) rotate_about({&bodies[s], 1}, rotation, centre);
   }
 }
 
 void spin_subtree(const Model& model, int top, const Vector3d& omega, const Vector3d& centre,
                   std::vector<BodyState>& bodies) {
   for (int s = 0; s < model.segment_count(); ++s) {
-    int up = s;
-    while (up > top) up = model.segments[up].parent;
-    if (up != top) continue;
+    if (!in_subtree(model, top, s)) continue;
     bodies[s].w += omega;
     bodies[s].v += omega.cross(bodies[s].x - centre);
   }

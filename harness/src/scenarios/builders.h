@@ -4,6 +4,7 @@
 #pragma once
 
 #include <optional>
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -74,7 +75,6 @@ Scenario figure_on_ground(const Model& model, const ScenarioOptions& options, do
 // the centre of mass of a state
 Vector3d centre_of_mass(const Model& model, const std::vector<BodyState>& bodies);
 // every body rotated rigidly by `rotation` about `centre`
-void rotate_about(std::vector<BodyState>& bodies, const Quaterniond& rotation,
-                  const Vector3d& centre);
+void rotate_about(std::span<BodyState> bodies, const Quaterniond& rotation, const Vector3d& centre);
 
 }  // namespace puppet::compare

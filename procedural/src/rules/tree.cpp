@@ -35,6 +35,7 @@
 #include <cmath>
 
 #include "puppet/model/euler_box.h"
+#include "puppet/model/root_joint.h"
 #include "puppet/model/rotation.h"
 #include "rules.h"
 
@@ -100,14 +101,9 @@ void set_hold_rows(const Model& model, const BodyState& body, const Matrix3d& ro
     c(rows) = value;
     ++rows;
   };
-  // a unit vector across `a`, and the third completing the pair
-  const auto across = [](const Vector3d& a) {
-    const Vector3d seed = std::abs(a.x()) < 0.9 ? Vector3d::UnitX() : Vector3d::UnitY();
-    return Vector3d(a.cross(seed).normalized());
-  };
   if (root.hold == RootHold::kSlide) {
     const Vector3d& a = root.axes[0];
-    const Vector3d u = across(a), v = a.cross(u);
+    const Vector3d u = any_orthogonal(a), v = a.cross(u);
     add_row(u.transpose() * point, u.dot(stray));
     add_row(v.transpose() * point, v.dot(stray));
     const double s = a.dot(stray);
@@ -120,29 +116,22 @@ void set_hold_rows(const Model& model, const BodyState& body, const Matrix3d& ro
   } else {
     for (int k = 0; k < 3; ++k) add_row(point.row(k), stray(k));
   }
-  // a turn δ of the root in world is R Δθ
-  Quaterniond from_rest = body.q * model.segments[0].rest_orientation.conjugate();
-  if (from_rest.w() < 0.0) from_rest.coeffs() = -from_rest.coeffs();
+  // a turn δ of the root in world is R Δθ; C the held turn (none along a hinge's own axis)
   const auto add_turn_row = [&](const Vector3d& direction, double value) {
     Eigen::Matrix<double, 1, 6> row = Eigen::Matrix<double, 1, 6>::Zero();
     row.tail<3>() = direction.transpose() * rotation;
     add_row(row, value);
   };
+  const Vector3d turned = root_held_turn(model, body.q);
   if (root.hold == RootHold::kWeld || root.hold == RootHold::kSlide) {
-    const Vector3d turned = quat_log(from_rest);
     for (int k = 0; k < 3; ++k) add_turn_row(Vector3d::Unit(k), turned(k));
-  } else if (root.hold == RootHold::kHinge || planar) {
-    const Vector3d& a = root.axes[planar ? 2 : 0];
-    const Vector3d now = from_rest * a;
-    const Vector3d tilt_axis = a.cross(now);  // the rotation from a to where it now points
-    const double sine = tilt_axis.norm();
-    const Vector3d tilt =
-        sine > 0.0 ? Vector3d(std::atan2(sine, a.dot(now)) / sine * tilt_axis) : Vector3d::Zero();
-    const Vector3d u = across(a), v = a.cross(u);
-    add_turn_row(u, u.dot(tilt));
-    add_turn_row(v, v.dot(tilt));
+  } else if (const int hinge = root_hinge_index(root.hold); hinge >= 0) {
+    const Vector3d& a = root.axes[static_cast<size_t>(hinge)];
+    const Vector3d u = any_orthogonal(a), v = a.cross(u);
+    add_turn_row(u, u.dot(turned));
+    add_turn_row(v, v.dot(turned));
     if (root.limited && !planar) {
-      const double angle = 2.0 * std::atan2(from_rest.vec().dot(a), from_rest.w());
+      const double angle = root_coordinates(model, body).value[0];
       if (angle > root.upper || angle < root.lower) {
         add_turn_row(a, angle - std::clamp(angle, root.lower, root.upper));
       }

@@ -20,6 +20,17 @@ struct RootCoordinates {
   std::array<double, 3> rate{0, 0, 0};
 };
 
+/// where the root joint's degrees of freedom lie among its axes: the first `root_slide_count` are
+/// slides, `root_hinge_index` is the hinge's (-1: none)
+int root_slide_count(RootHold hold);
+int root_hinge_index(RootHold hold);
+
+/// the turn (world rotation vector) by which orientation q strays from what the hold allows: a
+/// weld's or a slide's whole turn from rest; a hinge's (a planar root's) the tilt of its axis from
+/// its rest direction to where q has it; nothing for a free or a ball root. Its norm is the gap's
+/// angle; turning the root by minus it about the anchor closes it
+Vector3d root_held_turn(const Model& model, const Quaterniond& q);
+
 /// the coordinates of the root's pose and velocity (an angle is read within ±π); a pose off the
 /// joint reads as its nearest on it, along the free directions
 RootCoordinates root_coordinates(const Model& model, const BodyState& root);
