@@ -31,6 +31,10 @@ import sys
 from report.catalogue import PAIRWISE_SOLVER, REFERENCE_ENGINES, RULE_INFO, RULES, SCENARIOS
 
 MARGIN = 0.40
+# a paired benchmark's sides are timed in turn within each iteration (bench_python), so a slowed
+# machine slows both alike: quick runs of Python over C++ read 1.00-1.05 on one machine where
+# two benchmarks timed apart read 0.95-1.07 here and 1.44 once in CI
+PAIRED_MARGIN = 0.10
 # the rule families, from the rule catalogue: one pass (their iterations are not read), sweeps
 # in one substep, and substepped
 ONE_PASS = [r for r in RULES if not RULE_INFO[r]["iterations_are"]]
@@ -71,7 +75,8 @@ def medians(path):
         return {row["benchmark"]: float(row["median_s_per_item"]) for row in csv.DictReader(f)}
 
 
-def gate(runs, name, numerator, denominator, floor, kind, numerator_per=1, denominator_per=1):
+def gate(runs, name, numerator, denominator, floor, kind, numerator_per=1, denominator_per=1,
+         margin=MARGIN):
     changed = any(pattern.match(numerator) or pattern.match(denominator) for pattern in CHANGED)
     measured_by_machine = {
         machine: (times[numerator] / numerator_per) / (times[denominator] / denominator_per)
@@ -92,11 +97,11 @@ def gate(runs, name, numerator, denominator, floor, kind, numerator_per=1, denom
     # one decimal, two below 1 (a ratio of 0.14 would otherwise guard with 0.0)
     scale = 10 if measured >= 1 else 100
     if kind == "min":
-        guard = math.floor((1 - MARGIN) * measured * scale) / scale
+        guard = math.floor((1 - margin) * measured * scale) / scale
         reached = measured >= floor
         clear = guard >= floor
     else:
-        guard = math.ceil((1 + MARGIN) * measured * scale) / scale
+        guard = math.ceil((1 + margin) * measured * scale) / scale
         reached = measured <= floor
         clear = guard <= floor
     # a floor reached a margin clear is enforced through the guard, which is then on its safe
@@ -115,7 +120,7 @@ def gate(runs, name, numerator, denominator, floor, kind, numerator_per=1, denom
     elif not clear:
         g["known_failure"] = ("measured %.2f, the floor is %g: reached, but by less than the "
                               "%d %% a quick run can read under a full one (the threshold guards "
-                              "the measured value)" % (measured, floor, round(100 * MARGIN)))
+                              "the measured value)" % (measured, floor, round(100 * margin)))
     return g
 
 
@@ -176,6 +181,12 @@ def main():
     for rule in ONE_PASS + SWEEPS:
         gates.append(gate(times, f"chain: {rule} time per segment, N=1024 / N=16",
                           f"scaling/{rule}/1024", f"scaling/{rule}/16", 1.5, "max", 1024, 16))
+    # step() called from Python over the same step called from C++, paired in one benchmark
+    # (issue 52's target: at most 10 % more)
+    if any("python/step/xpbd/cpp" in t for t, _ in times.values()):
+        gates.append(gate(times, "python: xpbd step() called from Python over C++",
+                          "python/step/xpbd/python", "python/step/xpbd/cpp", 1.1, "max",
+                          margin=PAIRED_MARGIN))
     json.dump({"gates": gates}, sys.stdout, indent=2)
     print()
 

@@ -6,6 +6,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string_view>
 
 #include "puppet/compare/output.h"
 #include "puppet/model/file.h"
@@ -15,6 +16,8 @@ namespace puppet::compare {
 namespace {
 
 using nlohmann::json;
+
+constexpr std::string_view kSidePrefix = "s_per_item/";
 
 // a regular file, as a model is read (a FIFO would block, /dev/zero never end): Google
 // Benchmark's JSON of a full run is a few MB
@@ -185,6 +188,19 @@ std::vector<BenchTime> read_bench_times(const std::string& path) {
                       " (--benchmark_repetitions)");
     }
     times.push_back(time);
+    // a paired benchmark times its sides in turn within each iteration, so that whatever slows
+    // the machine slows both alike (bench_python): each side's seconds per item is a counter
+    // "s_per_item/<side>", read as the benchmark <name>/<side>
+    for (const auto& [key, value] : entry.items()) {
+      if (!key.starts_with(kSidePrefix)) continue;
+      const std::string side = printable(key.substr(kSidePrefix.size()), 60);
+      if (side.empty() || !value.is_number() || !std::isfinite(value.get<double>()) ||
+          !(value.get<double>() > 0.0)) {
+        throw GateError(file + ": " + shown_name + ": \"" + printable(key, 80) +
+                        "\" must be a positive number of seconds (a side's time per item)");
+      }
+      times.push_back({name + "/" + side, value.get<double>(), time.repetitions});
+    }
   }
   if (times.empty()) {
     throw GateError(file + ": no median aggregates (run with --benchmark_repetitions=" +

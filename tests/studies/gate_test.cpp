@@ -88,6 +88,40 @@ TEST(Gate, RatiosOfMediansPerItemAgainstThresholds) {
   EXPECT_NE(gate_table(results).find("^1 measured on machine-a"), std::string::npos);
 }
 
+// A paired benchmark's sides (counters "s_per_item/<side>") are read as benchmarks of their own,
+// beside the pair's own time; a side that is not a positive time is refused
+TEST(Gate, APairedBenchmarksSidesAreReadAsBenchmarks) {
+  const std::string entry =
+      R"({"run_type": "aggregate", "aggregate_name": "median", "run_name": "py/step/manual_time", )"
+      R"("repetitions": 9, "items_per_second": 1000, )";
+  const auto times = read_bench_times(
+      write_temp("paired.json", R"({"benchmarks": [)" + entry +
+                                    R"("s_per_item/cpp": 0.0009, "s_per_item/python": 0.0011}]})"));
+  ASSERT_EQ(times.size(), 3u);
+  EXPECT_EQ(times[0].name, "py/step");
+  EXPECT_EQ(times[1].name, "py/step/cpp");
+  EXPECT_DOUBLE_EQ(times[1].seconds, 0.0009);
+  EXPECT_EQ(times[2].name, "py/step/python");
+  EXPECT_EQ(times[2].repetitions, 9);
+  const auto specs = read_gate_specs(write_temp("paired_gate.json", R"({"gates": [
+      {"name": "python", "numerator": "py/step/python", "denominator": "py/step/cpp", "max": 1.1}
+    ]})"));
+  const auto results = evaluate_gates(specs, times);
+  EXPECT_NEAR(results[0].ratio, 11.0 / 9.0, 1e-12);
+  EXPECT_EQ(results[0].status, GateStatus::kFail);
+  for (const std::string bad :
+       {R"("s_per_item/cpp": 0)", R"("s_per_item/cpp": "fast")", R"("s_per_item/": 0.001)"}) {
+    std::string message;
+    try {
+      read_bench_times(write_temp("paired_bad.json", R"({"benchmarks": [)" + entry + bad + "}]}"));
+    } catch (const GateError& e) {
+      message = e.what();
+    }
+    EXPECT_NE(message.find("must be a positive number of seconds"), std::string::npos) << bad;
+    EXPECT_NE(message.find("paired_bad.json: py/step"), std::string::npos) << message;
+  }
+}
+
 // A floor not reached yet is a known failure, and its threshold guards what was measured: the
 // gate still fails when the ratio falls past it, and says so when the floor is reached.
 TEST(Gate, AKnownFailureStillFailsWhenItRegressesPastItsGuard) {

@@ -15,6 +15,9 @@
 // and its passing is reported so that the mark is removed. It also marks a floor that the full
 // run reached by less than a quick run's noise (its `measured` meets the floor): the guard then
 // holds the measured value, and a pass is reported as such, not as a mark to remove.
+// A paired benchmark (two sides timed in turn within each iteration, so that a machine slowed
+// for a while slows both alike) gives each side's median seconds per item as a counter
+// "s_per_item/<side>", read as the benchmark "<name>/<side>".
 #pragma once
 
 #include <optional>
