@@ -67,9 +67,9 @@ void Reader::read_body(const XMLElement* e, int parent, const Vector3d& parent_x
     if (!class_index_.count(*c)) fail(e, "unknown childclass \"" + one_line(*c) + "\"");
     child_class = *c;
   }
-  // the body frame in world
-  const Vector3d x = parent_x + parent_q * vector3(e, "pos", "", {0, 0, 0});
-  const Quaterniond q = (parent_q * orientation(e, "")).normalized();
+  // the body frame in world (turned below if its hinge's range leaves out the pose as written)
+  Vector3d x = parent_x + parent_q * vector3(e, "pos", "", {0, 0, 0});
+  Quaterniond q = (parent_q * orientation(e, "")).normalized();
 
   std::vector<const XMLElement*> geoms, joints, bodies;
   const XMLElement* inertial = nullptr;
@@ -103,8 +103,23 @@ void Reader::read_body(const XMLElement* e, int parent, const Vector3d& parent_x
       fail(joints[3], "a fourth joint in body \"" + name +
                           "\" (one joint per body, or two or three hinges at one point)");
     } else {
-      joints_.push_back(
-          read_joint(e, joints.empty() ? nullptr : joints[0], index, parent, x, q, child_class));
+      double turn = 0.0;
+      joints_.push_back(read_joint(e, joints.empty() ? nullptr : joints[0], index, parent, x, q,
+                                   child_class, &turn));
+      if (turn != 0.0) {
+        // the body and all below it turned about the hinge to the nearer end of its range
+        const detail::RawJoint& hinge = joints_.back();
+        const Quaterniond r(Eigen::AngleAxisd(turn, hinge.hinge_axis_world));
+        const Vector3d& a = hinge.joint.anchor_world;
+        Segment& segment = segments_.back();
+        segment.rest_position = a + r * (segment.rest_position - a);
+        segment.rest_orientation = (r * segment.rest_orientation).normalized();
+        x = a + r * (x - a);
+        q = (r * q).normalized();
+        ++skipped_
+            ["<joint> whose range leaves out the pose as written, its rest turned to the "
+             "nearer end"];
+      }
     }
   }
   for (const XMLElement* b : bodies) read_body(b, index, x, q, child_class);

@@ -48,8 +48,8 @@ std::optional<std::vector<double>> Reader::user_data(const XMLElement* e, int de
 }
 
 Reader::JointElement Reader::read_joint_element(const XMLElement* e, int child, const Vector3d& x,
-                                                const Quaterniond& q,
-                                                const std::string& class_name) const {
+                                                const Quaterniond& q, const std::string& class_name,
+                                                bool may_turn) const {
   if (std::string(e->Name()) == "freejoint") fail(e, "a free joint below the root");
   const std::string cls = class_of(e, class_name);
   check_attributes(e, kJointAttributes);
@@ -106,6 +106,14 @@ Reader::JointElement Reader::read_joint_element(const XMLElement* e, int child, 
     out.axis_world = detail::normalized(Vector3d(q * axis));
     if (out.limited) {
       if (out.range[0] > out.range[1]) fail(e, "its range has lo > hi");
+      if (may_turn && !slide && (out.range[0] > 0.0 || out.range[1] < 0.0)) {
+        // MuJoCo starts such a joint outside its range, and its limit pushes it in at once;
+        // dm_control starts its figures inside their ranges: the rest pose is turned to the
+        // nearer end, the range's and springref's angles then measured from there
+        out.rest_turn = out.range[0] > 0.0 ? out.range[0] : out.range[1];
+        out.range = {out.range[0] - out.rest_turn, out.range[1] - out.rest_turn};
+        out.spring.spring_ref -= out.rest_turn;
+      }
       if (out.range[0] > 0.0 || out.range[1] < 0.0) {
         fail(e, slide ? "its range must contain ref (0 unless given), the body's place as written"
                       : "its range must contain ref (0 unless given), the angle of the body as "
@@ -239,7 +247,8 @@ detail::RawJoint Reader::read_box(const std::vector<const XMLElement*>& hinges, 
 
 detail::RawJoint Reader::read_joint(const XMLElement* body, const XMLElement* e, int child,
                                     int parent, const Vector3d& x, const Quaterniond& q,
-                                    const std::string& class_name) {
+                                    const std::string& class_name, double* rest_turn) {
+  *rest_turn = 0.0;
   detail::RawJoint raw;
   Joint& j = raw.joint;
   raw.parent_name = segments_[parent].name;
@@ -263,7 +272,8 @@ detail::RawJoint Reader::read_joint(const XMLElement* body, const XMLElement* e,
     return raw;
   }
   joint_where_.push_back(where(e));
-  const JointElement element = read_joint_element(e, child, x, q, class_name);
+  const JointElement element = read_joint_element(e, child, x, q, class_name, true);
+  *rest_turn = element.rest_turn;
   j.name = element.name;
   j.anchor_world = element.anchor_world;
   const auto& user = element.user;

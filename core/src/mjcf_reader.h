@@ -312,10 +312,17 @@ class Reader {
     // stiffness, damping and (a hinge's) springref less ref: the testbed's angles start at 0 in
     // the body's pose as written, MuJoCo's hinge at ref
     JointPassive spring;
+    // a lone hinge whose range leaves out the pose as written (dm_control's hopper: its knee's
+    // [5°, 150°]): the angle its rest pose turns it by, to the range's nearer end, and by which
+    // the range and springref above were moved (the rest is the testbed's angle 0)
+    double rest_turn = 0.0;
   };
 
+  // may_turn: a hinge whose range leaves out the pose as written gets a rest_turn instead of a
+  // refusal (a lone hinge below the root; a box's and the root's ranges must hold it)
   JointElement read_joint_element(const XMLElement* e, int child, const Vector3d& x,
-                                  const Quaterniond& q, const std::string& class_name) const;
+                                  const Quaterniond& q, const std::string& class_name,
+                                  bool may_turn = false) const;
 
   // write_mjcf's exact rest anchor, if it still matches the joint's pos
   Vector3d user_anchor(const XMLElement* e, const std::vector<double>& u,
@@ -336,9 +343,10 @@ class Reader {
   RootJoint read_root(const std::vector<const XMLElement*>& joints, const Vector3d& x,
                       const Quaterniond& q, const std::string& class_name);
 
+  // one joint, or none (a weld); *rest_turn is its JointElement's (0 but for a turned hinge)
   detail::RawJoint read_joint(const XMLElement* body, const XMLElement* e, int child, int parent,
                               const Vector3d& x, const Quaterniond& q,
-                              const std::string& class_name);
+                              const std::string& class_name, double* rest_turn);
 
   std::string source_;
   std::string name_;

@@ -319,6 +319,70 @@ TEST(MjcfReader, HandWrittenFileInMujocosTerms) {
   EXPECT_EQ(hang.environment.gravity, Vector3d(0, 0, -1.62));
 }
 
+// A lone hinge whose range leaves out the pose as written (dm_control's hopper: its knee's
+// [5°, 150°]) is read with its body turned to the range's nearer end: the same model as the file
+// that writes the body at that angle and says so with ref (MuJoCo's qpos at the pose as written),
+// its range and springref then measured from there; the note says so
+TEST(MjcfReader, AHingeOutsideItsRangeRestsAtItsNearerEnd) {
+  const auto leg = [](const std::string& shin, const std::string& knee) {
+    return R"(<mujoco model="leg"><compiler angle="degree" autolimits="true"/><worldbody>
+      <body name="thigh" pos="0 0 1"><freejoint/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.4" size="0.05"/>
+        <body name="shin" pos="0 0 -0.45" )" +
+           shin + R"(>
+          <joint name="knee" axis="0 1 0" )" +
+           knee + R"( stiffness="3" springref="20"/>
+          <geom type="capsule" fromto="0 0 0 0 0 -0.4" size="0.04"/>
+          <body name="foot" pos="0.05 0 -0.45">
+            <joint name="ankle" axis="0 1 0" range="-30 30"/>
+            <geom type="box" size="0.1 0.04 0.02"/>
+          </body></body></body></worldbody></mujoco>)";
+  };
+  std::string note;
+  const Model turned = parse_mjcf(leg("", R"(range="5 150")"), "leg.xml", {}, &note);
+  EXPECT_NE(note.find("1 <joint> whose range leaves out the pose as written, its rest turned to "
+                      "the nearer end"),
+            std::string::npos)
+      << note;
+  const Model written =
+      parse_mjcf(leg(R"(axisangle="0 1 0 5")", R"(range="5 150" ref="5")"), "leg_at_5.xml");
+  ASSERT_EQ(turned.segment_count(), 3);
+  for (int s = 0; s < 3; ++s) {
+    const std::string name = turned.segments[s].name;
+    EXPECT_LT((turned.segments[s].rest_position - written.segments[s].rest_position).norm(), 1e-12)
+        << name;
+    EXPECT_LT(
+        turned.segments[s].rest_orientation.angularDistance(written.segments[s].rest_orientation),
+        1e-12)
+        << name;
+  }
+  // the foot (its centre 0.05 m ahead of the knee, 0.45 m below) turned by 5° about y with it
+  const double five = 5 * kPi / 180;
+  EXPECT_NEAR(turned.segments[2].rest_position.x(), 0.05 * std::cos(five) - 0.45 * std::sin(five),
+              1e-12);
+  const Joint& knee = turned.joints[0];
+  EXPECT_EQ(knee.name, "knee");
+  EXPECT_NEAR(knee.lower, 0.0, 1e-15);
+  EXPECT_NEAR(knee.upper, 145 * kPi / 180, 1e-15);
+  EXPECT_NEAR(knee.passive[0].spring_ref, 15 * kPi / 180, 1e-15);
+  for (size_t j = 0; j < turned.joints.size(); ++j) {
+    const Joint &a = turned.joints[j], &b = written.joints[j];
+    EXPECT_NEAR(a.lower, b.lower, 1e-15) << a.name;
+    EXPECT_NEAR(a.upper, b.upper, 1e-15) << a.name;
+    EXPECT_NEAR(a.passive[0].spring_ref, b.passive[0].spring_ref, 1e-15) << a.name;
+    EXPECT_LT((a.anchor_world - b.anchor_world).norm(), 1e-12) << a.name;
+  }
+  // the other way: the upper end, the nearer one for a range wholly below the pose as written
+  const Model below = parse_mjcf(leg("", R"(range="-150 -5")"), "leg.xml");
+  EXPECT_NEAR(below.joints[0].lower, -145 * kPi / 180, 1e-15);
+  EXPECT_NEAR(below.joints[0].upper, 0.0, 1e-15);
+  // a box's hinges and the root's still must hold the pose as written
+  EXPECT_THROW(parse_mjcf(R"(<mujoco><worldbody><body><geom size="0.1"/>
+      <joint type="hinge" axis="0 1 0" limited="true" range="0.1 1"/></body></worldbody></mujoco>)",
+                          "root.xml"),
+               ModelError);
+}
+
 TEST(MjcfReader, LoadModelReadsXmlFiles) {
   const Model m = load_model(std::string(PUPPET_SOURCE_DIR) + "/models/humanoid.xml");
   EXPECT_EQ(m.name, "humanoid");
