@@ -2,6 +2,7 @@
 // engine makes of it, or the model's error.
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 
 #include "commands.h"
@@ -11,9 +12,43 @@
 #include "puppet/model/euler_box.h"
 #include "puppet/model/root_joint.h"
 #include "puppet/model/text.h"
+#include "puppet/procedural/rule.h"
 
 namespace puppet::testbed {
 namespace {
+
+// what each engine makes of the model: the verdict every command applies before it runs
+void print_engines(const Model& model, double budget) {
+  std::string engines, refusals;
+  for (const std::string& solver : compare::solver_names()) {
+    std::string problem = compare::engine_model_problem(solver, model, {}, budget);
+    std::string rules;  // the rules that run it, when the default rule does not
+    if (!problem.empty() && solver == compare::kProceduralEngine) {
+      // the default rule refuses it: the rules that run it, if any
+      for (const procedural::Rule rule : procedural::kAllRules) {
+        compare::SolverOptions options;
+        options.procedural.rule = rule;
+        if (compare::engine_model_problem(solver, model, options, budget).empty()) {
+          rules += (rules.empty() ? "" : ", ") + std::string(procedural::rule_name(rule));
+        }
+      }
+      if (!rules.empty()) {
+        engines += (engines.empty() ? "" : ", ") + solver + " (rules " + rules + ")";
+        refusals += "  not procedural with the other rules: " + one_line(problem, 300) + "\n";
+        problem.clear();
+      }
+    }
+    if (problem.empty()) {
+      if (rules.empty()) engines += (engines.empty() ? "" : ", ") + solver;
+      if (std::string note = compare::engine_model_note(solver, model); !note.empty()) {
+        refusals += "  " + solver + " approximates: " + note + "\n";
+      }
+    } else {
+      refusals += "  not " + solver + ": " + one_line(problem, 300) + "\n";
+    }
+  }
+  std::printf("engines: %s\n%s", engines.c_str(), refusals.c_str());
+}
 
 int validate(const std::string& path, const ReadOptions& reading, double budget) {
   const Model model = compare::load_named_model(path, reading);
@@ -63,11 +98,17 @@ int validate(const std::string& path, const ReadOptions& reading, double budget)
   std::printf("  %-14s %-6s %-14s %-14s %s\n", "joint", "type", "parent", "child", "limits (deg)");
   for (const Joint& j : model.joints) {
     const double d = 180.0 / M_PI;
-    char limits[96];
+    char limits[160];
     if (j.type == JointType::kBall && j.ball_limit == BallLimit::kEulerBox) {
       std::snprintf(limits, sizeof limits, "box %s [%.0f, %.0f] [%.0f, %.0f] [%.0f, %.0f]",
                     euler_order_name(j.box_order).c_str(), j.box_lower[0] * d, j.box_upper[0] * d,
                     j.box_lower[1] * d, j.box_upper[1] * d, j.box_lower[2] * d, j.box_upper[2] * d);
+      if (has_box_offsets(j)) {
+        // hinges at different points (MJCF): how far each is from the one before
+        const size_t used = std::strlen(limits);
+        std::snprintf(limits + used, sizeof limits - used, ", hinges %.3g and %.3g cm apart",
+                      100.0 * j.box_offsets[0].norm(), 100.0 * j.box_offsets[1].norm());
+      }
     } else if (j.type == JointType::kBall) {
       std::snprintf(limits, sizeof limits, "swing %.0f x %.0f, twist %.0f", j.swing_x * d,
                     j.swing_y * d, j.twist * d);
@@ -98,20 +139,7 @@ int validate(const std::string& path, const ReadOptions& reading, double budget)
                 model.segments[j.parent].name.c_str(), model.segments[j.child].name.c_str(), limits,
                 passive.c_str());
   }
-  // what each engine makes of it: the verdict every command applies before it runs
-  std::string engines, refusals;
-  for (const std::string& solver : compare::solver_names()) {
-    const std::string problem = compare::engine_model_problem(solver, model, {}, budget);
-    if (problem.empty()) {
-      engines += (engines.empty() ? "" : ", ") + solver;
-      if (std::string note = compare::engine_model_note(solver, model); !note.empty()) {
-        refusals += "  " + solver + " approximates: " + note + "\n";
-      }
-    } else {
-      refusals += "  not " + solver + ": " + one_line(problem, 300) + "\n";
-    }
-  }
-  std::printf("engines: %s\n%s", engines.c_str(), refusals.c_str());
+  print_engines(model, budget);
   return 0;
 }
 

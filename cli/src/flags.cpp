@@ -219,7 +219,10 @@ void apply_engine_verdicts(std::vector<SolverConfig>& configs, const Model& mode
     return std::find(names.begin(), names.end(), name) != names.end();
   };
   for (const SolverConfig& config : configs) {
-    if (among(refused, config.solver)) continue;
+    // a procedural configuration is refused per rule (xpbd and tree hold what the others do not)
+    const std::string rule = compare::rule_of(config);
+    const std::string label = rule.empty() ? config.solver : config.solver + " rule " + rule;
+    if (among(refused, label)) continue;
     const std::string problem =
         compare::engine_model_problem(config.solver, model, config.options, f.engine_budget);
     if (problem.empty()) {
@@ -237,18 +240,24 @@ void apply_engine_verdicts(std::vector<SolverConfig>& configs, const Model& mode
       }
       continue;
     }
-    if (f.solver != "all") {
+    if (!rule.empty() && f.rule != "all") {
+      throw UsageError("--rule: " + rule + " cannot run " + shown(f.model) + ": " + problem);
+    }
+    if (rule.empty() && f.solver != "all") {
       throw UsageError("--solver: " + config.solver + " cannot run " + shown(f.model) + ": " +
                        problem);
     }
-    print_error("testbed: ", "note: " + config.solver + " left out, it cannot run " +
-                                 shown(f.model) + ": " + problem);
-    refused.push_back(config.solver);
+    print_error("testbed: ",
+                "note: " + label + " left out, it cannot run " + shown(f.model) + ": " + problem);
+    refused.push_back(label);
   }
   for (const auto& [note, engines] : notes) {
     print_error("testbed: ", "note: " + engines + ": " + note);
   }
-  std::erase_if(configs, [&](const SolverConfig& c) { return among(refused, c.solver); });
+  std::erase_if(configs, [&](const SolverConfig& c) {
+    const std::string rule = compare::rule_of(c);
+    return among(refused, rule.empty() ? c.solver : c.solver + " rule " + rule);
+  });
 }
 
 }  // namespace puppet::testbed

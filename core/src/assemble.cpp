@@ -8,6 +8,7 @@
 #include <set>
 
 #include "model_builder.h"
+#include "puppet/model/euler_box.h"
 
 namespace puppet::detail {
 namespace {
@@ -131,7 +132,11 @@ Joint place_joint(const RawJoint& raw, int ji, const Model& model, int parent_in
   if (std::string problem = joint_problem(j); !problem.empty()) fail(Part::kJoint, ji, problem);
   j.anchor_in_parent =
       parent.rest_orientation.conjugate() * (j.anchor_world - parent.rest_position);
-  j.anchor_in_child = child.rest_orientation.conjugate() * (j.anchor_world - child.rest_position);
+  // a box of hinges at different points: the child's side is the last hinge's point
+  const Vector3d child_point = has_box_offsets(j)
+                                   ? Vector3d(j.anchor_world + j.box_offsets[0] + j.box_offsets[1])
+                                   : j.anchor_world;
+  j.anchor_in_child = child.rest_orientation.conjugate() * (child_point - child.rest_position);
   for (const auto* seg : {&parent, &child}) {
     const Vector3d local = seg == &parent ? j.anchor_in_parent : j.anchor_in_child;
     const double distance = signed_distance(*seg, local);

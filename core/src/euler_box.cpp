@@ -1,6 +1,7 @@
 #include "puppet/model/euler_box.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <unsupported/Eigen/EulerAngles>
 
 namespace puppet {
@@ -60,6 +61,32 @@ Vector3d euler_angles(const EulerOrder& order, const Quaterniond& q) {
     using Angles = decltype(euler);
     return Vector3d(Angles(q.toRotationMatrix()).angles());
   });
+}
+
+Vector3d parent_anchor(const Joint& joint, const Quaterniond& q_rel) {
+  if (!has_box_offsets(joint)) return joint.anchor_in_parent;
+  const auto& a = joint.box_order.axes;
+  const Vector3d angles = euler_angles(joint.box_order, q_rel);
+  const Eigen::AngleAxisd first(angles[0], Vector3d::Unit(a[0]));
+  const Eigen::AngleAxisd second(angles[1], Vector3d::Unit(a[1]));
+  const Quaterniond to_frame = joint.frame_world.conjugate();
+  const Vector3d along =
+      first * (to_frame * joint.box_offsets[0] + second * (to_frame * joint.box_offsets[1]));
+  return joint.anchor_in_parent + joint.frame_in_parent * along;
+}
+
+std::string box_offsets_problem(const Model& model) {
+  for (const Joint& joint : model.joints) {
+    if (!has_box_offsets(joint)) continue;
+    const double apart = (joint.box_offsets[0] + joint.box_offsets[1]).norm();
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "its joint \"%s\" is hinges at different points (%.3g cm apart), which this "
+                  "engine does not build (mujoco and the procedural rules xpbd and tree do)",
+                  joint.name.c_str(), 100.0 * apart);
+    return line;
+  }
+  return {};
 }
 
 Matrix3d euler_gradients(const EulerOrder& order, const Vector3d& angles) {

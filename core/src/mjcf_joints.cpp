@@ -167,15 +167,6 @@ detail::RawJoint Reader::read_box(const std::vector<const XMLElement*>& hinges, 
            "several joints in one body are read only as two or three hinges at one "
            "point (a box limit)");
     }
-    if (const double apart = (h[k].anchor_world - h[0].anchor_world).norm(); apart > 1e-9) {
-      char line[200];
-      std::snprintf(
-          line, sizeof line,
-          "a box limit's hinges must share one pos: this one is %.3g m from the "
-          "first's (a joint turns about one point; hinges at two points are not modelled)",
-          apart);
-      fail(hinges[k], line);
-    }
     for (int m = 0; m < k; ++m) {
       if (std::abs(h[k].axis_world.dot(h[m].axis_world)) > 1e-6) {
         fail(hinges[k], "a box limit's hinges must have orthogonal axes");
@@ -186,7 +177,7 @@ detail::RawJoint Reader::read_box(const std::vector<const XMLElement*>& hinges, 
     // two hinges are a box whose third angle, about the axis they leave, is held at 0: the same
     // rotations, R(a₀, θ₀) R(a₁, θ₁), composed in MuJoCo's order
     h[2].name = h[1].name;
-    h[2].anchor_world = h[0].anchor_world;
+    h[2].anchor_world = h[1].anchor_world;
     h[2].axis_world = h[0].axis_world.cross(h[1].axis_world).normalized();
     h[2].lower = h[2].upper = 0.0;
   }
@@ -212,6 +203,10 @@ detail::RawJoint Reader::read_box(const std::vector<const XMLElement*>& hinges, 
   if (h[0].user && h[1].user && (count == 2 || h[2].user)) {
     const auto& u = *h[0].user;
     j.anchor_world = user_anchor(hinges[0], u, j.anchor_world);
+    for (int k = 1; k < count; ++k) {
+      h[k].anchor_world = user_anchor(hinges[k], *h[k].user, h[k].anchor_world);
+    }
+    if (count == 2) h[2].anchor_world = h[1].anchor_world;
     j.frame_world = unit_quaternion(Quaterniond(u[3], u[4], u[5], u[6]));
     for (int k = 0; k < count; ++k) {
       const auto& uk = *h[k].user;
@@ -240,6 +235,12 @@ detail::RawJoint Reader::read_box(const std::vector<const XMLElement*>& hinges, 
       j.passive[2].spring_ref = -h[2].spring.spring_ref;
     }
     j.frame_world = Quaterniond(frame).normalized();
+  }
+  // hinges at different points (the humanoids' ankles): each later hinge's point turns with the
+  // earlier hinges, as MuJoCo composes them (Joint::box_offsets); exactly zero at one point
+  for (int k = 0; k < 2; ++k) {
+    const Vector3d offset = h[k + 1].anchor_world - (k == 0 ? j.anchor_world : h[1].anchor_world);
+    j.box_offsets[static_cast<size_t>(k)] = offset.norm() > 1e-9 ? offset : Vector3d::Zero();
   }
   derive_limit_terms(j);
   return raw;

@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "puppet/model/euler_box.h"
 #include "puppet/model/mjcf.h"
 
 namespace puppet {
@@ -309,15 +310,22 @@ class Writer {
       const Vector3d e = Vector3d::Unit(axis);
       const double lower = forward ? joint.box_lower[k] : -joint.box_upper[k];
       const double upper = forward ? joint.box_upper[k] : -joint.box_lower[k];
-      out_ << pad << "<joint name=\"" << name << ':' << "xyz"[axis] << "\" pos=\"" << vec(anchor)
+      // hinges at different points: each at its own, the first's point carried by the offsets
+      Vector3d point_world = joint.anchor_world, at = anchor;
+      if (has_box_offsets(joint)) {
+        for (int i = 0; i < k; ++i) point_world += joint.box_offsets[static_cast<size_t>(i)];
+        const Segment& body = model_.segments[forward ? joint.child : joint.parent];
+        at = body.rest_orientation.conjugate() * (point_world - body.rest_position);
+      }
+      out_ << pad << "<joint name=\"" << name << ':' << "xyz"[axis] << "\" pos=\"" << vec(at)
            << "\" type=\"hinge\" axis=\"" << vec(frame * e) << "\"";
       if (lower > -kPi || upper < kPi) {
         out_ << " limited=\"true\" range=\"" << nums({lower, upper}) << "\"";
       }
       write_spring(joint.passive[static_cast<size_t>(k)], forward ? 1.0 : -1.0);
       if (options_.user_data) {
-        out_ << " user=\"" << vec(joint.anchor_world) << ' ' << quat(joint.frame_world) << ' '
-             << vec(e) << "\"";
+        out_ << " user=\"" << vec(point_world) << ' ' << quat(joint.frame_world) << ' ' << vec(e)
+             << "\"";
       }
       out_ << "/>\n";
     }

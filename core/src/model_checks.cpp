@@ -191,6 +191,12 @@ std::string joint_problem(const Joint& j) {
   if (std::string p = vector_problem("the anchor", j.anchor_world, kMaxCoordinate); !p.empty())
     return p;
   if (std::string p = rotation_problem("the frame", j.frame_world); !p.empty()) return p;
+  for (const Vector3d& offset : j.box_offsets) {
+    if (std::string p = vector_problem("a box's hinge offset", offset, 1.0); !p.empty()) return p;
+  }
+  if (has_box_offsets(j) && (j.type != JointType::kBall || j.ball_limit != BallLimit::kEulerBox)) {
+    return "hinges at different points make a box (a ball joint with Euler-angle limits) only";
+  }
   if (j.type == JointType::kHinge &&
       (!j.hinge_axis.allFinite() || std::abs(j.hinge_axis.squaredNorm() - 1.0) > 1e-9)) {
     return "the hinge axis is not a unit vector";

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "puppet/model/euler_box.h"
 #include "puppet/model/joint_springs.h"
 #include "puppet/model/root_joint.h"
 #include "puppet/model/rotation.h"
@@ -12,7 +13,8 @@ namespace puppet::compare {
 void joint_gaps(const Model& model, std::span<const BodyState> b, std::span<double> out) {
   for (int j = 0; j < model.joint_count(); ++j) {
     const Joint& joint = model.joints[j];
-    const Vector3d c_parent = b[joint.parent].x + b[joint.parent].q * joint.anchor_in_parent;
+    const BodyState &parent = b[joint.parent], &child = b[joint.child];
+    const Vector3d c_parent = parent.x + parent.q * parent_anchor(joint, parent.q, child.q);
     const Vector3d c_child = b[joint.child].x + b[joint.child].q * joint.anchor_in_child;
     out[j] = (c_parent - c_child).norm();
   }

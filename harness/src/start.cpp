@@ -135,8 +135,10 @@ std::vector<BodyState> posed_start(const Model& model, const StartInputs& start,
       const BodyState& from = bodies[a];
       BodyState& to = bodies[b];
       const Quaterniond& q_rel = start.joint_rotation[j];
-      const Vector3d& local_a = down ? joint.anchor_in_parent : joint.anchor_in_child;
-      const Vector3d& local_b = down ? joint.anchor_in_child : joint.anchor_in_parent;
+      // a box of hinges at different points carries the parent's point along its angles
+      const Vector3d on_parent = parent_anchor(joint, q_rel);
+      const Vector3d& local_a = down ? on_parent : joint.anchor_in_child;
+      const Vector3d& local_b = down ? joint.anchor_in_child : on_parent;
       Quaterniond parent_frame;  // the joint's frame as the parent carries it, world
       if (down) {
         // q_rel = (q_p F_p)⁻¹ (q_c F_c)  ⇒  q_c = q_p F_p q_rel F_c⁻¹

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "puppet/model/euler_box.h"
 #include "puppet/model/joint_springs.h"
 #include "puppet/model/root_joint.h"
 #include "puppet/model/user_forces.h"
@@ -27,6 +28,9 @@ std::shared_ptr<const ModelTables> make_model_tables(const Model& model) {
 }
 
 std::string rule_model_problem(const Model& model, Rule rule) {
+  if (rule != Rule::kXpbd && rule != Rule::kTree) {
+    if (std::string problem = box_offsets_problem(model); !problem.empty()) return problem;
+  }
   if (!root_held(model)) return {};
   if (rule != Rule::kXpbd && rule != Rule::kTree) {
     return std::string("its root is joined to the world (a ") + root_hold_name(model.root.hold) +

@@ -27,6 +27,7 @@
 // position based dynamics", §3.3–3.4; Macklin, Müller, Chentanez 2016 (XPBD).
 #include <algorithm>
 
+#include "puppet/model/euler_box.h"
 #include "puppet/model/root_joint.h"
 #include "puppet/model/rotation.h"
 #include "stages.h"
@@ -178,9 +179,11 @@ void share_joint_correction(const Model& model, const JointTerms& terms, const J
     const double inv_mass_child = model.segments[joint.child].inv_mass;
     const Matrix3d& w0_parent = start[joint.parent];
     const Matrix3d& w0_child = start[joint.child];
-    const Vector3d r_parent = parent.q * joint.anchor_in_parent;
+    // a box of hinges at different points carries the parent's point along its angles
+    const Vector3d anchor_parent = parent_anchor(joint, parent.q, child.q);
+    const Vector3d r_parent = parent.q * anchor_parent;
     const Vector3d r_child = child.q * joint.anchor_in_child;
-    const Vector3d r0_parent = state.q_prev[joint.parent] * joint.anchor_in_parent;
+    const Vector3d r0_parent = state.q_prev[joint.parent] * anchor_parent;
     const Vector3d r0_child = state.q_prev[joint.child] * joint.anchor_in_child;
     Matrix3d k = start_arm_response(r_child, w0_child, r0_child) +
                  start_arm_response(r_parent, w0_parent, r0_parent);
@@ -201,9 +204,15 @@ void share_joint_correction(const Model& model, const JointTerms& terms, const J
   const Segment& parent_segment = model.segments[joint.parent];
   const Segment& child_segment = model.segments[joint.child];
   const Matrix3d rotation = (child.q.conjugate() * parent.q).toRotationMatrix();
-  const Matrix3d k = terms.point_mass[1] + rotation * terms.point_mass[0] * rotation.transpose();
-  const Vector3d gap = child.q.conjugate() * (parent.x - child.x) +
-                       rotation * joint.anchor_in_parent - joint.anchor_in_child;
+  const Vector3d anchor_parent = parent_anchor(joint, parent.q, child.q);
+  // the parent's point mass matrix at its anchor (JointTerms' unless the anchor moves)
+  const Matrix3d k_parent =
+      has_box_offsets(joint) ? diagonal_point_mass_matrix(parent_segment.inv_mass,
+                                                          parent_segment.inv_inertia, anchor_parent)
+                             : terms.point_mass[0];
+  const Matrix3d k = terms.point_mass[1] + rotation * k_parent * rotation.transpose();
+  const Vector3d gap =
+      child.q.conjugate() * (parent.x - child.x) + rotation * anchor_parent - joint.anchor_in_child;
   // the impulse on the child, in its frame
   const Vector3d impulse = compliant_solve(
       k, gap, alpha_tilde, lambda,
@@ -215,8 +224,8 @@ void share_joint_correction(const Model& model, const JointTerms& terms, const J
   child.q = times_exp(child.q,
                       child_segment.inv_inertia.cwiseProduct(joint.anchor_in_child.cross(impulse)));
   parent.x -= parent_segment.inv_mass * impulse_world;
-  parent.q = times_exp(parent.q, -parent_segment.inv_inertia.cwiseProduct(
-                                     joint.anchor_in_parent.cross(impulse_parent)));
+  parent.q = times_exp(
+      parent.q, -parent_segment.inv_inertia.cwiseProduct(anchor_parent.cross(impulse_parent)));
 }
 
 bool share_limit_correction(const Model& model, const JointTerms& terms, const Joint& joint,

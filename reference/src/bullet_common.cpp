@@ -1,6 +1,7 @@
 #include "bullet_common.h"
 
 #include <BulletDynamics/ConstraintSolver/btTypedConstraint.h>
+#include "puppet/model/euler_box.h"
 #include "puppet/model/root_joint.h"
 
 #include <cmath>
@@ -78,6 +79,7 @@ void clear_contact_caches(btCollisionDispatcher& dispatcher) {
 }  // namespace detail
 
 std::string bullet_model_problem(Kind kind, const Model& model) {
+  if (std::string problem = box_offsets_problem(model); !problem.empty()) return problem;
   return kind == Kind::kMultibody ? held_root_problem(model) : slide_armature_problem(model);
 }
 std::string bullet_multibody_model_problem(const Model& model) {

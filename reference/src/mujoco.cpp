@@ -416,7 +416,7 @@ class MujocoSolver final : public Solver {
     const Joint& j = model_.joints[joint];
     const BodyState p = body_state(j.parent);
     const BodyState c = body_state(j.child);
-    *on_parent = p.x + p.q * j.anchor_in_parent;
+    *on_parent = p.x + p.q * parent_anchor(j, p.q, c.q);
     *on_child = c.x + c.q * j.anchor_in_child;
   }
 

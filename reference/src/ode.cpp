@@ -29,6 +29,7 @@
 
 #include "ode_library.h"
 #include "pin_springs.h"
+#include "puppet/model/euler_box.h"
 #include "puppet/model/root_joint.h"
 #include "puppet/model/rotation.h"
 
@@ -578,7 +579,6 @@ std::string ode_model_problem(const Model& model) {
     return "its root is joined to the world by a planar joint (slide, slide, hinge), which ODE "
            "0.16 has no joint for (its Plane2D holds a body to the plane z = 0 only)";
   }
-  if (std::string problem = slide_armature_problem(model); !problem.empty()) return problem;
   for (const Segment& segment : model.segments) {
     for (const Shape& shape : segment.shapes) {
       if (shape.type == ShapeType::kEllipsoid) {
@@ -586,7 +586,8 @@ std::string ode_model_problem(const Model& model) {
       }
     }
   }
-  return {};
+  if (std::string problem = slide_armature_problem(model); !problem.empty()) return problem;
+  return box_offsets_problem(model);
 }
 
 std::unique_ptr<Solver> make_ode(const Model& model, const Environment& environment,

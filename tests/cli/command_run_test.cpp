@@ -63,6 +63,30 @@ TEST(TestbedCli, AModelAnEngineRefusesIsJudgedBeforeAnyRun) {
   EXPECT_NE(summary.find(",bullet-rigid,"), std::string::npos);
   EXPECT_EQ(summary.find(",mujoco,"), std::string::npos);
 
+  // hinges at different points: rules xpbd and tree and mujoco run it, each other rule and engine
+  // is left out in one line (a rule named is refused), and the one truth that runs it stands
+  const std::string apart = std::string(PUPPET_SOURCE_DIR) + "/tests/data/mjcf/offset_hinges.xml";
+  const Outcome shown_apart = testbed("validate " + apart);
+  EXPECT_NE(shown_apart.output.find("hinges 4 and 0 cm apart"), std::string::npos)
+      << shown_apart.output;
+  EXPECT_NE(shown_apart.output.find("engines: procedural (rules xpbd, tree), mujoco\n"),
+            std::string::npos)
+      << shown_apart.output;
+  const Outcome apart_all = testbed("run --model " + apart +
+                                    " --scenario hang --dt 1/240 --duration 0.2 --no-timing" + out);
+  EXPECT_EQ(apart_all.status, 0) << apart_all.output;
+  EXPECT_NE(apart_all.output.find("note: procedural rule relaxed left out, it cannot run"),
+            std::string::npos)
+      << apart_all.output;
+  EXPECT_NE(apart_all.output.find("one truth for this model (mujoco)"), std::string::npos);
+  const std::string apart_summary = slurp(folder / "out" / "summary.csv");
+  for (const char* solver : {"procedural,xpbd", "procedural,tree", "mujoco"}) {
+    EXPECT_NE(apart_summary.find(std::string("hang,") + solver + ","), std::string::npos) << solver;
+  }
+  EXPECT_EQ(apart_summary.find(",relaxed,"), std::string::npos);
+  expect_bad("run --model " + apart + " --scenario hang --rule relaxed --duration 0.1" + out,
+             "--rule: relaxed cannot run");
+
   // a box limit: every engine builds it, so a run has every solver and a truth
   const std::string box = std::string(PUPPET_SOURCE_DIR) + "/tests/data/two_rods_box.json";
   const Outcome shown_box = testbed("validate " + box);

@@ -161,9 +161,9 @@ TEST(MjcfReader, ABoxLimitIsThreeHingesAndComesBack) {
   }
 }
 
-// Several joints in one body are read only as a box: two or three hinges at one point about
-// orthogonal axes (two: the third angle, about a₀ × a₁, held at 0)
-TEST(MjcfReader, ABoxNeedsTwoOrThreeOrthogonalHingesAtOnePoint) {
+// Several joints in one body are read only as a box: two or three hinges about orthogonal axes
+// (two: the third angle, about a₀ × a₁, held at 0), at one point or several (box_offsets)
+TEST(MjcfReader, ABoxNeedsTwoOrThreeOrthogonalHinges) {
   auto read = [](const std::string& joints) {
     return "<mujoco><compiler angle=\"degree\"/><worldbody><body name=\"a\"><freejoint/>"
            "<geom type=\"sphere\" size=\"0.1\"/><body name=\"b\" pos=\"0 0 -0.3\">" +
@@ -203,8 +203,22 @@ TEST(MjcfReader, ABoxNeedsTwoOrThreeOrthogonalHingesAtOnePoint) {
           "a fourth joint in body \"b\"");
   refused(hinge("1 0 0") + hinge("0 1 0") + hinge("1 1 0"), "orthogonal axes");
   refused(hinge("1 0 0") + hinge("1 1 0"), "orthogonal axes");
-  refused(hinge("1 0 0") + hinge("0 1 0") + hinge("0 0 1", "0 0 0.1"), "share one pos");
-  refused(hinge("1 0 0") + hinge("0 1 0", "0 0 0.1"), "share one pos");
+  // hinges at different points: each point less the one before, in world at rest; the anchor
+  // the first's on the parent's side, the last's on the child's
+  const Model apart =
+      parse_mjcf(read(hinge("1 0 0") + hinge("0 1 0") + hinge("0 0 1", "0 0 0.1")), "t.xml");
+  const Joint& three = apart.joints[0];
+  EXPECT_TRUE(has_box_offsets(three));
+  EXPECT_EQ(three.box_offsets[0], Vector3d::Zero());
+  EXPECT_LT((three.box_offsets[1] - Vector3d(0, 0, -0.05)).norm(), 1e-15);
+  EXPECT_LT((three.anchor_world - Vector3d(0, 0, -0.15)).norm(), 1e-15);
+  const Segment& b = apart.segments[1];
+  EXPECT_LT(
+      (b.rest_position + b.rest_orientation * three.anchor_in_child - Vector3d(0, 0, -0.2)).norm(),
+      1e-15);
+  const Model ankle = parse_mjcf(read(hinge("1 0 0", "0 0 0.08") + hinge("0 1 0")), "t.xml");
+  EXPECT_LT((ankle.joints[0].box_offsets[0] - Vector3d(0, 0, 0.07)).norm(), 1e-15);
+  EXPECT_EQ(ankle.joints[0].box_offsets[1], Vector3d::Zero());
   refused(hinge("1 0 0") + "<joint type=\"ball\" pos=\"0 0 0.15\"/>" + hinge("0 0 1"),
           "only as two or three hinges");
   // the middle angle within ±85°

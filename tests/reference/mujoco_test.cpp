@@ -10,8 +10,10 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <random>
+#include <regex>
 
 #include "puppet/compare/engines.h"
 #include "puppet/compare/metrics.h"
@@ -22,6 +24,7 @@
 #include "puppet/model/mjcf.h"
 #include "puppet/model/root_joint.h"
 #include "puppet/model/rotation.h"
+#include "puppet/procedural/rule.h"
 #include "support/pendulum.h"
 #include "support/reference_runs.h"
 #include "support/rule_runs.h"
@@ -369,6 +372,11 @@ void expect_read_as_mujoco(const std::string& path) {
                      : Vector3d(a0.cross(a1));
       for (int k = 0; k < count; ++k) {
         expect_spring(j + k, joint.passive[k], k == 2 && a0.cross(a1).dot(a2) < 0.0 ? -1.0 : 1.0);
+        // each hinge at its own point: the first's carried by the offsets before it
+        Vector3d point = joint.anchor_world;
+        for (int i = 0; i < k; ++i) point += joint.box_offsets[i];
+        const double* x = d->xanchor + 3 * (j + k);
+        EXPECT_LT((Vector3d(x[0], x[1], x[2]) - point).norm(), 1e-12) << "hinge " << k;
       }
       if (count == 2) {
         EXPECT_EQ(joint.box_lower[2], 0.0);
@@ -389,13 +397,17 @@ void expect_read_as_mujoco(const std::string& path) {
       const Vector3d axis(d->xaxis[3 * j], d->xaxis[3 * j + 1], d->xaxis[3 * j + 2]);
       EXPECT_LT((axis - joint.frame_world * joint.hinge_axis).norm(), 1e-12);
     } else if (joint.ball_limit == BallLimit::kEulerBox) {
-      for (int k = 0; k < m->body_jntnum[m->jnt_bodyid[j]]; ++k) {
+      // a left-handed set of three axes: the third angle turned round, with its range
+      const int count = m->body_jntnum[m->jnt_bodyid[j]];
+      const auto axis = [&](int k) { return Vector3d(d->xaxis + 3 * (j + k)); };
+      const bool turned = count == 3 && axis(0).cross(axis(1)).dot(axis(2)) < 0.0;
+      for (int k = 0; k < count; ++k) {
         if (!m->jnt_limited[j + k]) continue;
         const double ref = m->qpos0[m->jnt_qposadr[j + k]];
         const double lower = m->jnt_range[2 * (j + k)] - ref;
         const double upper = m->jnt_range[2 * (j + k) + 1] - ref;
-        const bool turned = joint.frame_world.toRotationMatrix().determinant() < 0.0;
         EXPECT_NEAR(turned && k == 2 ? -upper : lower, joint.box_lower[k], 1e-15);
+        EXPECT_NEAR(turned && k == 2 ? -lower : upper, joint.box_upper[k], 1e-15);
       }
     } else if (m->jnt_limited[j]) {
       EXPECT_NEAR(m->jnt_range[2 * j + 1], joint.twist, 1e-15);
@@ -643,13 +655,17 @@ namespace {
 // implicit; what differs is the document (write_mjcf's bodies and frames, the inertias read to
 // 1e-12), so the centres of mass agree to rounding: measured 1e-15 m, bound at the 1e-6 m the
 // model's reading promises. Without the springs in write_mjcf's document they part by 0.1 m.
-void expect_follows_native_mujoco(const std::string& name) {
-  SCOPED_TRACE(name);
-  const std::string path = std::string(PUPPET_SOURCE_DIR) + "/tests/data/mjcf/" + name;
+double expect_follows_native_mujoco(const std::string& name, const std::string& solver = "mujoco",
+                                    const SolverOptions& options = {}, double bound = 1e-6) {
+  SCOPED_TRACE(name + " in " + solver);
+  // a name under tests/data/mjcf, or a path
+  const std::string path =
+      name.front() == '/' ? name : std::string(PUPPET_SOURCE_DIR) + "/tests/data/mjcf/" + name;
   const Model model = load_model(path);
   char error[1000] = "";
   mjModel* m = mj_loadXML(path.c_str(), nullptr, error, sizeof error);
-  ASSERT_NE(m, nullptr) << error;
+  EXPECT_NE(m, nullptr) << error;
+  if (m == nullptr) return INFINITY;
   mjData* d = mj_makeData(m);
   const int n = model.segment_count();
   std::vector<int> body(n);
@@ -657,7 +673,8 @@ void expect_follows_native_mujoco(const std::string& name) {
   mj_kinematics(m, d);
   for (int s = 0; s < n; ++s) {
     body[s] = mj_name2id(m, mjOBJ_BODY, model.segments[s].name.c_str());
-    ASSERT_GE(body[s], 1);
+    EXPECT_GE(body[s], 1);
+    if (body[s] < 1) return INFINITY;
     const double* xq = d->xquat + 4 * body[s];
     frame_offset[s] =
         Quaterniond(xq[0], xq[1], xq[2], xq[3]).conjugate() * model.segments[s].rest_orientation;
@@ -684,7 +701,7 @@ void expect_follows_native_mujoco(const std::string& name) {
   scenario.environment.gravity = Vector3d::Zero();  // no ground and no air: the defaults
   scenario.initial.resize(n);
   read_native(scenario.initial);
-  auto simulator = make_simulator("mujoco", SolverOptions{});
+  auto simulator = make_simulator(solver, options);
   simulator->reset(model, scenario);
   std::vector<BodyState> native(n), ours(n);
   const double dt = m->opt.timestep;
@@ -693,25 +710,28 @@ void expect_follows_native_mujoco(const std::string& name) {
     mj_step(m, d);
     mj_forward(m, d);  // the poses and velocities of the new state (mj_step leaves the old)
     simulator->step(dt);
-    ASSERT_FALSE(simulator->diverged());
+    EXPECT_FALSE(simulator->diverged());
+    if (simulator->diverged()) break;
     read_native(native);
     simulator->read_state(ours);
+    // no limit is reached: the comparison is the springs' and dampers' alone (the testbed's
+    // stiff limits are not MuJoCo's default ones)
+    for (int j = 0; j < m->njnt; ++j) {
+      if (!m->jnt_limited[j]) continue;
+      const double q = d->qpos[m->jnt_qposadr[j]];
+      EXPECT_TRUE(q > m->jnt_range[2 * j] && q < m->jnt_range[2 * j + 1])
+          << "joint " << j << " at " << q << " reached its range at " << k * dt << " s";
+    }
     for (int s = 0; s < n; ++s) {
       worst = std::max(worst, (ours[s].x - native[s].x).norm());
       travel = std::max(travel, (native[s].x - scenario.initial[s].x).norm());
     }
   }
-  EXPECT_LT(worst, 1e-6);
+  EXPECT_LT(worst, bound);
   EXPECT_GT(travel, 0.1);  // m: the figure moved
-  // no limit was reached: the comparison is the springs' and dampers' alone
-  for (int j = 0; j < m->njnt; ++j) {
-    if (!m->jnt_limited[j]) continue;
-    const double q = d->qpos[m->jnt_qposadr[j]];
-    EXPECT_GT(q, m->jnt_range[2 * j]) << j;
-    EXPECT_LT(q, m->jnt_range[2 * j + 1]) << j;
-  }
   mj_deleteData(d);
   mj_deleteModel(m);
+  return worst;
 }
 
 TEST(Mujoco, FollowsNativeMujocoOnASprungModel) { expect_follows_native_mujoco("springs.xml"); }
@@ -726,6 +746,116 @@ TEST(Mujoco, FollowsNativeMujocoOnRootsTheWorldHolds) {
        {"held_hinge.xml", "held_slide.xml", "held_planar.xml", "held_weld.xml"}) {
     reference::expect_read_as_mujoco(std::string(PUPPET_SOURCE_DIR) + "/tests/data/mjcf/" + name);
     expect_follows_native_mujoco(name);
+  }
+}
+
+// Hinges at different points in one body (tests/data/mjcf/offset_hinges.xml: an ankle of two
+// hinges 4 cm apart, a shoulder of three each 2 cm from the one before) meet where MuJoCo's own
+// kinematics put them: at random angles within their ranges, each joint's point on the parent's
+// side (parent_anchor, carried along the box's angles) is the child's, to rounding; the anchor
+// that does not turn with the angles misses by millimetres
+TEST(Mujoco, HingesAtDifferentPointsMeetWhereMujocosKinematicsPutThem) {
+  const std::string path = std::string(PUPPET_SOURCE_DIR) + "/tests/data/mjcf/offset_hinges.xml";
+  const Model model = load_model(path);
+  char error[1000] = "";
+  mjModel* m = mj_loadXML(path.c_str(), nullptr, error, sizeof error);
+  ASSERT_NE(m, nullptr) << error;
+  mjData* d = mj_makeData(m);
+  const int n = model.segment_count();
+  std::vector<int> body(n);
+  std::vector<Quaterniond> frame_offset(n);
+  mj_kinematics(m, d);
+  for (int s = 0; s < n; ++s) {
+    body[s] = mj_name2id(m, mjOBJ_BODY, model.segments[s].name.c_str());
+    ASSERT_GE(body[s], 1);
+    const double* xq = d->xquat + 4 * body[s];
+    frame_offset[s] =
+        Quaterniond(xq[0], xq[1], xq[2], xq[3]).conjugate() * model.segments[s].rest_orientation;
+  }
+  int offset_joints = 0;
+  for (const Joint& joint : model.joints) offset_joints += has_box_offsets(joint);
+  EXPECT_EQ(offset_joints, 2);  // the ankle and the shoulder; the hip's hinges share a point
+  std::mt19937 random(7);
+  double worst = 0.0, unturned = 0.0;
+  for (int draw = 0; draw < 50; ++draw) {
+    for (int j = 0; j < m->njnt; ++j) {
+      if (m->jnt_type[j] != mjJNT_HINGE) continue;
+      std::uniform_real_distribution<double> angle(m->jnt_range[2 * j], m->jnt_range[2 * j + 1]);
+      d->qpos[m->jnt_qposadr[j]] = angle(random);
+    }
+    mj_kinematics(m, d);
+    std::vector<BodyState> b(n);
+    for (int s = 0; s < n; ++s) {
+      const double* xq = d->xquat + 4 * body[s];
+      b[s].x =
+          Vector3d(d->xipos[3 * body[s]], d->xipos[3 * body[s] + 1], d->xipos[3 * body[s] + 2]);
+      b[s].q = Quaterniond(xq[0], xq[1], xq[2], xq[3]) * frame_offset[s];
+    }
+    for (const Joint& joint : model.joints) {
+      const BodyState &p = b[joint.parent], &c = b[joint.child];
+      const Vector3d on_child = c.x + c.q * joint.anchor_in_child;
+      worst = std::max(worst, (p.x + p.q * parent_anchor(joint, p.q, c.q) - on_child).norm());
+      if (has_box_offsets(joint)) {
+        // the child's point at rest, fixed in the parent as if the hinges shared one point
+        const Segment& ps = model.segments[joint.parent];
+        const Vector3d at_rest =
+            ps.rest_orientation.conjugate() *
+            (joint.anchor_world + joint.box_offsets[0] + joint.box_offsets[1] - ps.rest_position);
+        unturned = std::max(unturned, (p.x + p.q * at_rest - on_child).norm());
+      }
+    }
+  }
+  EXPECT_LT(worst, 1e-12);
+  EXPECT_GT(unturned, 1e-3);
+  mj_deleteData(d);
+  mj_deleteModel(m);
+}
+
+// The file is read as MuJoCo's compiler reads it (each hinge's point among the checks), and the
+// mujoco engine, which builds each hinge at its own point, follows native MuJoCo to 1e-6 m
+TEST(Mujoco, FollowsNativeMujocoOnHingesAtDifferentPoints) {
+  reference::expect_read_as_mujoco(std::string(PUPPET_SOURCE_DIR) +
+                                   "/tests/data/mjcf/offset_hinges.xml");
+  expect_follows_native_mujoco("offset_hinges.xml");
+}
+
+// xpbd and tree, which carry the parent's point along the box's angles, follow native MuJoCo's
+// run of the same file as closely as they follow the same figure with each box's hinges at one
+// point. Both without armature, which the procedural rules add to each child's inertia instead
+// (model-format.md; with it the file parts from MuJoCo by 2.7 cm in either): the figure at one
+// point parts by 2.4 mm (xpbd) and 2.5 mm (tree), the integrators' difference at the file's
+// 2 ms, and with its hinges apart by 3 % and 2 % more (measured); bound at 20 % more
+TEST(Mujoco, XpbdAndTreeFollowMujocoOnHingesAtDifferentPoints) {
+  std::ifstream file(std::string(PUPPET_SOURCE_DIR) + "/tests/data/mjcf/offset_hinges.xml");
+  std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  ASSERT_FALSE(text.empty());
+  text = std::regex_replace(text, std::regex("armature=\"[^\"]*\""), "armature=\"0\"");
+  // the same hinges, each box's at its first one's point
+  std::string one_point = text;
+  for (const auto& [apart, together] : std::vector<std::pair<std::string, std::string>>{
+           {"pos=\"0 0 0.08\"", "pos=\"0 0 0.04\""},
+           {"pos=\"-0.02 0 0\"", "pos=\"0 0 0\""},
+           {"pos=\"-0.02 0.02 0\"", "pos=\"0 0 0\""}}) {
+    const size_t at = one_point.find(apart);
+    ASSERT_NE(at, std::string::npos) << apart;
+    one_point.replace(at, apart.size(), together);
+  }
+  const auto dir = std::filesystem::temp_directory_path() / "puppet_offset_hinges";
+  std::filesystem::create_directories(dir);
+  const std::string apart_path = (dir / "apart.xml").string();
+  const std::string together_path = (dir / "together.xml").string();
+  std::ofstream(apart_path) << text;
+  std::ofstream(together_path) << one_point;
+  ASSERT_FALSE(box_offsets_problem(load_model(apart_path)).empty());
+  ASSERT_TRUE(box_offsets_problem(load_model(together_path)).empty());
+  for (const procedural::Rule rule : {procedural::Rule::kXpbd, procedural::Rule::kTree}) {
+    SCOPED_TRACE(procedural::rule_name(rule));
+    SolverOptions options;
+    options.procedural.rule = rule;
+    const std::string engine(kProceduralEngine);
+    const double together = expect_follows_native_mujoco(together_path, engine, options, 5e-3);
+    const double apart = expect_follows_native_mujoco(apart_path, engine, options, 5e-3);
+    EXPECT_LT(apart, 1.2 * together);
   }
 }
 

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "puppet/model/euler_box.h"
+
 namespace puppet::viewer {
 namespace {
 
@@ -409,8 +411,8 @@ void Renderer::draw(const Session& session, const OrbitCamera& camera, int frame
   glDisable(GL_DEPTH_TEST);
   for (int j = 0; j < model.joint_count(); ++j) {
     const Joint& joint = model.joints[j];
-    const BodyState& parent = solver.bodies[joint.parent];
-    const Vector3d at = parent.x + parent.q * joint.anchor_in_parent;
+    const BodyState &parent = solver.bodies[joint.parent], &child = solver.bodies[joint.child];
+    const Vector3d at = parent.x + parent.q * parent_anchor(joint, parent.q, child.q);
     draw_mesh(sphere_, translation_scale(at.cast<float>(), Vector3f::Constant(0.014f)),
               with_alpha(gap_colour(solver.joint_gaps[j]), 1.0f));
   }

@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <new>
 
+#include "puppet/model/euler_box.h"
+
 #include "joint_limits.h"
 #include "model_tables.h"
 #include "stages.h"
@@ -107,8 +109,9 @@ std::unique_ptr<LaneStepper> LaneStepper::make(const Solver& puppet, int max_wid
       !settings.limit_functions || !settings.limits_before_joints ||
       (puppet.limit_pass_ && settings.limit_restitution != 0.0) || environment.tremble ||
       environment.water || environment.ground || puppet.tables_->orders.empty() ||
-      puppet.joint_springs_ || puppet.model_.root.hold != RootHold::kFree) {
-    // joint springs and a root the world holds: the scalar step
+      puppet.joint_springs_ || puppet.model_.root.hold != RootHold::kFree ||
+      !box_offsets_problem(puppet.model_).empty()) {
+    // joint springs, a root the world holds, hinges at different points: the scalar step
     return nullptr;
   }
   const int width = widest_lanes(max_width);

@@ -18,6 +18,7 @@
 #include "jolt_driver.h"
 #include "node_process.h"
 #include "puppet/compare/engines.h"
+#include "puppet/model/euler_box.h"
 #include "puppet/model/joint_springs.h"
 #include "puppet/model/root_joint.h"
 #include "puppet/model/text.h"
@@ -398,6 +399,7 @@ class JoltSimulator : public Simulator {
 
 std::string jolt_model_problem(const Model& model) {
   if (std::string problem = held_root_problem(model); !problem.empty()) return problem;
+  if (std::string problem = box_offsets_problem(model); !problem.empty()) return problem;
   // the ground and a handle per hard pin besides the segments
   if (model.segment_count() + 1 + procedural::kMaxPins > kMaxBodies) {
     return std::to_string(model.segment_count()) + " segments are too many: a Jolt world holds " +

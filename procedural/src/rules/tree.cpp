@@ -173,10 +173,12 @@ bool set_joint_rows(const Joint& joint, const JointTerms& terms, const BodyState
   j_parent.setZero();
   j_child.setZero();
   Vector6d c;
-  // the point: C = p_parent − p_child (world)
-  c.head<3>() =
-      world_point(parent, joint.anchor_in_parent) - world_point(child, joint.anchor_in_child);
-  j_parent.topRows<3>() = point_jacobian(r_parent, joint.anchor_in_parent);
+  // the point: C = p_parent − p_child (world). A box of hinges at different points carries the
+  // parent's point along its angles; its Jacobian leaves out how the point moves with them (the
+  // Newton iteration converges on it the less fast, the next substep's rows starting from there)
+  const Vector3d anchor_parent = parent_anchor(joint, parent.q, child.q);
+  c.head<3>() = world_point(parent, anchor_parent) - world_point(child, joint.anchor_in_child);
+  j_parent.topRows<3>() = point_jacobian(r_parent, anchor_parent);
   j_child.topRows<3>() = -point_jacobian(r_child, joint.anchor_in_child);
   int rows = 3;
   // the limit: the child needs the rotation e (its frame) with the parent fixed; a change of

@@ -12,6 +12,7 @@
 #include <string_view>
 
 #include "puppet/model/model.h"
+#include "puppet/model/rotation.h"
 
 namespace puppet {
 
@@ -39,6 +40,29 @@ Quaterniond clamp_to_box(const EulerOrder& order, const Vector3d& lower, const V
 /// the most any angle of q lies outside [lower, upper] (rad; 0 inside)
 double box_excess(const EulerOrder& order, const Vector3d& lower, const Vector3d& upper,
                   const Quaterniond& q);
+
+/// whether the joint is a box of hinges at different points (Joint::box_offsets)
+inline bool has_box_offsets(const Joint& joint) {
+  return !joint.box_offsets[0].isZero(0.0) || !joint.box_offsets[1].isZero(0.0);
+}
+
+/// The joint's point on the parent's side, in the parent's frame, at the relative rotation q_rel
+/// (joint_relative_rotation): anchor_in_parent, carried along a box's hinge offsets by its
+/// angles, F_p R(a₀, θ₀) (d₀ + R(a₁, θ₁) d₁) with dₖ the offsets in the joint frame, where each
+/// later hinge's point turns with the earlier hinges as MuJoCo composes them; anchor_in_parent
+/// itself for every other joint. The child's point, anchor_in_child, meets it when the joint holds.
+Vector3d parent_anchor(const Joint& joint, const Quaterniond& q_rel);
+/// the same at the parent's and the child's orientations (anchor_in_parent, untouched, for a
+/// joint without offsets: the hot paths pay a test)
+inline Vector3d parent_anchor(const Joint& joint, const Quaterniond& q_parent,
+                              const Quaterniond& q_child) {
+  if (!has_box_offsets(joint)) return joint.anchor_in_parent;
+  return parent_anchor(joint, joint_relative_rotation(joint, q_parent, q_child));
+}
+
+/// "" when no joint is a box of hinges at different points; else the first such joint, named
+/// with how far apart its hinges are, and the engines that build it (for an engine that does not)
+std::string box_offsets_problem(const Model& model);
 
 /// the middle angle's range is within ±kMaxBoxMiddle (85°): Euler angles lose an axis at ±90°
 inline constexpr double kMaxBoxMiddle = 85.0 * 3.14159265358979323846 / 180.0;

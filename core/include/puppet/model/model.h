@@ -106,6 +106,12 @@ struct Joint {
   /// (0, 0, 0) inside; the middle angle within ±85° (away from gimbal lock)
   EulerOrder box_order;
   Vector3d box_lower{0, 0, 0}, box_upper{0, 0, 0};
+  /// ball, Euler box of hinges at different points (MJCF: the humanoids' ankles, two hinges 4 cm
+  /// apart): the second hinge's point less the first's, and the third's less the second's, in
+  /// world at rest (as anchor_world); zero when they share one point. The anchor on the parent's
+  /// side is then the first hinge's point, the one on the child's side the last's, and they meet
+  /// where parent_anchor() (euler_box.h) carries the first along the box's angles
+  std::array<Vector3d, 2> box_offsets{Vector3d::Zero(), Vector3d::Zero()};
   /// hinge: unit axis in the joint frame and the range of the right-handed angle about it (rad)
   Vector3d hinge_axis{0, 0, 1};
   double lower = 0.0, upper = 0.0;
