@@ -13,6 +13,7 @@ packages=(
   libcli11-dev       # the testbed command line
   libbullet-dev      # the references (its bullet-float64 variant: double precision)
   libmujoco-dev      # the mujoco reference (MuJoCo 2.2)
+  libmujoco-samples  # MuJoCo 2.2.2's published model files: the main job's humanoid.xml
   libode-dev         # the ode reference (ODE 0.16, double precision)
   pkg-config         # finds bullet-float64
   libgtest-dev       # tests
