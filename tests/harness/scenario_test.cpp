@@ -53,6 +53,19 @@ TEST(Scenario, PinocchioChoices) {
   EXPECT_TRUE(make_scenario("spin", model).pins.empty());
 }
 
+// a character's hands by the names published ones give them (MuJoCo's humanoid: right_hand;
+// models/humanoid.xml: hand_right), a figure without them by its lowest segment
+TEST(Scenario, APublishedCharacterIsGrabbedByItsHands) {
+  const Model model = load_model(std::string(PUPPET_SOURCE_DIR) + "/models/humanoid.xml");
+  const auto grabbed = [&](const char* scenario) {
+    return model.segments[make_scenario(scenario, model).pins[1].pin.segment].name;
+  };
+  EXPECT_EQ(grabbed("drag"), "hand_right");
+  EXPECT_EQ(grabbed("shake"), "hand_left");
+  const Model chain = load_model("chain:5");
+  EXPECT_EQ(make_scenario("drag", chain).pins[1].pin.segment, 4);  // the lowest link
+}
+
 // the user's scenarios hold the hand with the grab, the paper's with a hard pin; the head is a
 // hard pin in both
 TEST(Scenario, TheUsersScenariosGrabAndTheMarionetteIsPinned) {

@@ -1,6 +1,7 @@
 #include "builders.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "puppet/model/text.h"
@@ -20,7 +21,9 @@ double rest_lowest_z(const Segment& segment) {
 }
 
 // the default segment choices (docs/design.md): the pinocchio names, else the root for the pin
-// and the segment reaching lowest at rest for the grab
+// and, for the grab, the hand on the same side by the names published characters give it
+// (MuJoCo's and dm_control's humanoids: right_hand, left_hand), else the segment reaching lowest
+// at rest
 int default_pin_segment(const Model& model) {
   const int head = model.find_segment("head");
   return head >= 0 ? head : 0;
@@ -29,6 +32,15 @@ int default_pin_segment(const Model& model) {
 int default_grab_segment(const Model& model, std::string_view hand_name) {
   const int hand = model.find_segment(std::string(hand_name));
   if (hand >= 0) return hand;
+  // Pinocchio's l_forearm is a left hand, r_forearm a right one
+  const bool left = hand_name.starts_with("l_");
+  const std::array<const char*, 6> right_names = {"right_hand", "hand_right", "r_hand",
+                                                  "hand_r",     "righthand",  "RightHand"};
+  const std::array<const char*, 6> left_names = {"left_hand", "hand_left", "l_hand",
+                                                 "hand_l",    "lefthand",  "LeftHand"};
+  for (const char* name : left ? left_names : right_names) {
+    if (const int same_side = model.find_segment(name); same_side >= 0) return same_side;
+  }
   int lowest = 0;
   for (int i = 1; i < model.segment_count(); ++i) {
     if (rest_lowest_z(model.segments[i]) < rest_lowest_z(model.segments[lowest]) - 1e-12)
