@@ -8,6 +8,7 @@ VERDICT=verdict                      # testbed verdict: verdict.csv, candidates.
 FRONTIER=frontier                    # testbed frontier: frontier.csv
 OPEN_LIMITS=truths-open-limits       # testbed run, Pinocchio with every joint free
 HUMANOID=humanoid                    # testbed run on MuJoCo's published humanoid.xml
+HUMANOID_VERDICT=humanoid-verdict    # testbed verdict on it: hang and drag within 1 cm
 ABLATION=ablation                    # scripts/ablation.sh: configs.csv, a run per configuration
 COMPLIANT_FRONTIER=frontier-compliant  # under ABLATION: the frontier with the compliant grab
 ROBUSTNESS=robustness                # scripts/robustness.sh: testbed robustness

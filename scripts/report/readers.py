@@ -192,12 +192,13 @@ def read_robustness(folder):
 
 
 class Verdict:
-    """RESULTS/verdict/verdict.csv and candidates.csv (testbed verdict)"""
+    """RESULTS/verdict/verdict.csv and candidates.csv (testbed verdict), or another verdict's
+    folder under RESULTS"""
 
-    def __init__(self, folder):
-        path = os.path.join(folder, VERDICT, "verdict.csv")
+    def __init__(self, folder, sub=VERDICT):
+        path = os.path.join(folder, sub, "verdict.csv")
         self.rows = read_table(path, "verdict.csv")
-        self.candidates = read_table(os.path.join(folder, VERDICT, "candidates.csv"),
+        self.candidates = read_table(os.path.join(folder, sub, "candidates.csv"),
                                      "candidates.csv")
         if not self.rows:
             raise ReportError(f"{path}: no rows")

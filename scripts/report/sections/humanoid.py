@@ -2,9 +2,28 @@
 import math
 import os
 
-from ..catalogue import M, SECOND_TRUTH, ST, TRUTH
-from ..common import HUMANOID, dt_text, fmt, label, md_table
-from ..readers import Summary
+from ..catalogue import M, PER_SECOND, SECOND_TRUTH, ST, TRUTH
+from ..common import HUMANOID, HUMANOID_VERDICT, budget_name, dt_text, fmt, label, md_table
+from ..readers import Summary, Verdict
+from .verdict import refused_text, verdict_table
+
+
+def humanoid_verdict(folder):
+    """its verdict (main.sh: hang and drag within 1 cm), as the verdict section's table"""
+    if not os.path.exists(os.path.join(folder, HUMANOID_VERDICT, "verdict.csv")):
+        return []
+    v = Verdict(folder, HUMANOID_VERDICT)
+    out = []
+    for budget in v.budgets:
+        table, refused = verdict_table(v, PER_SECOND, budget)
+        out += [f"Its verdict within {budget_name(budget)} (`{HUMANOID_VERDICT}/verdict.csv`, "
+                f"{v.starts} random starts, judged against {v.truth} as Pinocchio's is): CPU µs "
+                "per simulated second of the cheapest configuration each solver has; in "
+                "brackets, how many times cheaper than the cheapest reference engine.", "",
+                table, ""]
+        if refused_text(v, refused):
+            out += [refused_text(v, refused), ""]
+    return out
 
 
 def humanoid_section(folder):
@@ -41,6 +60,7 @@ def humanoid_section(folder):
            " (m), and the largest joint gap (m); `div@t`: the run diverged at t.", "",
            md_table(["scenario"] + [label(c) for c in h.configs],
                     [[sc] + [cell(sc, c) for c in h.configs] for sc in h.scenarios]), ""]
+    out += humanoid_verdict(folder)
     if all(math.isnan(h.truth_bar(sc)) for sc in h.scenarios):
         return out + [f"The humanoid is judged against its first truth alone ({h.truth_text()}), "
                       "at its own dt only (`--first-truth-only`): no error bar, no second truth. "
