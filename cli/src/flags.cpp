@@ -218,10 +218,14 @@ void apply_engine_verdicts(std::vector<SolverConfig>& configs, const Model& mode
   const auto among = [](const std::vector<std::string>& names, const std::string& name) {
     return std::find(names.begin(), names.end(), name) != names.end();
   };
-  for (const SolverConfig& config : configs) {
-    // a procedural configuration is refused per rule (xpbd and tree hold what the others do not)
+  // a procedural configuration is refused per rule (xpbd and tree hold what the others do not)
+  const auto label_of = [](const SolverConfig& config) {
     const std::string rule = compare::rule_of(config);
-    const std::string label = rule.empty() ? config.solver : config.solver + " rule " + rule;
+    return rule.empty() ? config.solver : config.solver + " rule " + rule;
+  };
+  for (const SolverConfig& config : configs) {
+    const std::string rule = compare::rule_of(config);
+    const std::string label = label_of(config);
     if (among(refused, label)) continue;
     const std::string problem =
         compare::engine_model_problem(config.solver, model, config.options, f.engine_budget);
@@ -254,10 +258,7 @@ void apply_engine_verdicts(std::vector<SolverConfig>& configs, const Model& mode
   for (const auto& [note, engines] : notes) {
     print_error("testbed: ", "note: " + engines + ": " + note);
   }
-  std::erase_if(configs, [&](const SolverConfig& c) {
-    const std::string rule = compare::rule_of(c);
-    return among(refused, rule.empty() ? c.solver : c.solver + " rule " + rule);
-  });
+  std::erase_if(configs, [&](const SolverConfig& c) { return among(refused, label_of(c)); });
 }
 
 }  // namespace puppet::testbed

@@ -25,7 +25,6 @@
 // stopped: measured up to 3%). Joint gaps: the pass moves no pose, and leaves each joint point's
 // relative velocity as the positions gave it.
 #include <algorithm>
-#include "puppet/model/euler_box.h"
 #include "puppet/model/rotation.h"
 
 #include "stages.h"
@@ -57,15 +56,11 @@ void hold_limit_rates(const Model& model, const JointTerms& terms, const Joint& 
   //   B eₖ = (W_c uₖ) × a_c + (W_p uₖ) × a_p,   Lₖₗ = uₖᵀ (W_c + W_p) uₗ,
   // solved through the Schur complement of K: (L − Bᵀ K⁻¹ B) λ = Δu, then P = −K⁻¹ B λ.
   const Matrix3d rotation = child_to_parent.toRotationMatrix();
-  // a box of hinges at different points carries the parent's point along its angles
-  const Vector3d anchor_parent = parent_anchor(joint, parent.q, child.q);
-  const Matrix3d k_parent = has_box_offsets(joint) ? diagonal_point_mass_matrix(
-                                                         ps.inv_mass, ps.inv_inertia, anchor_parent)
-                                                   : terms.point_mass[0];
-  const Matrix3d k = terms.point_mass[1] + rotation * k_parent * rotation.transpose();
+  const ParentSide side = parent_side(model, terms, joint, parent.q, child.q);
+  const Matrix3d k = terms.point_mass[1] + rotation * side.point_mass * rotation.transpose();
   const Matrix3d w_parent = rotation * ps.inv_inertia.asDiagonal() * rotation.transpose();
   const Vector3d& a_child = joint.anchor_in_child;
-  const Vector3d a_parent = rotation * anchor_parent;
+  const Vector3d a_parent = rotation * side.anchor;
   const Vector3d w_rel = child.q.conjugate() * (child.w - parent.w);
   Matrix3d b = Matrix3d::Zero();          // columns: B eₖ
   Matrix3d k_inv_b = Matrix3d::Zero();    // K⁻¹ B

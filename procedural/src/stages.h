@@ -16,6 +16,7 @@
 #include "geometry.h"
 #include "joint_limits.h"
 #include "model_tables.h"
+#include "puppet/model/euler_box.h"
 #include "puppet/procedural/settings.h"
 #include "puppet/procedural/state.h"
 #include "workspace.h"
@@ -60,6 +61,21 @@ void one_sided_pass(const Model& model, std::span<const JointTerms> joints, Rule
 // one-sided rules close the softened target exactly)
 void soften_compliant_targets(const Model& model, const State& state, double h,
                               PinTargets& targets);
+// The parent's side of a joint at the segments' orientations: its point in the parent's frame
+// (parent_anchor: a box of hinges at different points carries it along its angles) and the
+// parent's point mass matrix there (JointTerms' own unless the point moves)
+struct ParentSide {
+  Vector3d anchor;
+  Matrix3d point_mass;
+};
+inline ParentSide parent_side(const Model& model, const JointTerms& terms, const Joint& joint,
+                              const Quaterniond& q_parent, const Quaterniond& q_child) {
+  if (!has_box_offsets(joint)) return {joint.anchor_in_parent, terms.point_mass[0]};
+  const Segment& parent = model.segments[joint.parent];
+  const Vector3d anchor = parent_anchor(joint, q_parent, q_child);
+  return {anchor, diagonal_point_mass_matrix(parent.inv_mass, parent.inv_inertia, anchor)};
+}
+
 // the joint point in a's frame and in b's frame, for a link of an anchor order
 struct LinkAnchors {
   const Vector3d& local_a;

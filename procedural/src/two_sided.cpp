@@ -204,13 +204,9 @@ void share_joint_correction(const Model& model, const JointTerms& terms, const J
   const Segment& parent_segment = model.segments[joint.parent];
   const Segment& child_segment = model.segments[joint.child];
   const Matrix3d rotation = (child.q.conjugate() * parent.q).toRotationMatrix();
-  const Vector3d anchor_parent = parent_anchor(joint, parent.q, child.q);
-  // the parent's point mass matrix at its anchor (JointTerms' unless the anchor moves)
-  const Matrix3d k_parent =
-      has_box_offsets(joint) ? diagonal_point_mass_matrix(parent_segment.inv_mass,
-                                                          parent_segment.inv_inertia, anchor_parent)
-                             : terms.point_mass[0];
-  const Matrix3d k = terms.point_mass[1] + rotation * k_parent * rotation.transpose();
+  const ParentSide side = parent_side(model, terms, joint, parent.q, child.q);
+  const Vector3d& anchor_parent = side.anchor;
+  const Matrix3d k = terms.point_mass[1] + rotation * side.point_mass * rotation.transpose();
   const Vector3d gap =
       child.q.conjugate() * (parent.x - child.x) + rotation * anchor_parent - joint.anchor_in_child;
   // the impulse on the child, in its frame

@@ -110,7 +110,7 @@ std::unique_ptr<LaneStepper> LaneStepper::make(const Solver& puppet, int max_wid
       (puppet.limit_pass_ && settings.limit_restitution != 0.0) || environment.tremble ||
       environment.water || environment.ground || puppet.tables_->orders.empty() ||
       puppet.joint_springs_ || puppet.model_.root.hold != RootHold::kFree ||
-      !box_offsets_problem(puppet.model_).empty()) {
+      std::ranges::any_of(puppet.model_.joints, has_box_offsets)) {
     // joint springs, a root the world holds, hinges at different points: the scalar step
     return nullptr;
   }
