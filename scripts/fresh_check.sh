@@ -14,6 +14,13 @@
 # The pristine root is made once and cached at $BASE; each check works on a fresh copy of it
 # ($ROOT), so nothing one check installs is there for the next. Needs root (debootstrap, chroot,
 # bind mounts) and the Debian package registry. Each command's log: /tmp/fresh-cmdN.log.
+#
+# CCACHE_STORE=DIR (CI sets it to the store its own builds just filled): the root copy gets one
+# package more, ccache, and DIR is mounted in it as the commands' compiler cache, so a file the
+# host's build of the same commit compiled is not compiled again. Everything else is as bare: a
+# header or library setup.sh fails to install still fails the build, since ccache runs the
+# preprocessor whenever an included file is not where it was. Unset (the default, and what to
+# run before a change lands), the commands compile from nothing, as a new user's do.
 set -u
 BASE=${BASE:-/tmp/fresh-base}
 ROOT=${ROOT:-/tmp/fresh-root}
@@ -62,8 +69,9 @@ if [ ! -x "$BASE/bin/bash" ]; then
   echo "== bare root made in ${SECONDS}s"
 fi
 
-unmount() { umount "$ROOT/dev/pts" "$ROOT/proc" "$ROOT/dev" 2>/dev/null; }
+unmount() { umount "$ROOT/ccache" "$ROOT/dev/pts" "$ROOT/proc" "$ROOT/dev" 2>/dev/null; }
 unmount
+if mountpoint -q "$ROOT/ccache" 2>/dev/null; then echo "fresh-check: $ROOT/ccache is still mounted"; exit 1; fi
 rm -rf "$ROOT" && cp -a "$BASE" "$ROOT" || { echo "fresh-check: could not copy the base root"; exit 1; }
 git clone -q "$SRC" "$ROOT/src" || { echo "fresh-check: clone failed"; exit 1; }
 # the certificate authorities this machine adds to Debian's (a network that inspects TLS signs
@@ -81,6 +89,15 @@ sleep 1
 mount --bind /proc "$ROOT/proc" && mount --bind /dev "$ROOT/dev" &&
   mount --bind /dev/pts "$ROOT/dev/pts" || { unmount; echo "fresh-check: mount failed"; exit 1; }
 trap unmount EXIT
+cache_env=()
+if [ -n "${CCACHE_STORE:-}" ]; then
+  mkdir -p "$CCACHE_STORE" "$ROOT/ccache" && mount --bind "$CCACHE_STORE" "$ROOT/ccache" &&
+    chroot "$ROOT" /bin/bash -c 'apt-get update -qq && apt-get install -y -qq ccache' >/tmp/fresh-ccache.log 2>&1 ||
+    { echo "fresh-check: could not set up the compiler cache (log /tmp/fresh-ccache.log)"; exit 1; }
+  cache_env=(CMAKE_C_COMPILER_LAUNCHER=ccache CMAKE_CXX_COMPILER_LAUNCHER=ccache CCACHE_DIR=/ccache
+    CCACHE_BASEDIR=/src CCACHE_NOHASHDIR=true CCACHE_MAXSIZE=6G)
+  echo "== compiler cache: $CCACHE_STORE"
+fi
 
 i=0
 failed=0
@@ -89,7 +106,7 @@ for cmd in "$@"; do
   echo "== command $i: $cmd"
   SECONDS=0
   chroot "$ROOT" /usr/bin/env -i HOME=/root PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
-    TERM=dumb /bin/bash -lc "cd /src && $cmd" </dev/null >"/tmp/fresh-cmd$i.log" 2>&1
+    TERM=dumb "${cache_env[@]}" /bin/bash -lc "cd /src && $cmd" </dev/null >"/tmp/fresh-cmd$i.log" 2>&1
   code=$?
   echo "   exit $code after ${SECONDS}s (log /tmp/fresh-cmd$i.log)"
   grep -m 1 '^setup: ' "/tmp/fresh-cmd$i.log" | sed 's/^/   | /'
