@@ -103,22 +103,20 @@ void Reader::read_body(const XMLElement* e, int parent, const Vector3d& parent_x
       fail(joints[3], "a fourth joint in body \"" + name +
                           "\" (one joint per body, or two or three hinges at one point)");
     } else {
-      double turn = 0.0;
+      RestTurn turn;
       joints_.push_back(read_joint(e, joints.empty() ? nullptr : joints[0], index, parent, x, q,
                                    child_class, &turn));
-      if (turn != 0.0) {
-        // the body and all below it turned about the hinge to the nearer end of its range
+      if (turn.why != nullptr) {
+        // the body and all below it turned about the hinge into its range
         const detail::RawJoint& hinge = joints_.back();
-        const Quaterniond r(Eigen::AngleAxisd(turn, hinge.hinge_axis_world));
+        const Quaterniond r(Eigen::AngleAxisd(turn.angle, hinge.hinge_axis_world));
         const Vector3d& a = hinge.joint.anchor_world;
         Segment& segment = segments_.back();
         segment.rest_position = a + r * (segment.rest_position - a);
         segment.rest_orientation = (r * segment.rest_orientation).normalized();
         x = a + r * (x - a);
         q = (r * q).normalized();
-        ++skipped_
-            ["<joint> whose range leaves out the pose as written, its rest turned to the "
-             "nearer end"];
+        ++skipped_[turn.why];
       }
     }
   }

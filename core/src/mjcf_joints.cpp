@@ -8,6 +8,11 @@
 
 namespace puppet::mjcf {
 
+namespace {
+// half a turn, as rounded: a hinge's angle is read within it either way
+constexpr double kHalfTurn = kPi * (1.0 + 1e-12);
+}  // namespace
+
 bool Reader::is_free(const XMLElement* joint, const std::string& class_name) const {
   if (std::string(joint->Name()) == "freejoint") return true;
   return value(joint, "type", class_of(joint, class_name)).value_or("hinge") == "free";
@@ -110,10 +115,19 @@ Reader::JointElement Reader::read_joint_element(const XMLElement* e, int child, 
         // MuJoCo starts such a joint outside its range, and its limit pushes it in at once;
         // dm_control starts its figures inside their ranges: the rest pose is turned to the
         // nearer end, the range's and springref's angles then measured from there
-        out.rest_turn = out.range[0] > 0.0 ? out.range[0] : out.range[1];
-        out.range = {out.range[0] - out.rest_turn, out.range[1] - out.rest_turn};
-        out.spring.spring_ref -= out.rest_turn;
+        out.rest_turn = {out.range[0] > 0.0 ? out.range[0] : out.range[1],
+                         "<joint> whose range leaves out the pose as written, its rest turned to "
+                         "the nearer end"};
+      } else if (may_turn && !slide && (out.range[0] < -kHalfTurn || out.range[1] > kHalfTurn) &&
+                 out.range[1] - out.range[0] < 2.0 * kPi * (1.0 - 1e-12)) {
+        // a hinge's angle is read within half a turn of its rest: a range that passes half a
+        // turn but spans less than a whole one is held about its middle, the rest turned there
+        out.rest_turn = {0.5 * (out.range[0] + out.range[1]),
+                         "<joint> whose range passes 180 degrees from the pose as written, its "
+                         "rest turned to the range's middle"};
       }
+      out.range = {out.range[0] - out.rest_turn.angle, out.range[1] - out.rest_turn.angle};
+      out.spring.spring_ref -= out.rest_turn.angle;
       if (out.range[0] > 0.0 || out.range[1] < 0.0) {
         fail(e, slide ? "its range must contain ref (0 unless given), the body's place as written"
                       : "its range must contain ref (0 unless given), the angle of the body as "
@@ -128,7 +142,6 @@ Reader::JointElement Reader::read_joint_element(const XMLElement* e, int child, 
   if (out.type == "hinge" && out.limited) {
     // a hinge's angle is read within half a turn either way (±180° is a free hinge): a wider
     // range is one the model cannot hold, and would be read as no limit at all
-    constexpr double kHalfTurn = kPi * (1.0 + 1e-12);  // 180 degrees, as rounded
     if (out.range[0] < -kHalfTurn || out.range[1] > kHalfTurn) {
       fail(e,
            "its range goes past 180 degrees either way, which the testbed's hinges cannot "
@@ -248,8 +261,8 @@ detail::RawJoint Reader::read_box(const std::vector<const XMLElement*>& hinges, 
 
 detail::RawJoint Reader::read_joint(const XMLElement* body, const XMLElement* e, int child,
                                     int parent, const Vector3d& x, const Quaterniond& q,
-                                    const std::string& class_name, double* rest_turn) {
-  *rest_turn = 0.0;
+                                    const std::string& class_name, RestTurn* rest_turn) {
+  *rest_turn = {};
   detail::RawJoint raw;
   Joint& j = raw.joint;
   raw.parent_name = segments_[parent].name;

@@ -301,6 +301,11 @@ class Reader {
 
   // What a <joint> below the root says before its type is read: its name, point, range (rad)
   // and user data; for a hinge its axis in world and its range checked (±π when unlimited)
+  // a lone hinge's rest pose turned into its range: by what angle (rad), and the note that says why
+  struct RestTurn {
+    double angle = 0.0;
+    const char* why = nullptr;
+  };
   struct JointElement {
     std::string name, type;
     Vector3d anchor_world{0, 0, 0};
@@ -313,13 +318,15 @@ class Reader {
     // the body's pose as written, MuJoCo's hinge at ref
     JointPassive spring;
     // a lone hinge whose range leaves out the pose as written (dm_control's hopper: its knee's
-    // [5°, 150°]): the angle its rest pose turns it by, to the range's nearer end, and by which
-    // the range and springref above were moved (the rest is the testbed's angle 0)
-    double rest_turn = 0.0;
+    // [5°, 150°]) or passes half a turn (dm_control's cheetah: its back foot's [-230°, 50°]):
+    // the angle its rest pose turns it by, and by which the range and springref above were
+    // moved (the rest is the testbed's angle 0)
+    RestTurn rest_turn;
   };
 
-  // may_turn: a hinge whose range leaves out the pose as written gets a rest_turn instead of a
-  // refusal (a lone hinge below the root; a box's and the root's ranges must hold it)
+  // may_turn: a hinge whose range leaves out the pose as written, or passes half a turn, gets a
+  // rest_turn instead of a refusal (a lone hinge below the root; a box's and the root's ranges
+  // must hold the pose, within half a turn)
   JointElement read_joint_element(const XMLElement* e, int child, const Vector3d& x,
                                   const Quaterniond& q, const std::string& class_name,
                                   bool may_turn = false) const;
@@ -343,10 +350,10 @@ class Reader {
   RootJoint read_root(const std::vector<const XMLElement*>& joints, const Vector3d& x,
                       const Quaterniond& q, const std::string& class_name);
 
-  // one joint, or none (a weld); *rest_turn is its JointElement's (0 but for a turned hinge)
+  // one joint, or none (a weld); *rest_turn is its JointElement's (no angle but for a turned hinge)
   detail::RawJoint read_joint(const XMLElement* body, const XMLElement* e, int child, int parent,
                               const Vector3d& x, const Quaterniond& q,
-                              const std::string& class_name, double* rest_turn);
+                              const std::string& class_name, RestTurn* rest_turn);
 
   std::string source_;
   std::string name_;

@@ -337,31 +337,26 @@ TEST(MjcfReader, HandWrittenFileInMujocosTerms) {
 // [5°, 150°]) is read with its body turned to the range's nearer end: the same model as the file
 // that writes the body at that angle and says so with ref (MuJoCo's qpos at the pose as written),
 // its range and springref then measured from there; the note says so
-TEST(MjcfReader, AHingeOutsideItsRangeRestsAtItsNearerEnd) {
-  const auto leg = [](const std::string& shin, const std::string& knee) {
-    return R"(<mujoco model="leg"><compiler angle="degree" autolimits="true"/><worldbody>
+// a leg of my own whose knee (a lone hinge) has what `shin` and `knee` add
+std::string leg_with_knee(const std::string& shin, const std::string& knee) {
+  return R"(<mujoco model="leg"><compiler angle="degree" autolimits="true"/><worldbody>
       <body name="thigh" pos="0 0 1"><freejoint/>
         <geom type="capsule" fromto="0 0 0 0 0 -0.4" size="0.05"/>
         <body name="shin" pos="0 0 -0.45" )" +
-           shin + R"(>
+         shin + R"(>
           <joint name="knee" axis="0 1 0" )" +
-           knee + R"( stiffness="3" springref="20"/>
+         knee + R"( stiffness="3" springref="20"/>
           <geom type="capsule" fromto="0 0 0 0 0 -0.4" size="0.04"/>
           <body name="foot" pos="0.05 0 -0.45">
             <joint name="ankle" axis="0 1 0" range="-30 30"/>
             <geom type="box" size="0.1 0.04 0.02"/>
           </body></body></body></worldbody></mujoco>)";
-  };
-  std::string note;
-  const Model turned = parse_mjcf(leg("", R"(range="5 150")"), "leg.xml", {}, &note);
-  EXPECT_NE(note.find("1 <joint> whose range leaves out the pose as written, its rest turned to "
-                      "the nearer end"),
-            std::string::npos)
-      << note;
-  const Model written =
-      parse_mjcf(leg(R"(axisangle="0 1 0 5")", R"(range="5 150" ref="5")"), "leg_at_5.xml");
-  ASSERT_EQ(turned.segment_count(), 3);
-  for (int s = 0; s < 3; ++s) {
+}
+
+// the same rest pose, joints, ranges and springs in both
+void expect_same_rest(const Model& turned, const Model& written) {
+  ASSERT_EQ(turned.segment_count(), written.segment_count());
+  for (int s = 0; s < turned.segment_count(); ++s) {
     const std::string name = turned.segments[s].name;
     EXPECT_LT((turned.segments[s].rest_position - written.segments[s].rest_position).norm(), 1e-12)
         << name;
@@ -370,6 +365,27 @@ TEST(MjcfReader, AHingeOutsideItsRangeRestsAtItsNearerEnd) {
         1e-12)
         << name;
   }
+  ASSERT_EQ(turned.joints.size(), written.joints.size());
+  for (size_t j = 0; j < turned.joints.size(); ++j) {
+    const Joint &a = turned.joints[j], &b = written.joints[j];
+    EXPECT_NEAR(a.lower, b.lower, 1e-15) << a.name;
+    EXPECT_NEAR(a.upper, b.upper, 1e-15) << a.name;
+    EXPECT_NEAR(a.passive[0].spring_ref, b.passive[0].spring_ref, 1e-15) << a.name;
+    EXPECT_LT((a.anchor_world - b.anchor_world).norm(), 1e-12) << a.name;
+  }
+}
+
+TEST(MjcfReader, AHingeOutsideItsRangeRestsAtItsNearerEnd) {
+  std::string note;
+  const Model turned = parse_mjcf(leg_with_knee("", R"(range="5 150")"), "leg.xml", {}, &note);
+  EXPECT_NE(note.find("1 <joint> whose range leaves out the pose as written, its rest turned to "
+                      "the nearer end"),
+            std::string::npos)
+      << note;
+  const Model written = parse_mjcf(
+      leg_with_knee(R"(axisangle="0 1 0 5")", R"(range="5 150" ref="5")"), "leg_at_5.xml");
+  ASSERT_EQ(turned.segment_count(), 3);
+  expect_same_rest(turned, written);
   // the foot (its centre 0.05 m ahead of the knee, 0.45 m below) turned by 5° about y with it
   const double five = 5 * kPi / 180;
   EXPECT_NEAR(turned.segments[2].rest_position.x(), 0.05 * std::cos(five) - 0.45 * std::sin(five),
@@ -379,15 +395,8 @@ TEST(MjcfReader, AHingeOutsideItsRangeRestsAtItsNearerEnd) {
   EXPECT_NEAR(knee.lower, 0.0, 1e-15);
   EXPECT_NEAR(knee.upper, 145 * kPi / 180, 1e-15);
   EXPECT_NEAR(knee.passive[0].spring_ref, 15 * kPi / 180, 1e-15);
-  for (size_t j = 0; j < turned.joints.size(); ++j) {
-    const Joint &a = turned.joints[j], &b = written.joints[j];
-    EXPECT_NEAR(a.lower, b.lower, 1e-15) << a.name;
-    EXPECT_NEAR(a.upper, b.upper, 1e-15) << a.name;
-    EXPECT_NEAR(a.passive[0].spring_ref, b.passive[0].spring_ref, 1e-15) << a.name;
-    EXPECT_LT((a.anchor_world - b.anchor_world).norm(), 1e-12) << a.name;
-  }
   // the other way: the upper end, the nearer one for a range wholly below the pose as written
-  const Model below = parse_mjcf(leg("", R"(range="-150 -5")"), "leg.xml");
+  const Model below = parse_mjcf(leg_with_knee("", R"(range="-150 -5")"), "leg.xml");
   EXPECT_NEAR(below.joints[0].lower, -145 * kPi / 180, 1e-15);
   EXPECT_NEAR(below.joints[0].upper, 0.0, 1e-15);
   // a box's hinges and the root's still must hold the pose as written
@@ -395,6 +404,33 @@ TEST(MjcfReader, AHingeOutsideItsRangeRestsAtItsNearerEnd) {
       <joint type="hinge" axis="0 1 0" limited="true" range="0.1 1"/></body></worldbody></mujoco>)",
                           "root.xml"),
                ModelError);
+}
+
+// dm_control's cheetah: its back foot's range [-230°, 50°] holds the pose as written but passes
+// half a turn, which a hinge's angle (read within half a turn of its rest) cannot hold
+TEST(MjcfReader, AHingeRangePastHalfATurnRestsAtItsMiddle) {
+  std::string note;
+  const Model turned = parse_mjcf(leg_with_knee("", R"(range="-230 50")"), "leg.xml", {}, &note);
+  EXPECT_NE(note.find("1 <joint> whose range passes 180 degrees from the pose as written, its "
+                      "rest turned to the range's middle"),
+            std::string::npos)
+      << note;
+  const Model written = parse_mjcf(
+      leg_with_knee(R"(axisangle="0 1 0 -90")", R"(range="-230 50" ref="-90")"), "leg_at_-90.xml");
+  expect_same_rest(turned, written);
+  const Joint& knee = turned.joints[0];
+  EXPECT_NEAR(knee.lower, -140 * kPi / 180, 1e-15);
+  EXPECT_NEAR(knee.upper, 140 * kPi / 180, 1e-15);
+  EXPECT_NEAR(knee.passive[0].spring_ref, 110 * kPi / 180, 1e-15);
+  // a range of a whole turn or more is no hinge limit the testbed can hold: refused
+  for (const char* range : {R"(range="-200 160")", R"(range="-190 190")"}) {
+    try {
+      parse_mjcf(leg_with_knee("", range), "leg.xml");
+      ADD_FAILURE() << range;
+    } catch (const ModelError& e) {
+      EXPECT_NE(std::string(e.what()).find("past 180 degrees"), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(MjcfReader, LoadModelReadsXmlFiles) {
