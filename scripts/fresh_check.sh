@@ -95,7 +95,7 @@ if [ -n "${CCACHE_STORE:-}" ]; then
     chroot "$ROOT" /bin/bash -c 'apt-get update -qq && apt-get install -y -qq ccache' >/tmp/fresh-ccache.log 2>&1 ||
     { echo "fresh-check: could not set up the compiler cache (log /tmp/fresh-ccache.log)"; exit 1; }
   cache_env=(CMAKE_C_COMPILER_LAUNCHER=ccache CMAKE_CXX_COMPILER_LAUNCHER=ccache CCACHE_DIR=/ccache
-    CCACHE_BASEDIR=/src CCACHE_NOHASHDIR=true CCACHE_MAXSIZE=6G)
+    CCACHE_BASEDIR=/src CCACHE_NOHASHDIR=true CCACHE_MAXSIZE=6G CCACHE_SLOPPINESS=locale)
   echo "== compiler cache: $CCACHE_STORE"
 fi
 
