@@ -143,10 +143,12 @@ Reader::JointElement Reader::read_joint_element(const XMLElement* e, int child, 
     // a hinge's angle is read within half a turn either way (±180° is a free hinge): a wider
     // range is one the model cannot hold, and would be read as no limit at all
     if (out.range[0] < -kHalfTurn || out.range[1] > kHalfTurn) {
-      fail(e,
-           "its range goes past 180 degrees either way, which the testbed's hinges cannot "
-           "hold (their angle is read within [-180, 180] degrees, and that whole range is a "
-           "free hinge)");
+      fail(e, may_turn ? "its range goes past 180 degrees either way and spans a whole turn or "
+                         "more, which the testbed's hinges cannot hold (their angle is read "
+                         "within half a turn of the rest, and a whole turn is a free hinge)"
+                       : "its range goes past 180 degrees either way, which the testbed's hinges "
+                         "in a box or at the root cannot hold (their angle is read within "
+                         "[-180, 180] degrees, and that whole range is a free hinge)");
     }
     out.lower = std::max(out.range[0], -kPi);
     out.upper = std::min(out.range[1], kPi);

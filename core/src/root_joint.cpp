@@ -75,8 +75,9 @@ const char* root_hold_name(RootHold hold) {
 std::string held_root_problem(const Model& model) {
   if (!root_held(model)) return {};
   return std::string("its root is joined to the world (a ") + root_hold_name(model.root.hold) +
-         " root), which this engine does not build (mujoco, bullet-rigid, ode and the procedural "
-         "rules xpbd and tree do)";
+         " root), which this engine does not build (mujoco, bullet-multibody, bullet-rigid, ode "
+         "and "
+         "the procedural rules xpbd and tree do)";
 }
 
 std::string slide_armature_problem(const Model& model) {

@@ -78,9 +78,9 @@ void clear_contact_caches(btCollisionDispatcher& dispatcher) {
 
 }  // namespace detail
 
-std::string bullet_model_problem(Kind kind, const Model& model) {
+std::string bullet_model_problem(Kind /*kind*/, const Model& model) {
   if (std::string problem = box_offsets_problem(model); !problem.empty()) return problem;
-  return kind == Kind::kMultibody ? held_root_problem(model) : slide_armature_problem(model);
+  return slide_armature_problem(model);
 }
 std::string bullet_multibody_model_problem(const Model& model) {
   return bullet_model_problem(Kind::kMultibody, model);

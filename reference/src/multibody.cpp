@@ -1,6 +1,7 @@
 // btMultiBody stepped, its pins set and moved, its state read, set, saved and loaded
 // (multibody.h)
 #include "multibody.h"
+#include "puppet/model/root_joint.h"
 
 namespace puppet::reference::detail {
 
@@ -12,7 +13,7 @@ void MultibodySolver::set_pins(std::span<const Pin> pins) {
     }
     return pins[k].is_hard();
   };
-  Hang hang;
+  Hang hang;  // none under a held root: the world's joint is the base's
   for (int k = 0; hang_.pin >= 0 && k < static_cast<int>(pins.size()); ++k) {
     const Pin& pin = pins[k];
     if (alone(k) && pin.segment == hang_.segment && pin.local_point == hang_.point &&
@@ -21,7 +22,8 @@ void MultibodySolver::set_pins(std::span<const Pin> pins) {
       hang.pin = k;
     }
   }
-  for (int k = 0; hang.pin < 0 && !settings_.euler_ball_limits && k < static_cast<int>(pins.size());
+  for (int k = 0;
+       hang.pin < 0 && !held_ && !settings_.euler_ball_limits && k < static_cast<int>(pins.size());
        ++k) {
     const Pin& pin = pins[k];
     const BodyState& b = bodies_[pin.segment];
@@ -102,6 +104,7 @@ void MultibodySolver::read_state(std::span<BodyState> out) const {
     const Vector3d& xp = parent < 0 ? base_x : link_x_[parent];
     link_q_[link] = qp * from_bt(body_->getParentToLocalRot(link)).conjugate();
     link_x_[link] = xp + link_q_[link] * from_bt(body_->getRVector(link));
+    if (segment_of_[link] < 0) continue;  // a planar hold's slide
     BodyState& b = out[segment_of_[link]];
     b.q = link_q_[link];
     b.x = link_x_[link];
@@ -133,7 +136,8 @@ void MultibodySolver::set_state(std::span<const BodyState> bodies) {
     body_->setBaseVel(btVector3(0, 0, 0));
     body_->setBaseOmega(btVector3(0, 0, 0));
   }
-  for (int link = 0; link < static_cast<int>(segment_of_.size()); ++link) {
+  if (held_) set_held_root(bodies[0]);
+  for (int link = held_ ? root_link_ + 1 : 0; link < static_cast<int>(segment_of_.size()); ++link) {
     const BodyState& body = bodies[segment_of_[link]];
     const int parent = parent_link_[link];
     const bool from_base = parent < 0 && link_of_[0] >= 0;  // the fixed base: still, unturned
@@ -168,6 +172,36 @@ void MultibodySolver::set_state(std::span<const BodyState> bodies) {
     }
   }
   coordinates_changed();
+}
+
+// The root's link on the fixed base at the hold's anchor, unturned, or on a planar hold's slides
+// (links 0 and 1): every coordinate is the model's (root_coordinates).
+void MultibodySolver::set_held_root(const BodyState& root) {
+  const RootJoint& hold = model_.root;
+  const RootCoordinates c = root_coordinates(model_, root);
+  switch (hold.hold) {
+    case RootHold::kWeld:
+      break;
+    case RootHold::kHinge:
+    case RootHold::kSlide:
+    case RootHold::kPlanar:
+      for (int k = 0; k < c.count; ++k) {
+        double value = c.value[k], rate = c.rate[k];
+        body_->setJointPosMultiDof(k, &value);
+        body_->setJointVelMultiDof(k, &rate);
+      }
+      break;
+    case RootHold::kFree:
+    case RootHold::kBall: {
+      const Quaterniond q_joint = (zero_[root_link_] * root.q).normalized();
+      const Vector3d omega = root.q.conjugate() * root.w;  // the base is still
+      double q[4] = {q_joint.x(), q_joint.y(), q_joint.z(), q_joint.w()};
+      double qd[3] = {omega.x(), omega.y(), omega.z()};
+      body_->setJointPosMultiDof(root_link_, q);
+      body_->setJointVelMultiDof(root_link_, qd);
+      break;
+    }
+  }
 }
 
 // The assembly's generation and the clock, then its coordinates and pin targets; then every

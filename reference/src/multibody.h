@@ -6,7 +6,15 @@
 // (mujoco.cpp). Joints on the path from that segment to the model's root are then built from
 // their child's side. Otherwise the base is the model's root segment, floating, and pins are
 // PinRows (limit_rows.h). A pin whose target starts to move stops being the root: the tree is
-// rebuilt from the model's root and the state carried over through world poses.
+// rebuilt from the model's root and the state carried over through world poses. A root the world
+// holds (RootJoint) is Bullet's fixed base: the base is a fixed point at the hold's anchor, the
+// root the first link on the hold's own joint (a weld fixed, a hinge revolute, a slide prismatic,
+// a ball spherical), a hinge's or slide's range Bullet's btMultiBodyJointLimitConstraint on that
+// coordinate; pins are then always rows. A planar root is two massless prismatic links, then the
+// root on a revolute joint at the anchor: the model's own coordinates (s₀, s₁, θ), as MuJoCo's.
+// Bullet's planar joint, which turns the link about its centre and moves that in the turning
+// link's frame, strays from a spinning projectile's path at first order in h (2.7 cm over 1 s at
+// 1/480 s and 3 rad/s; a quarter of it at a quarter of the step), where the links do not.
 //
 // Frames. Each link's frame is its segment's frame (the model keeps it principal, as Bullet's
 // diagonal inertia needs), at the COM (Bullet's link origin). With q_L a link's world
@@ -84,11 +92,14 @@ class MultibodySolver final : public Solver {
   void build_colliders();
   void build_pins();
   bool hang_holds(std::span<const BodyState> bodies) const;
+  // the root's joint to the world, when it holds the root: link 0's coordinates from a state
+  void set_held_root(const BodyState& root);
   // after the coordinates changed from outside a step: colliders follow, contacts forget
   void coordinates_changed();
   bool state_finite() const;
 
   const Model& model_;
+  const bool held_;  // the world holds the root (RootJoint): Bullet's fixed base
   Environment environment_;
   Settings settings_;
   std::vector<Pin> pins_;
@@ -96,15 +107,17 @@ class MultibodySolver final : public Solver {
   long generation_ = 0;  // assemblies so far: a saved state names the one it was saved under
 
   // the tree as built, links parent first: per segment its link (−1: the floating base), per
-  // link its segment, the link it hangs from (−1: the base), the model joint between them (−1:
-  // the hanging pin's), whether the link is that joint's child, and its rest orientation
+  // link its segment (−1: a planar hold's massless slide), the link it hangs from (−1: the base),
+  // the model joint between them (−1: the hanging pin's or the hold's), whether the link is that
+  // joint's child, and its rest orientation; the root segment's link under a held root
   std::vector<int> link_of_;
   std::vector<int> segment_of_;
   std::vector<int> parent_link_;
   std::vector<int> joint_of_;
   std::vector<char> forward_;
   std::vector<Quaterniond> zero_;  // z above, per link
-  std::vector<Vector3d> axis_;     // a revolute link's axis in its frame
+  std::vector<Vector3d> axis_;     // a revolute or prismatic link's axis in its frame
+  int root_link_ = 0;
 
   // Bullet objects: the world is declared last so that it is destroyed first
   CollisionMachinery machinery_;

@@ -1,12 +1,15 @@
 // btMultiBody's tree built from the model (multibody.h): the rooting, the links in the order
 // Bullet wants them, their limits, colliders and pins
+#include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
+
 #include "multibody.h"
+#include "puppet/model/root_joint.h"
 
 namespace puppet::reference::detail {
 
 MultibodySolver::MultibodySolver(const Model& model, const Environment& environment,
                                  const Settings& settings)
-    : model_(model), environment_(environment), settings_(settings) {
+    : model_(model), held_(root_held(model)), environment_(environment), settings_(settings) {
   world_ =
       std::make_unique<btMultiBodyDynamicsWorld>(&machinery_.dispatcher, &machinery_.broadphase,
                                                  &constraint_solver_, &machinery_.configuration);
@@ -55,14 +58,15 @@ void MultibodySolver::assemble() {
   tear_down();
   ++generation_;
   lay_out();
-  const bool hung = hang_.segment >= 0;
+  const bool fixed = hang_.segment >= 0 || held_;
   const int links = static_cast<int>(segment_of_.size());
   // the base: a fixed point, or the model's root segment floating (fixedBase = false).
   // canSleep = false: a sleeping body stops moving and stops costing time, which would
   // falsify both motion and timings
   const Segment& root = model_.segments[0];
-  body_ = std::make_unique<btMultiBody>(
-      links, hung ? 0.0 : root.mass, hung ? btVector3(0, 0, 0) : to_bt(root.inertia), hung, false);
+  body_ =
+      std::make_unique<btMultiBody>(links, fixed ? 0.0 : root.mass,
+                                    fixed ? btVector3(0, 0, 0) : to_bt(root.inertia), fixed, false);
   build_links();
   // Bullet defaults to 0.04 linear and angular damping on every link: the references must
   // conserve what the physics conserves, so no damping at all
@@ -78,8 +82,8 @@ void MultibodySolver::assemble() {
   // no self-collision (docs/design.md); segments touch the ground only
   body_->setHasSelfCollision(false);
   body_->finalizeMultiDof();  // after every setup* call, or the dof buffers are wrong
-  if (hung) {
-    body_->setBasePos(to_bt(hang_.target));
+  if (fixed) {
+    body_->setBasePos(to_bt(held_ ? model_.root.anchor_world : hang_.target));
     body_->setWorldToBaseRot(btQuaternion::getIdentity());
   }
   world_->addMultiBody(body_.get());
@@ -116,14 +120,30 @@ void MultibodySolver::lay_out() {
   std::vector<char> placed(n, 0);
   placed[first] = 1;
   std::vector<int> queue = {first};
-  if (hung) {
-    link_of_[first] = 0;
+  root_link_ = 0;
+  if (hung || held_) {
+    // the first link, on the fixed base: its joint is the hanging pin's or the world's hold; a
+    // planar hold's two slides before it, massless links unturned at the anchor
+    const Quaterniond rest = model_.segments[first].rest_orientation;
+    const RootJoint& hold = model_.root;
+    const bool planar = held_ && hold.hold == RootHold::kPlanar;
+    for (int k = 0; planar && k < root_slide_count(hold.hold); ++k) {
+      segment_of_.push_back(-1);
+      parent_link_.push_back(k - 1);
+      joint_of_.push_back(-1);
+      forward_.push_back(1);
+      zero_.push_back(Quaterniond::Identity());
+      axis_.push_back(hold.axes[k]);
+    }
+    root_link_ = static_cast<int>(segment_of_.size());
+    link_of_[first] = root_link_;
     segment_of_.push_back(first);
-    parent_link_.push_back(-1);
+    parent_link_.push_back(root_link_ - 1);
     joint_of_.push_back(-1);
     forward_.push_back(1);
-    zero_.push_back(model_.segments[first].rest_orientation.conjugate());
-    axis_.push_back(Vector3d::Zero());
+    zero_.push_back(rest.conjugate());
+    const int axis = planar ? root_hinge_index(hold.hold) : 0;
+    axis_.push_back(held_ ? Vector3d(rest.conjugate() * hold.axes[axis]) : Vector3d::Zero());
   }
   for (size_t k = 0; k < queue.size(); ++k) {
     const int s = queue[k];
@@ -149,20 +169,44 @@ void MultibodySolver::lay_out() {
 
 void MultibodySolver::build_links() {
   for (int link = 0; link < static_cast<int>(segment_of_.size()); ++link) {
-    const Segment& segment = model_.segments[segment_of_[link]];
     const btQuaternion zero = to_bt(zero_[link]);
+    const btVector3 origin(0, 0, 0);
+    const btVector3 axis = to_bt(axis_[link]);
+    const int parent = parent_link_[link];
+    if (segment_of_[link] < 0) {  // a planar hold's slide
+      body_->setupPrismatic(link, 0.0, origin, parent, zero, axis, origin, origin, true);
+      continue;
+    }
+    const Segment& segment = model_.segments[segment_of_[link]];
     const btVector3 inertia = to_bt(segment.inertia);
     if (joint_of_[link] < 0) {
-      // hanging from the fixed base: the pinned point on the base's origin
-      body_->setupSpherical(link, segment.mass, inertia, -1, zero, btVector3(0, 0, 0),
-                            to_bt(-hang_.point), true);
+      // on the fixed base (or a planar hold's slides): the hold's anchor, or the pinned point
+      // on the base's origin
+      const btVector3 to_com = to_bt(held_ ? Vector3d(-model_.root.anchor_in_root) : -hang_.point);
+      switch (held_ ? model_.root.hold : RootHold::kBall) {
+        case RootHold::kWeld:
+          body_->setupFixed(link, segment.mass, inertia, parent, zero, origin, to_com, true);
+          break;
+        case RootHold::kHinge:
+        case RootHold::kPlanar:
+          body_->setupRevolute(link, segment.mass, inertia, parent, zero, axis, origin, to_com,
+                               true);
+          break;
+        case RootHold::kSlide:
+          body_->setupPrismatic(link, segment.mass, inertia, parent, zero, axis, origin, to_com,
+                                true);
+          break;
+        case RootHold::kFree:
+        case RootHold::kBall:
+          body_->setupSpherical(link, segment.mass, inertia, parent, zero, origin, to_com, true);
+          break;
+      }
       continue;
     }
     const Joint& joint = model_.joints[joint_of_[link]];
     // the joint point from the parent link's COM (its frame), and to this link's COM (this frame)
     const Vector3d e = forward_[link] ? joint.anchor_in_parent : joint.anchor_in_child;
     const Vector3d d = -(forward_[link] ? joint.anchor_in_child : joint.anchor_in_parent);
-    const int parent = parent_link_[link];
     switch (joint.type) {
       case JointType::kBall:
         body_->setupSpherical(link, segment.mass, inertia, parent, zero, to_bt(e), to_bt(d), true);
@@ -183,6 +227,19 @@ void MultibodySolver::build_links() {
 // hung from a pin: that limit reads a link's own coordinates). Limits of half a turn or more
 // never act and are not built.
 void MultibodySolver::build_limits() {
+  const RootJoint& hold = model_.root;
+  const bool ranged = hold.hold == RootHold::kSlide ||
+                      (hold.hold == RootHold::kHinge && (hold.lower > -kPi || hold.upper < kPi));
+  if (held_ && hold.limited && ranged) {
+    // the hold's range on its own coordinate, which with the base fixed at the anchor is the
+    // model's (a hinge's angle, a slide's distance)
+    auto limit = std::make_unique<btMultiBodyJointLimitConstraint>(body_.get(), root_link_,
+                                                                   hold.lower, hold.upper);
+    limit->setMaxAppliedImpulse(kMaxImpulse);
+    limit->finalizeMultiDof();
+    world_->addMultiBodyConstraint(limit.get());
+    limits_.push_back(std::move(limit));
+  }
   for (int link = 0; link < static_cast<int>(segment_of_.size()); ++link) {
     const int j = joint_of_[link];
     if (j < 0) continue;
