@@ -10,10 +10,17 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/results_layout.sh
-scripts/setup.sh
+# each stage's time, so that a slow job says where its time went
+stage() {
+  local name=$1 start=$SECONDS
+  shift
+  "$@"
+  echo "main: $name took $((SECONDS - start)) s (at $SECONDS s)"
+}
+stage setup scripts/setup.sh
 cmake --preset release >/dev/null
 # the testbed alone: the tests, benchmarks and viewer are the test command's to build
-cmake --build --preset release --target testbed
+stage build cmake --build --preset release --target testbed
 # an engine this build lacks is left out of every table: said once, here
 ./build/release/testbed list --json | /usr/bin/python3 -c '
 import json, sys
@@ -25,16 +32,16 @@ for e in json.load(sys.stdin)["engines"]:
 # open-limits run's), and removed at the end
 truths=$(mktemp -d)
 trap 'rm -rf "$truths"' EXIT
-./build/release/testbed run --model pinocchio --truth-cache "$truths" --out "results/$MAIN" "$@"
+stage run ./build/release/testbed run --model pinocchio --truth-cache "$truths" --out "results/$MAIN" "$@"
 # the verdict reads the truths' floors from the run above (the same code): it measures them again
 # otherwise
-./build/release/testbed verdict --model pinocchio --floors-from "results/$MAIN/summary.csv" \
-  --out "results/$VERDICT"
-./build/release/testbed frontier --model pinocchio --out "results/$FRONTIER"
+stage verdict ./build/release/testbed verdict --model pinocchio \
+  --floors-from "results/$MAIN/summary.csv" --out "results/$VERDICT"
+stage frontier ./build/release/testbed frontier --model pinocchio --out "results/$FRONTIER"
 # (the scenes judged by contact are left out: after an impact their trajectories are not what
 # the truths can agree on, and their truths at three dts had cost the job two minutes)
-./build/release/testbed run --model models/pinocchio-open-limits.json --dt 1/240 --no-timing \
-  --sample-hz 1 --scenario hang,drag,marionette,shake,spin,water,tremble,yank \
+stage open-limits ./build/release/testbed run --model models/pinocchio-open-limits.json \
+  --dt 1/240 --no-timing --sample-hz 1 --scenario hang,drag,marionette,shake,spin,water,tremble,yank \
   --truth-cache "$truths" --out "results/$OPEN_LIMITS"
 # a published character: MuJoCo 2.2.2's humanoid.xml, read unchanged as Debian's
 # libmujoco-samples installs it (testbed validate reads dm_control's humanoid the same but for
@@ -43,15 +50,15 @@ trap 'rm -rf "$truths"' EXIT
 # alone (MuJoCo's RK4; btMultiBody cannot build those ankles) at its own dt: no error bars, 20 s
 # of the job (the truth at three dts would add about 100 s)
 humanoid=/usr/share/mujoco/model/humanoid/humanoid.xml # libmujoco-samples (scripts/setup.sh)
-./build/release/testbed run --model "$humanoid" --dt 1/240 --no-timing --sample-hz 1 \
-  --first-truth-only --out "results/$HUMANOID"
-# its verdict within 1 cm where a figure hangs from its head (hang, drag: 35 s; drop and collapse
-# besides would add four minutes)
-./build/release/testbed verdict --model "$humanoid" --scenario hang,drag --budget 1cm \
-  --out "results/$HUMANOID_VERDICT"
-scripts/ablation.sh "results/$ABLATION" --truth-cache "$truths"
+stage humanoid ./build/release/testbed run --model "$humanoid" --dt 1/240 --no-timing \
+  --sample-hz 1 --first-truth-only --out "results/$HUMANOID"
+# its verdict within 1 cm where it hangs from its head (hang, drag: 35 s) and where it falls to
+# the ground (drop, collapse: four minutes more)
+stage humanoid-verdict ./build/release/testbed verdict --model "$humanoid" \
+  --scenario hang,drag,drop,collapse --budget 1cm --out "results/$HUMANOID_VERDICT"
+stage ablation scripts/ablation.sh "results/$ABLATION" --truth-cache "$truths"
 # the catalogues the scripts read instead of keeping copies of names (testbed list --json)
 ./build/release/testbed list --json >results/catalogue.json.tmp
 mv results/catalogue.json.tmp results/catalogue.json
-/usr/bin/python3 scripts/plot.py results
+stage plots /usr/bin/python3 scripts/plot.py results
 /usr/bin/python3 scripts/docs_tables.py  # the generated blocks of README.md and docs/ from the committed CSVs

@@ -330,7 +330,7 @@ export function addJointSpringWrenches(model, bodies, h, out) {
     const fp = multiply(parent.q, joint.frame_in_parent);
     const fc = multiply(child.q, joint.frame_in_child);
     let relative = multiply(conjugate(fp), fc);
-    if (relative[3] < 0.0) relative = scale(-1.0, relative);
+    if (relative[3] < 0.0) relative = relative.map((x) => -x); // the same turn, w ≥ 0
     const omega = rotate(conjugate(fc), sub(child.w, parent.w));
     const inverseInertia = (segment, q) => {
       const r = matrix(q);
@@ -382,6 +382,40 @@ export function addJointSpringWrenches(model, bodies, h, out) {
   }
 }
 
+// the world's joint on the root (core/src/joint_springs.cpp, add_root_spring_wrench) added to
+// `out`: along each slide a force at the anchor, the damper implicit in the mass; about the hinge
+// a torque, the damper implicit in the inertia about the hinge's line
+function addRootSpringWrench(model, body, h, out) {
+  const root = model.root;
+  const segment = model.segments[0];
+  const arm = rotate(body.q, root.anchor_in_root);
+  const moved = sub(add(body.x, arm), root.anchor_world);
+  const anchorVelocity = add(body.v, cross(body.w, arm));
+  const implicit = (d, inverse) => d / (1.0 + h * d * inverse);
+  for (let k = 0; k < root.passive.length; ++k) {
+    const s = root.passive[k];
+    if (s.stiffness === 0.0 && s.damping === 0.0) continue;
+    const a = root.axes[k];
+    if (k < root.slides) {
+      const f =
+        -s.stiffness * (dot(a, moved) - s.spring_ref) -
+        implicit(s.damping, segment.inv_mass) * dot(a, anchorVelocity);
+      out.force = add(out.force, scale(f, a));
+      out.torque = add(out.torque, cross(arm, scale(f, a)));
+    } else {
+      let turn = multiply(body.q, conjugate(root.rest_orientation));
+      if (turn[3] < 0.0) turn = turn.map((x) => -x);
+      const angle = 2.0 * Math.atan2(dot(turn.slice(0, 3), a), turn[3]);
+      const local = rotate(conjugate(body.q), a);
+      const aboutCentre = dot(local, local.map((x, c) => x * segment.inertia[c]));
+      const aboutLine = aboutCentre + segment.mass * dot(cross(a, arm), cross(a, arm));
+      const f =
+        -s.stiffness * (angle - s.spring_ref) - implicit(s.damping, 1.0 / aboutLine) * dot(a, body.w);
+      out.torque = add(out.torque, scale(f, a));
+    }
+  }
+}
+
 // every segment's external wrench for a step of h from `bodies`: the environment's, the user's,
 // the compliant pins' springs and the joints' springs and dampers
 // (reference/src/pin_springs.h, PinSprings::wrenches)
@@ -400,5 +434,6 @@ export function allWrenches(model, environment, pins, bodies, time, h, user) {
     a.torque = add(a.torque, pull.torque);
   }
   addJointSpringWrenches(model, bodies, h, applied);
+  if (model.root.hold !== 'free') addRootSpringWrench(model, bodies[0], h, applied[0]);
   return applied;
 }

@@ -226,6 +226,7 @@ class World {
     }
 
     for (const joint of model.joints) system.AddConstraint(this.joint(joint));
+    if (model.root.hold !== 'free') system.AddConstraint(this.hold(model.root));
 
     // a hard pin: a point constraint to a kinematic handle moved onto each step's target
     this.handles = [];
@@ -331,6 +332,70 @@ class World {
       s.SetLimitedAxis(Jolt[`SixDOFConstraintSettings_EAxis_${axis}`], p.lower[k], p.upper[k]),
     );
     return s.Create(body1, body2);
+  }
+
+  // The world's joint on the root as Jolt's own constraint to its fixed world body (at the origin,
+  // unturned): a weld fixed, a hinge a hinge, a slide a slider, a ball a point, and a planar root a
+  // six-degree-of-freedom constraint free along the two slides and about their plane's normal.
+  // On the root's side in its COM frame from its rest pose, so that each coordinate is 0 there.
+  hold(root) {
+    const world = this.jolt.sGetFixedToWorldBody();
+    const body = this.bodies[0];
+    const inRoot = (v) => rotate([-root.rest_orientation[0], -root.rest_orientation[1],
+      -root.rest_orientation[2], root.rest_orientation[3]], v);
+    const space = Jolt.EConstraintSpace_LocalToBodyCOM;
+    const [a, b] = [root.axes[0], root.axes[1]];
+    if (root.hold === 'weld') {
+      const s = share(new Jolt.FixedConstraintSettings());
+      s.mSpace = space;
+      s.mPoint1 = r3(root.anchor_world);
+      s.mPoint2 = r3(root.anchor_in_root);
+      s.mAxisX1 = v3([1, 0, 0]);
+      s.mAxisY1 = v3([0, 1, 0]);
+      s.mAxisX2 = v3(inRoot([1, 0, 0]));
+      s.mAxisY2 = v3(inRoot([0, 1, 0]));
+      return s.Create(world, body);
+    }
+    if (root.hold === 'ball') {
+      const s = share(new Jolt.PointConstraintSettings());
+      s.mSpace = space;
+      s.mPoint1 = r3(root.anchor_world);
+      s.mPoint2 = r3(root.anchor_in_root);
+      return s.Create(world, body);
+    }
+    if (root.hold === 'hinge' || root.hold === 'slide') {
+      const hinge = root.hold === 'hinge';
+      const s = share(new (hinge ? Jolt.HingeConstraintSettings : Jolt.SliderConstraintSettings)());
+      const normal = perpendicular(a);
+      s.mSpace = space;
+      s.mPoint1 = r3(root.anchor_world);
+      s.mPoint2 = r3(root.anchor_in_root);
+      s[hinge ? 'mHingeAxis1' : 'mSliderAxis1'] = v3(a);
+      s[hinge ? 'mHingeAxis2' : 'mSliderAxis2'] = v3(inRoot(a));
+      s.mNormalAxis1 = v3(normal);
+      s.mNormalAxis2 = v3(inRoot(normal));
+      if (root.limited) {
+        s.mLimitsMin = root.lower;
+        s.mLimitsMax = root.upper;
+      }
+      return s.Create(world, body);
+    }
+    // planar: x and y along the slides, z across their plane
+    const s = share(new Jolt.SixDOFConstraintSettings());
+    s.mSpace = space;
+    s.mPosition1 = r3(root.anchor_world);
+    s.mPosition2 = r3(root.anchor_in_root);
+    s.mAxisX1 = v3(a);
+    s.mAxisY1 = v3(b);
+    s.mAxisX2 = v3(inRoot(a));
+    s.mAxisY2 = v3(inRoot(b));
+    for (const axis of ['TranslationZ', 'RotationX', 'RotationY']) {
+      s.MakeFixedAxis(Jolt[`SixDOFConstraintSettings_EAxis_${axis}`]);
+    }
+    for (const axis of ['TranslationX', 'TranslationY', 'RotationZ']) {
+      s.MakeFreeAxis(Jolt[`SixDOFConstraintSettings_EAxis_${axis}`]);
+    }
+    return s.Create(world, body);
   }
 
   // every segment's state from Jolt, as {x, q, v, w}

@@ -20,6 +20,7 @@
 #include "puppet/compare/simulator.h"
 #include "puppet/model/euler_box.h"
 #include "puppet/model/joint_springs.h"
+#include "puppet/model/mjcf.h"
 #include "puppet/model/rotation.h"
 #include "puppet/model/user_forces.h"
 #include "support/pendulum.h"
@@ -173,11 +174,13 @@ TEST(Jolt, ForcesAgreeWithTheTestbeds) {
   }
 }
 
-// The driver's joint springs and dampers (forces.mjs, addJointSpringWrenches) are the testbed's
-// (add_joint_spring_wrenches) on random states near rest of a model with hinges, a ball and a box
-// of three hinges with springs (tests/data/mjcf/springs.xml), and of Pinocchio with a spring and
-// a damper on every joint, to 1e-12 of the largest torque; the damper's implicit factor is taken
-// at h = 1/30 s, where it matters.
+// The driver's joint springs and dampers (forces.mjs, addJointSpringWrenches and
+// addRootSpringWrench) are the testbed's (add_joint_spring_wrenches) on random states near rest
+// of a model with hinges, a ball and a box of three hinges with springs
+// (tests/data/mjcf/springs.xml), of Pinocchio with a spring and a damper on every joint, and of
+// two roots the world holds (planar; a hinge) with one on each coordinate, to 1e-12 of the
+// largest torque or force; each body's quaternion is handed over with either sign; the damper's
+// implicit factor is taken at h = 1/30 s, where it matters.
 TEST(Jolt, JointSpringsAgreeWithTheTestbeds) {
   SKIP_WITHOUT_JOLT();
   Model sprung_pinocchio = load_model(kPinocchio);
@@ -192,18 +195,38 @@ TEST(Jolt, JointSpringsAgreeWithTheTestbeds) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const Environment environment;
+  // roots the world holds, with a spring and a damper on each coordinate
+  const auto held = [](const std::string& joints) {
+    return parse_mjcf(R"(<mujoco><worldbody><body name="torso" pos="0 0 1">)" + joints + R"(
+      <geom type="capsule" fromto="0 0 -0.2 0 0 0.2" size="0.06" mass="4"/>
+      <body name="leg" pos="0 0 -0.25"><joint name="hip" axis="0 1 0" stiffness="5" damping="0.3"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.4" size="0.04" mass="1"/></body>
+      </body></worldbody></mujoco>)",
+                      "held.xml");
+  };
+  const Model planar = held(R"(
+      <joint name="x" type="slide" axis="1 0 0" stiffness="30" springref="0.1" damping="2"/>
+      <joint name="z" type="slide" axis="0 0 1" stiffness="40" damping="3"/>
+      <joint name="y" type="hinge" axis="0 1 0" pos="0.03 0 0.1" stiffness="7" springref="0.2"
+             damping="0.5"/>)");
+  const Model hinged = held(
+      R"(<joint name="pivot" type="hinge" axis="1 1 0" pos="0 0 0.2" stiffness="40" damping="3"/>)");
   for (const Model& model :
        {load_model(std::string(PUPPET_SOURCE_DIR) + "/tests/data/mjcf/springs.xml"),
-        sprung_pinocchio}) {
+        sprung_pinocchio, planar, hinged}) {
     SCOPED_TRACE(model.name);
     ASSERT_TRUE(has_joint_springs(model));
     for (int trial = 0; trial < 20; ++trial) {
       std::vector<BodyState> bodies = rest_pose(model);
-      for (BodyState& b : bodies) {
+      for (size_t k = 0; k < bodies.size(); ++k) {
+        BodyState& b = bodies[k];
         // within ±0.6 rad of rest: a box's middle angle stays far from its lock
         b.q = (b.q * quat_exp(0.35 * Vector3d(u(rng), u(rng), u(rng)))).normalized();
+        b.x += 0.1 * Vector3d(u(rng), u(rng), u(rng));
         b.v = Vector3d(u(rng), u(rng), u(rng));
         b.w = 5.0 * Vector3d(u(rng), u(rng), u(rng));
+        // the same turn either sign, as an engine may hand it over
+        if ((k + trial) % 2 == 1) b.q.coeffs() = -b.q.coeffs();
       }
       const double h = trial % 2 == 0 ? 1.0 / 30.0 : kDt;
       std::vector<Wrench> applied, user;
@@ -218,11 +241,11 @@ TEST(Jolt, JointSpringsAgreeWithTheTestbeds) {
       add_joint_spring_wrenches(model, bodies, h, springs);
       double largest = 0.0, worst = 0.0;
       for (int s = 0; s < model.segment_count(); ++s) {
-        largest = std::max(largest, springs[s].torque.norm());
-        worst = std::max({worst, (applied[s].force - expected[s].force).norm(),
+        largest = std::max({largest, springs[s].torque.norm(), springs[s].force.norm()});
+        worst = std::max({worst, (applied[s].force - expected[s].force - springs[s].force).norm(),
                           (applied[s].torque - expected[s].torque - springs[s].torque).norm()});
       }
-      EXPECT_GT(largest, 1.0);  // N m: the springs pull
+      EXPECT_GT(largest, 0.1);  // N m or N: the springs pull
       EXPECT_LE(worst, 1e-12 * largest) << "trial " << trial;
     }
   }

@@ -398,7 +398,7 @@ class JoltSimulator : public Simulator {
 };
 
 std::string jolt_model_problem(const Model& model) {
-  if (std::string problem = held_root_problem(model); !problem.empty()) return problem;
+  if (std::string problem = slide_armature_problem(model); !problem.empty()) return problem;
   if (std::string problem = box_offsets_problem(model); !problem.empty()) return problem;
   // the ground and a handle per hard pin besides the segments
   if (model.segment_count() + 1 + procedural::kMaxPins > kMaxBodies) {

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "jolt_box.h"
+#include "puppet/model/root_joint.h"
 
 namespace puppet::compare {
 namespace jolt {
@@ -171,7 +172,27 @@ json model_json(const Model& model) {
                       {"box_order", j.box_order.axes},
                       {"passive", passive}});
   }
-  return {{"segments", segments}, {"joints", joints}};
+  // the world's joint on the root: its hold, anchor, axes and range, a spring per coordinate
+  const RootJoint& r = model.root;
+  const int coordinates = root_slide_count(r.hold) + (root_hinge_index(r.hold) >= 0 ? 1 : 0);
+  json root_passive = json::array();
+  for (int k = 0; k < coordinates; ++k) {
+    const JointPassive& spring = r.passive[static_cast<size_t>(k)];
+    root_passive.push_back({{"stiffness", spring.stiffness},
+                            {"damping", spring.damping},
+                            {"spring_ref", spring.spring_ref}});
+  }
+  const json root = {{"hold", root_hold_name(r.hold)},
+                     {"anchor_world", vec(r.anchor_world)},
+                     {"anchor_in_root", vec(r.anchor_in_root)},
+                     {"axes", {vec(r.axes[0]), vec(r.axes[1]), vec(r.axes[2])}},
+                     {"slides", root_slide_count(r.hold)},
+                     {"limited", r.limited},
+                     {"lower", r.lower},
+                     {"upper", r.upper},
+                     {"rest_orientation", quat(model.segments[0].rest_orientation)},
+                     {"passive", root_passive}};
+  return {{"segments", segments}, {"joints", joints}, {"root", root}};
 }
 
 json environment_json(const Environment& e) {

@@ -9,7 +9,8 @@ from .verdict import refused_text, verdict_table
 
 
 def humanoid_verdict(folder):
-    """its verdict (main.sh: hang and drag within 1 cm), as the verdict section's table"""
+    """its verdict (main.sh: hang, drag, drop and collapse within 1 cm), as the verdict section's
+    table"""
     if not os.path.exists(os.path.join(folder, HUMANOID_VERDICT, "verdict.csv")):
         return []
     v = Verdict(folder, HUMANOID_VERDICT)
