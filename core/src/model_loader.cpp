@@ -14,6 +14,7 @@
 #include "puppet/model/file.h"
 #include "puppet/model/mjcf.h"
 #include "puppet/model/model.h"
+#include "puppet/model/root_joint.h"
 #include "puppet/model/rotation.h"
 
 namespace puppet {
@@ -339,6 +340,87 @@ detail::RawJoint read_joint(const Element& e) {
   return raw;
 }
 
+// The world's hold on the root (model.h, RootJoint): {"hold": "weld" | "hinge" | "slide" | "ball" |
+// "planar", "anchor": [x, y, z] (world, rest; none for a weld, whose point is the root's centre),
+// a weld's or a ball's optional "name" (the root segment's by default), "dofs": [...]} with one dof
+// for a hinge or a slide and three for a planar root (two slides, then the hinge about their
+// plane's normal), each {"name", "axis", a hinge's "range_deg" or a slide's "range_m" (a planar
+// root's are unlimited), "stiffness", "damping", a hinge's "springref_deg" or a slide's
+// "springref_m", "armature"}, as MJCF's root joints say. The anchor in the root's frame is set once
+// the root is placed.
+RootJoint read_root(const Element& e, const std::string& root_name) {
+  e.require_object();
+  e.reject_unknown({"hold", "anchor", "dofs", "name"});
+  RootJoint root;
+  const std::string hold = e.string("hold");
+  const RootHold holds[] = {RootHold::kWeld, RootHold::kHinge, RootHold::kSlide, RootHold::kBall,
+                            RootHold::kPlanar};
+  const auto found = std::find_if(std::begin(holds), std::end(holds),
+                                  [&](RootHold h) { return hold == root_hold_name(h); });
+  if (found == std::end(holds)) {
+    e.fail("field \"hold\" must be weld, hinge, slide, ball or planar (got " + detail::shown(hold) +
+           "; a free root gives no \"root\")");
+  }
+  root.hold = *found;
+  const int slides = root_slide_count(root.hold), hinge = root_hinge_index(root.hold);
+  const int dofs = slides + (hinge >= 0 ? 1 : 0);
+  if (root.hold == RootHold::kWeld) {
+    if (e.has("anchor")) e.fail("a weld holds the root at its centre: it gives no \"anchor\"");
+  } else {
+    root.anchor_world = e.vector<3>("anchor");
+  }
+  if (dofs == 0) {
+    if (e.has("dofs")) e.fail(std::string("a ") + hold + " root has no \"dofs\"");
+    root.names[0] = e.has("name") ? e.name("name") : root_name;
+    return root;
+  }
+  if (e.has("name")) e.fail("a " + hold + " root names each of its \"dofs\"");
+  const json& list = e.field("dofs");
+  if (!list.is_array() || static_cast<int>(list.size()) != dofs) {
+    e.fail("field \"dofs\" must be an array of " + std::to_string(dofs) + " (" +
+           (dofs == 1 ? std::string("the ") + hold + "'s" : "two slides, then the hinge") + ")");
+  }
+  for (int k = 0; k < dofs; ++k) {
+    const bool slide = k < slides;
+    const Element d = e.item(list[static_cast<size_t>(k)], "dof #" + std::to_string(k));
+    d.require_object();
+    const char* range = slide ? "range_m" : "range_deg";
+    const char* ref = slide ? "springref_m" : "springref_deg";
+    d.reject_unknown({"name", "axis", range, "stiffness", "damping", ref, "armature"});
+    const size_t i = static_cast<size_t>(k);
+    root.names[i] = d.name("name");
+    root.axes[i] = d.direction<3>("axis");
+    JointPassive& spring = root.passive[i];
+    if (d.has("stiffness")) spring.stiffness = d.non_negative("stiffness");
+    if (d.has("damping")) spring.damping = d.non_negative("damping");
+    if (d.has("armature")) spring.armature = d.non_negative("armature");
+    const double unit = slide ? 1.0 : kDegToRad;
+    if (d.has(ref)) spring.spring_ref = d.number(ref) * unit;
+    if (!d.has(range)) continue;
+    if (dofs == 3) d.fail("a planar root's dofs are unlimited (as dm_control's are)");
+    const Eigen::Vector2d r = d.vector<2>(range);
+    if (r.x() > r.y()) d.fail(std::string("field \"") + range + "\" has lo > hi");
+    if (r.x() > 0.0 || r.y() < 0.0) {
+      d.fail(std::string("field \"") + range + "\" must contain 0, the rest");
+    }
+    if (!slide && (r.x() < -180.0 || r.y() > 180.0)) {
+      d.fail("field \"range_deg\" must lie in [-180, 180]");
+    }
+    root.limited = true;
+    root.lower = r.x() * unit;
+    root.upper = r.y() * unit;
+  }
+  for (int a = 0; a < dofs; ++a) {
+    for (int b = a + 1; b < dofs; ++b) {
+      if (std::abs(root.axes[static_cast<size_t>(a)].dot(root.axes[static_cast<size_t>(b)])) >
+          1e-6) {
+        e.fail("a planar root's slides and hinge must have orthogonal axes");
+      }
+    }
+  }
+  return root;
+}
+
 // A duplicate key is refused: JSON leaves it open, nlohmann keeps the last value silently. A
 // SAX pass of its own (linear: the callback parser rescans an array at each object's end),
 // before the document is built; syntax errors are left to the parse that builds it.
@@ -381,7 +463,7 @@ void refuse_duplicate_keys(const std::string& text, const std::string& source) {
 Model build(const json& root_json, const std::string& source) {
   Element root(root_json, source, "model");
   root.require_object();
-  root.reject_unknown({"name", "segments", "joints", "gravity"});
+  root.reject_unknown({"name", "segments", "joints", "gravity", "root"});
   const std::string name = root.name("name");
 
   const json& segments_json = root.field("segments");
@@ -427,6 +509,13 @@ Model build(const json& root_json, const std::string& source) {
     return source + ": model";
   };
   Model model = detail::assemble(name, std::move(segments), std::move(joints), locate);
+  if (root.has("root")) {
+    const Segment& base = model.segments[0];
+    model.root = read_root(root.child("root", "root"), base.name);
+    if (model.root.hold == RootHold::kWeld) model.root.anchor_world = base.rest_position;
+    model.root.anchor_in_root =
+        base.rest_orientation.conjugate() * (model.root.anchor_world - base.rest_position);
+  }
   if (root.has("gravity")) {
     model.gravity = root.vector<3>("gravity");
     if (std::string problem = detail::gravity_problem(model.gravity); !problem.empty()) {

@@ -7,7 +7,9 @@
 #include <fstream>
 #include <sstream>
 
+#include "puppet/model/mjcf.h"
 #include "puppet/model/model.h"
+#include "puppet/model/root_joint.h"
 #include "puppet/model/rotation.h"
 #include "support/source_dir.h"
 
@@ -207,6 +209,82 @@ TEST(ModelLoader, NormalisesLargeQuaternionsOrRefusesThem) {
   EXPECT_NEAR(model.segments[0].rest_orientation.angularDistance(
                   Quaterniond(Eigen::AngleAxisd(M_PI / 2, Vector3d::UnitZ()))),
               0.0, 1e-12);
+}
+
+// A root the world holds, given in JSON ("root": hold, anchor, dofs), reads as the same root
+// written as MJCF's root-body joints does: each hold's anchor (world and in the root's frame),
+// axes, range, springs and names, on a box turned 10° about z so that the root's frame is not
+// the world's (MJCF: its geom turned in a body that is not, so that the joints' pos and axis are
+// in world as JSON's are)
+TEST(ModelLoader, ARootHeldByTheWorldReadsAsMjcfSaysIt) {
+  struct Form {
+    const char* json;  // the "root" object
+    const char* mjcf;  // the root body's joints
+  };
+  const Form forms[] = {
+      {R"({"hold":"weld"})", ""},
+      {R"({"hold":"hinge","anchor":[0.05,0,1.1],"dofs":[{"name":"pivot","axis":[0.2,1,0],
+          "range_deg":[-30,60],"stiffness":2,"damping":0.1,"springref_deg":15,"armature":0.03}]})",
+       R"(<joint name="pivot" type="hinge" pos="0.05 0 0.1" axis="0.2 1 0" range="-30 60"
+          stiffness="2" damping="0.1" springref="15" armature="0.03"/>)"},
+      {R"({"hold":"slide","anchor":[0,0,1],"dofs":[{"name":"rail","axis":[1,0,0],
+          "range_m":[-2,2],"stiffness":1.5,"damping":0.3,"springref_m":0.1}]})",
+       R"(<joint name="rail" type="slide" axis="1 0 0" range="-2 2" stiffness="1.5"
+          damping="0.3" springref="0.1"/>)"},
+      {R"({"hold":"ball","anchor":[0,0.1,1],"name":"b"})",
+       R"(<joint name="b" type="ball" pos="0 0.1 0"/>)"},
+      {R"({"hold":"planar","anchor":[0.03,0,1.05],"dofs":[{"name":"x","axis":[1,0,0]},
+          {"name":"z","axis":[0,0,1],"stiffness":4},{"name":"y","axis":[0,1,0],"damping":0.5}]})",
+       R"(<joint name="x" type="slide" axis="1 0 0"/><joint name="z" type="slide" axis="0 0 1"
+          stiffness="4"/><joint name="y" type="hinge" axis="0 1 0" pos="0.03 0 0.05"
+          damping="0.5"/>)"},
+  };
+  // the box turned 10° about z: w, z of the quaternion
+  const double w = std::cos(5.0 * M_PI / 180.0), z = std::sin(5.0 * M_PI / 180.0);
+  for (const Form& form : forms) {
+    SCOPED_TRACE(form.json);
+    const Model from_json = parse_model(
+        std::string(R"({"name":"held","segments":[{"name":"box","mass":2,"position":[0,0,1],
+        "orientation":[)") +
+            std::to_string(w) + ",0,0," + std::to_string(z) +
+            R"(],"shape":{"type":"box","half_extents":[0.2,0.12,0.08]}}],"root":)" + form.json +
+            "}",
+        "held.json");
+    const std::string turn = std::to_string(w) + " 0 0 " + std::to_string(z);
+    const Model from_mjcf =
+        parse_mjcf(std::string(R"(<mujoco><compiler angle="degree" autolimits="true"/><worldbody>
+        <body name="box" pos="0 0 1">)") +
+                       form.mjcf + R"(<geom type="box" size="0.2 0.12 0.08" mass="2" quat=")" +
+                       turn + R"("/></body></worldbody></mujoco>)",
+                   "held.xml");
+    const RootJoint &a = from_json.root, &b = from_mjcf.root;
+    EXPECT_EQ(a.hold, b.hold);
+    EXPECT_EQ(a.names, b.names);
+    EXPECT_LT((a.anchor_world - b.anchor_world).norm(), 1e-12);
+    // each anchor in its root's frame is the world one (the two may pick the box's principal
+    // axes in another order)
+    for (const Model* m : {&from_json, &from_mjcf}) {
+      const Segment& box = m->segments[0];
+      EXPECT_LT(
+          (box.rest_position + box.rest_orientation * m->root.anchor_in_root - m->root.anchor_world)
+              .norm(),
+          1e-12);
+    }
+    // the axes of its degrees of freedom (a weld and a ball have none), and a range if any
+    const int dofs = root_slide_count(a.hold) + (root_hinge_index(a.hold) >= 0 ? 1 : 0);
+    for (int k = 0; k < dofs; ++k) EXPECT_LT((a.axes[k] - b.axes[k]).norm(), 1e-12) << k;
+    EXPECT_EQ(a.limited, b.limited);
+    if (a.limited) {
+      EXPECT_NEAR(a.lower, b.lower, 1e-12);
+      EXPECT_NEAR(a.upper, b.upper, 1e-12);
+    }
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(a.passive[k].stiffness, b.passive[k].stiffness, 1e-12) << k;
+      EXPECT_NEAR(a.passive[k].damping, b.passive[k].damping, 1e-12) << k;
+      EXPECT_NEAR(a.passive[k].spring_ref, b.passive[k].spring_ref, 1e-12) << k;
+      EXPECT_NEAR(a.passive[k].armature, b.passive[k].armature, 1e-12) << k;
+    }
+  }
 }
 
 }  // namespace
