@@ -24,6 +24,13 @@ def humanoid_verdict(folder):
                 table, ""]
         if refused_text(v, refused):
             out += [refused_text(v, refused), ""]
+    contact = [sc for sc in v.scenarios if sc in ("drop", "collapse")]
+    if contact:
+        out += [f"In {' and '.join(contact)} the error is the contact judge's, as Pinocchio's is "
+                "(\"The scenes on the ground\"): the largest violation or the first impact's "
+                "error, and the random starts must end like the truth's; `unlike truth` when no "
+                "configuration's do. What the truth gives there is in "
+                f"`{HUMANOID_VERDICT}/contact.csv`.", ""]
     return out
 
 
