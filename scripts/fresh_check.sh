@@ -21,6 +21,9 @@
 # header or library setup.sh fails to install still fails the build, since ccache runs the
 # preprocessor whenever an included file is not where it was. Unset (the default, and what to
 # run before a change lands), the commands compile from nothing, as a new user's do.
+#
+# PUPPET_MAIN_QUICK=1 is passed on to the commands (CI sets it: the main job then runs each stage
+# on a fraction of its work, scripts/main.sh); unset, the main job runs whole.
 set -u
 BASE=${BASE:-/tmp/fresh-base}
 ROOT=${ROOT:-/tmp/fresh-root}
@@ -89,12 +92,13 @@ sleep 1
 mount --bind /proc "$ROOT/proc" && mount --bind /dev "$ROOT/dev" &&
   mount --bind /dev/pts "$ROOT/dev/pts" || { unmount; echo "fresh-check: mount failed"; exit 1; }
 trap unmount EXIT
-cache_env=()
+extra_env=()
+[ -z "${PUPPET_MAIN_QUICK:-}" ] || extra_env+=("PUPPET_MAIN_QUICK=$PUPPET_MAIN_QUICK")
 if [ -n "${CCACHE_STORE:-}" ]; then
   mkdir -p "$CCACHE_STORE" "$ROOT/ccache" && mount --bind "$CCACHE_STORE" "$ROOT/ccache" &&
     chroot "$ROOT" /bin/bash -c 'apt-get update -qq && apt-get install -y -qq ccache' >/tmp/fresh-ccache.log 2>&1 ||
     { echo "fresh-check: could not set up the compiler cache (log /tmp/fresh-ccache.log)"; exit 1; }
-  cache_env=(CMAKE_C_COMPILER_LAUNCHER=ccache CMAKE_CXX_COMPILER_LAUNCHER=ccache CCACHE_DIR=/ccache
+  extra_env+=(CMAKE_C_COMPILER_LAUNCHER=ccache CMAKE_CXX_COMPILER_LAUNCHER=ccache CCACHE_DIR=/ccache
     CCACHE_BASEDIR=/src CCACHE_NOHASHDIR=true CCACHE_MAXSIZE=6G CCACHE_SLOPPINESS=locale)
   echo "== compiler cache: $CCACHE_STORE"
 fi
@@ -106,7 +110,7 @@ for cmd in "$@"; do
   echo "== command $i: $cmd"
   SECONDS=0
   chroot "$ROOT" /usr/bin/env -i HOME=/root PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
-    TERM=dumb "${cache_env[@]}" /bin/bash -lc "cd /src && $cmd" </dev/null >"/tmp/fresh-cmd$i.log" 2>&1
+    TERM=dumb "${extra_env[@]}" /bin/bash -lc "cd /src && $cmd" </dev/null >"/tmp/fresh-cmd$i.log" 2>&1
   code=$?
   echo "   exit $code after ${SECONDS}s (log /tmp/fresh-cmd$i.log)"
   grep -m 1 '^setup: ' "/tmp/fresh-cmd$i.log" | sed 's/^/   | /'

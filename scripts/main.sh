@@ -7,9 +7,27 @@
 # MuJoCo's published humanoid.xml against its truth; the ablation of the position-based rules
 # (scripts/ablation.sh); and the plots and REPORT.md (scripts/plot.py), all into results/.
 # Extra arguments go to testbed run.
+#
+# PUPPET_MAIN_QUICK=1 (what CI's bare-root check sets: scripts/fresh_check.sh passes it on) runs
+# every stage on a fraction of its work -- two dts, fewer scenarios, 1 s runs, 4 random starts --
+# so that the check shows the two commands install, build, run and report on a bare machine
+# within CI's time; its results are not the committed ones, so the docs' generated blocks are
+# left alone. The committed results come from the full job.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/results_layout.sh
+run_quick=() verdict_quick=() frontier_quick=() limits_quick=() humanoid_quick=()
+humanoid_verdict_quick=() ablation_quick=()
+if [ "${PUPPET_MAIN_QUICK:-0}" = 1 ]; then
+  echo "main: quick (PUPPET_MAIN_QUICK=1): every stage on a fraction of its work"
+  run_quick=(--dt 1/60,1/240 --duration 1)
+  verdict_quick=(--dt 1/60,1/240 --budget 1cm --starts 4 --scenario hang,drag,drop)
+  frontier_quick=(--solver procedural,mujoco --rule xpbd)
+  limits_quick=(--duration 1)
+  humanoid_quick=(--scenario hang,drop --duration 1)
+  humanoid_verdict_quick=(--dt 1/60,1/240 --starts 4)
+  ablation_quick=(--duration 1)
+fi
 # each stage's time, so that a slow job says where its time went
 stage() {
   local name=$1 start=$SECONDS
@@ -32,17 +50,19 @@ for e in json.load(sys.stdin)["engines"]:
 # open-limits run's), and removed at the end
 truths=$(mktemp -d)
 trap 'rm -rf "$truths"' EXIT
-stage run ./build/release/testbed run --model pinocchio --truth-cache "$truths" --out "results/$MAIN" "$@"
+stage run ./build/release/testbed run --model pinocchio --truth-cache "$truths" --out "results/$MAIN" \
+  "${run_quick[@]}" "$@"
 # the verdict reads the truths' floors from the run above (the same code): it measures them again
 # otherwise
 stage verdict ./build/release/testbed verdict --model pinocchio \
-  --floors-from "results/$MAIN/summary.csv" --out "results/$VERDICT"
-stage frontier ./build/release/testbed frontier --model pinocchio --out "results/$FRONTIER"
+  --floors-from "results/$MAIN/summary.csv" --out "results/$VERDICT" "${verdict_quick[@]}"
+stage frontier ./build/release/testbed frontier --model pinocchio --out "results/$FRONTIER" \
+  "${frontier_quick[@]}"
 # (the scenes judged by contact are left out: after an impact their trajectories are not what
 # the truths can agree on, and their truths at three dts had cost the job two minutes)
 stage open-limits ./build/release/testbed run --model models/pinocchio-open-limits.json \
   --dt 1/240 --no-timing --sample-hz 1 --scenario hang,drag,marionette,shake,spin,water,tremble,yank \
-  --truth-cache "$truths" --out "results/$OPEN_LIMITS"
+  --truth-cache "$truths" --out "results/$OPEN_LIMITS" "${limits_quick[@]}"
 # a published character: MuJoCo 2.2.2's humanoid.xml, read unchanged as Debian's
 # libmujoco-samples installs it (testbed validate reads dm_control's humanoid the same but for
 # one hip range; its ankles are two hinges 4 cm apart, which mujoco, xpbd and tree build and the
@@ -51,14 +71,16 @@ stage open-limits ./build/release/testbed run --model models/pinocchio-open-limi
 # of the job (the truth at three dts would add about 100 s)
 humanoid=/usr/share/mujoco/model/humanoid/humanoid.xml # libmujoco-samples (scripts/setup.sh)
 stage humanoid ./build/release/testbed run --model "$humanoid" --dt 1/240 --no-timing \
-  --sample-hz 1 --first-truth-only --out "results/$HUMANOID"
+  --sample-hz 1 --first-truth-only --out "results/$HUMANOID" "${humanoid_quick[@]}"
 # its verdict within 1 cm where it hangs from its head (hang, drag: 35 s) and where it falls to
 # the ground (drop, collapse: four minutes more)
 stage humanoid-verdict ./build/release/testbed verdict --model "$humanoid" \
-  --scenario hang,drag,drop,collapse --budget 1cm --out "results/$HUMANOID_VERDICT"
-stage ablation scripts/ablation.sh "results/$ABLATION" --truth-cache "$truths"
+  --scenario hang,drag,drop,collapse --budget 1cm --out "results/$HUMANOID_VERDICT" \
+  "${humanoid_verdict_quick[@]}"
+stage ablation scripts/ablation.sh "results/$ABLATION" --truth-cache "$truths" "${ablation_quick[@]}"
 # the catalogues the scripts read instead of keeping copies of names (testbed list --json)
 ./build/release/testbed list --json >results/catalogue.json.tmp
 mv results/catalogue.json.tmp results/catalogue.json
 stage plots /usr/bin/python3 scripts/plot.py results
-/usr/bin/python3 scripts/docs_tables.py  # the generated blocks of README.md and docs/ from the committed CSVs
+# the generated blocks of README.md and docs/ from the committed CSVs
+[ "${PUPPET_MAIN_QUICK:-0}" = 1 ] || /usr/bin/python3 scripts/docs_tables.py
