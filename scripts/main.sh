@@ -18,6 +18,7 @@ cd "$(dirname "$0")/.."
 source scripts/results_layout.sh
 run_quick=() verdict_quick=() frontier_quick=() limits_quick=() humanoid_quick=()
 humanoid_verdict_quick=() ablation_quick=()
+# shellcheck disable=SC2054 # the commas are the flags' own (--dt 1/60,1/240)
 if [ "${PUPPET_MAIN_QUICK:-0}" = 1 ]; then
   echo "main: quick (PUPPET_MAIN_QUICK=1): every stage on a fraction of its work"
   run_quick=(--dt 1/60,1/240 --duration 1)
