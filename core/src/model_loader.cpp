@@ -362,8 +362,7 @@ RootJoint read_root(const Element& e, const std::string& root_name) {
            "; a free root gives no \"root\")");
   }
   root.hold = *found;
-  const int slides = root_slide_count(root.hold), hinge = root_hinge_index(root.hold);
-  const int dofs = slides + (hinge >= 0 ? 1 : 0);
+  const int slides = root_slide_count(root.hold), dofs = root_coordinate_count(root.hold);
   if (root.hold == RootHold::kWeld) {
     if (e.has("anchor")) e.fail("a weld holds the root at its centre: it gives no \"anchor\"");
   } else {

@@ -38,6 +38,10 @@ Vector3d root_held_turn(const Model& model, const Quaterniond& q) {
   return sine > 0.0 ? Vector3d(std::atan2(sine, a.dot(now)) / sine * tilt) : Vector3d::Zero();
 }
 
+int root_coordinate_count(RootHold hold) {
+  return root_slide_count(hold) + (root_hinge_index(hold) >= 0 ? 1 : 0);
+}
+
 int root_dofs(RootHold hold) {
   switch (hold) {
     case RootHold::kFree:
@@ -76,8 +80,7 @@ std::string held_root_problem(const Model& model) {
   if (!root_held(model)) return {};
   return std::string("its root is joined to the world (a ") + root_hold_name(model.root.hold) +
          " root), which this engine does not build (mujoco, bullet-multibody, bullet-rigid, ode "
-         "and "
-         "the procedural rules xpbd and tree do)";
+         "and the procedural rules xpbd and tree do)";
 }
 
 std::string slide_armature_problem(const Model& model) {
@@ -97,7 +100,7 @@ RootCoordinates root_coordinates(const Model& model, const BodyState& root) {
   RootCoordinates c;
   const int hinge = root_hinge_index(joint.hold);
   const int slides = root_slide_count(joint.hold);
-  c.count = slides + (hinge >= 0 ? 1 : 0);
+  c.count = root_coordinate_count(joint.hold);
   const Vector3d arm = root.q * joint.anchor_in_root;
   const Vector3d moved = root.x + arm - joint.anchor_world;
   const Vector3d anchor_velocity = root.v + root.w.cross(arm);

@@ -81,6 +81,20 @@ function perpendicular(a) {
   return [p[0] / n, p[1] / n, p[2] / n];
 }
 
+// a fixed constraint's settings in the two bodies' COM frames: each body's point, and `in1`, `in2`
+// taking the joint frame's axes into each body's frame
+function fixed(point1, point2, in1, in2) {
+  const s = share(new Jolt.FixedConstraintSettings());
+  s.mSpace = Jolt.EConstraintSpace_LocalToBodyCOM;
+  s.mPoint1 = r3(point1);
+  s.mPoint2 = r3(point2);
+  s.mAxisX1 = v3(in1([1, 0, 0]));
+  s.mAxisY1 = v3(in1([0, 1, 0]));
+  s.mAxisX2 = v3(in2([1, 0, 0]));
+  s.mAxisY2 = v3(in2([0, 1, 0]));
+  return s;
+}
+
 // Jolt's capsule and cylinder lie along y, the model's along z
 const kZAlongY = [Math.SQRT1_2, 0, 0, Math.SQRT1_2]; // +90° about x takes y to z
 
@@ -266,14 +280,7 @@ class World {
     const inChild = (v) => rotate(joint.frame_in_child, v);
     const space = Jolt.EConstraintSpace_LocalToBodyCOM;
     if (joint.type === 'fixed') {
-      const s = share(new Jolt.FixedConstraintSettings());
-      s.mSpace = space;
-      s.mPoint1 = r3(joint.anchor_in_parent);
-      s.mPoint2 = r3(joint.anchor_in_child);
-      s.mAxisX1 = v3(inParent([1, 0, 0]));
-      s.mAxisY1 = v3(inParent([0, 1, 0]));
-      s.mAxisX2 = v3(inChild([1, 0, 0]));
-      s.mAxisY2 = v3(inChild([0, 1, 0]));
+      const s = fixed(joint.anchor_in_parent, joint.anchor_in_child, inParent, inChild);
       return s.Create(parent, child);
     }
     if (joint.type === 'hinge') {
@@ -341,20 +348,12 @@ class World {
   hold(root) {
     const world = this.jolt.sGetFixedToWorldBody();
     const body = this.bodies[0];
-    const inRoot = (v) => rotate([-root.rest_orientation[0], -root.rest_orientation[1],
-      -root.rest_orientation[2], root.rest_orientation[3]], v);
+    const [x, y, z, w] = root.rest_orientation;
+    const inRoot = (v) => rotate([-x, -y, -z, w], v);
     const space = Jolt.EConstraintSpace_LocalToBodyCOM;
     const [a, b] = [root.axes[0], root.axes[1]];
     if (root.hold === 'weld') {
-      const s = share(new Jolt.FixedConstraintSettings());
-      s.mSpace = space;
-      s.mPoint1 = r3(root.anchor_world);
-      s.mPoint2 = r3(root.anchor_in_root);
-      s.mAxisX1 = v3([1, 0, 0]);
-      s.mAxisY1 = v3([0, 1, 0]);
-      s.mAxisX2 = v3(inRoot([1, 0, 0]));
-      s.mAxisY2 = v3(inRoot([0, 1, 0]));
-      return s.Create(world, body);
+      return fixed(root.anchor_world, root.anchor_in_root, (v) => v, inRoot).Create(world, body);
     }
     if (root.hold === 'ball') {
       const s = share(new Jolt.PointConstraintSettings());

@@ -271,7 +271,7 @@ TEST(ModelLoader, ARootHeldByTheWorldReadsAsMjcfSaysIt) {
           1e-12);
     }
     // the axes of its degrees of freedom (a weld and a ball have none), and a range if any
-    const int dofs = root_slide_count(a.hold) + (root_hinge_index(a.hold) >= 0 ? 1 : 0);
+    const int dofs = root_coordinate_count(a.hold);
     for (int k = 0; k < dofs; ++k) EXPECT_LT((a.axes[k] - b.axes[k]).norm(), 1e-12) << k;
     EXPECT_EQ(a.limited, b.limited);
     if (a.limited) {

@@ -174,7 +174,7 @@ json model_json(const Model& model) {
   }
   // the world's joint on the root: its hold, anchor, axes and range, a spring per coordinate
   const RootJoint& r = model.root;
-  const int coordinates = root_slide_count(r.hold) + (root_hinge_index(r.hold) >= 0 ? 1 : 0);
+  const int coordinates = root_coordinate_count(r.hold);
   json root_passive = json::array();
   for (int k = 0; k < coordinates; ++k) {
     const JointPassive& spring = r.passive[static_cast<size_t>(k)];

@@ -24,6 +24,9 @@ struct RootCoordinates {
 /// slides, `root_hinge_index` is the hinge's (-1: none)
 int root_slide_count(RootHold hold);
 int root_hinge_index(RootHold hold);
+/// how many coordinates the hold has along its axes (RootCoordinates::count): its slides and its
+/// hinge; none for a free, welded or ball root
+int root_coordinate_count(RootHold hold);
 
 /// the turn (world rotation vector) by which orientation q strays from what the hold allows: a
 /// weld's or a slide's whole turn from rest; a hinge's (a planar root's) the tilt of its axis from
