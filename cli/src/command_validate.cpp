@@ -114,19 +114,24 @@ int validate(const std::string& path, const ReadOptions& reading, double budget)
                     j.swing_y * d, j.twist * d);
     } else if (j.type == JointType::kHinge) {
       std::snprintf(limits, sizeof limits, "range [%.0f, %.0f]", j.lower * d, j.upper * d);
+    } else if (j.type == JointType::kSlide) {
+      if (std::isfinite(j.lower)) {
+        std::snprintf(limits, sizeof limits, "range [%.3g, %.3g] m", j.lower, j.upper);
+      } else {
+        std::snprintf(limits, sizeof limits, "not limited");
+      }
     } else {
       std::snprintf(limits, sizeof limits, "fixed");
     }
-    const char* type = j.type == JointType::kBall    ? "ball"
-                       : j.type == JointType::kHinge ? "hinge"
-                                                     : "fixed";
+    const char* type = joint_type_name(j.type);
     // its springs, dampers and armature: a box's per angle where its angles' differ
     std::string passive;
     const auto describe = [&](const JointPassive& p, const std::string& which) {
       if (p == JointPassive{}) return;
       char line[200];
       std::snprintf(line, sizeof line, "; %sstiffness %g, damping %g, springref %.4g, armature %g",
-                    which.c_str(), p.stiffness, p.damping, p.spring_ref * d + 0.0, p.armature);
+                    which.c_str(), p.stiffness, p.damping,
+                    p.spring_ref * (j.type == JointType::kSlide ? 1.0 : d) + 0.0, p.armature);
       passive += line;
     };
     const bool box = j.type == JointType::kBall && j.ball_limit == BallLimit::kEulerBox;

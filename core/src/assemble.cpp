@@ -149,7 +149,7 @@ Joint place_joint(const RawJoint& raw, int ji, const Model& model, int parent_in
   }
   j.frame_in_parent = parent.rest_orientation.conjugate() * j.frame_world;
   j.frame_in_child = child.rest_orientation.conjugate() * j.frame_world;
-  if (j.type == JointType::kHinge && !raw.hinge_axis_in_frame) {
+  if ((j.type == JointType::kHinge || j.type == JointType::kSlide) && !raw.hinge_axis_in_frame) {
     j.hinge_axis = j.frame_world.conjugate() * raw.hinge_axis_world;
   }
   if (std::string problem = joint_problem(j); !problem.empty()) fail(Part::kJoint, ji, problem);

@@ -69,6 +69,17 @@ JointCoordinates joint_coordinates(const Joint& joint, const BodyState& parent,
     const Vector3d& a = joint.hinge_axis;
     c.angle[0] = 2.0 * std::atan2(a.dot(relative.vec()), relative.w());  // w ≥ 0: within ±π
     c.rate[0] = a.dot(omega);
+  } else if (joint.type == JointType::kSlide) {
+    // s = a·d, d the child's point less the parent's and a the direction the parent carries:
+    // ṡ = a·ḋ + (ω_p × a)·d
+    const Vector3d a = fp * joint.hinge_axis;
+    const Vector3d r_parent = parent.q * joint.anchor_in_parent;
+    const Vector3d r_child = child.q * joint.anchor_in_child;
+    const Vector3d d = (child.x + r_child) - (parent.x + r_parent);
+    const Vector3d d_rate =
+        (child.v + child.w.cross(r_child)) - (parent.v + parent.w.cross(r_parent));
+    c.angle[0] = a.dot(d);
+    c.rate[0] = a.dot(d_rate) + parent.w.cross(a).dot(d);
   } else if (joint.type == JointType::kBall && joint.ball_limit == BallLimit::kEulerBox) {
     c.angle = euler_angles(joint.box_order, relative);
     c.rate = euler_gradients(joint.box_order, c.angle) * omega;
@@ -87,6 +98,22 @@ void add_joint_spring_wrenches(const Model& model, std::span<const BodyState> bo
     const BodyState& parent = bodies[static_cast<size_t>(joint.parent)];
     const BodyState& child = bodies[static_cast<size_t>(joint.child)];
     const JointCoordinates c = joint_coordinates(joint, parent, child);
+    if (joint.type == JointType::kSlide) {
+      // a force along the slide at each side's point (their line is the slide's, so the pair
+      // turns nothing), the damper implicit in the two masses
+      const Segment& p = model.segments[static_cast<size_t>(joint.parent)];
+      const Segment& q = model.segments[static_cast<size_t>(joint.child)];
+      const double f = -spring[0].stiffness * (c.angle[0] - spring[0].spring_ref) -
+                       implicit_damping(spring[0].damping, h, p.inv_mass + q.inv_mass) * c.rate[0];
+      const Vector3d force = f * (parent.q * (joint.frame_in_parent * joint.hinge_axis));
+      Wrench& on_child = out[static_cast<size_t>(joint.child)];
+      Wrench& on_parent = out[static_cast<size_t>(joint.parent)];
+      on_child.force += force;
+      on_child.torque += (child.q * joint.anchor_in_child).cross(force);
+      on_parent.force -= force;
+      on_parent.torque -= (parent.q * joint.anchor_in_parent).cross(force);
+      continue;
+    }
     const Matrix3d r = child_frame(joint, child).toRotationMatrix();  // the child's joint frame
     // K in the child's joint frame, where the coordinates' rates are taken
     const Matrix3d k =
@@ -167,7 +194,7 @@ double joint_spring_energy(const Model& model, std::span<const BodyState> bodies
     }
     const JointCoordinates c = joint_coordinates(joint, bodies[static_cast<size_t>(joint.parent)],
                                                  bodies[static_cast<size_t>(joint.child)]);
-    if (joint.type == JointType::kHinge) {
+    if (joint.type == JointType::kHinge || joint.type == JointType::kSlide) {
       const double stretch = c.angle[0] - spring[0].spring_ref;
       energy += 0.5 * spring[0].stiffness * stretch * stretch;
     } else if (joint.ball_limit == BallLimit::kEulerBox) {
@@ -209,8 +236,9 @@ const Model& armature_in_inertia(const Model& model, std::optional<Model>& holde
     }
     derive_mass_terms(child);
   }
-  // the world's hinge on the root: its rotor about the hinge's axis (a slide's armature is refused
-  // by the engines that take this model: no inertia of a body gives it)
+  // (a slide's armature, on the root or below it, is refused by the engines that take this model:
+  // no inertia of a body gives it)
+  // the world's hinge on the root: its rotor about the hinge's axis
   const RootJoint& root = model.root;
   const int hinge = root_hinge_index(root.hold);
   if (hinge >= 0) {

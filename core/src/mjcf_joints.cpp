@@ -1,16 +1,18 @@
 // MJCF's joints (mjcf_reader.h): the root body's joints into the world's hold on it (free, weld,
 // hinge, slide, ball, planar); every other body's into its joint to its parent: a weld, a hinge, a
-// ball, or several hinges at one point as an Euler box; user data written by write_mjcf gives back
-// the exact rest values
+// slide, a ball, or several hinges at one point as an Euler box; user data written by write_mjcf
+// gives back the exact rest values
 #include "mjcf_reader.h"
 
 #include <cstdio>
+#include <limits>
 
 namespace puppet::mjcf {
 
 namespace {
 // half a turn, as rounded: a hinge's angle is read within it either way
 constexpr double kHalfTurn = kPi * (1.0 + 1e-12);
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 }  // namespace
 
 bool Reader::is_free(const XMLElement* joint, const std::string& class_name) const {
@@ -310,9 +312,13 @@ detail::RawJoint Reader::read_joint(const XMLElement* body, const XMLElement* e,
     raw.hinge_axis_world = element.axis_world;
     j.lower = element.lower;
     j.upper = element.upper;
+  } else if (element.type == "slide") {
+    j.type = JointType::kSlide;
+    raw.hinge_axis_world = element.axis_world;
+    j.lower = element.limited ? element.lower : -kInfinity;
+    j.upper = element.limited ? element.upper : kInfinity;
   } else {
-    fail(e, "type \"" + one_line(element.type) +
-                "\" is not supported below the root (hinge or ball; a slide only on the root)");
+    fail(e, "type \"" + one_line(element.type) + "\" is not a joint type (hinge, slide or ball)");
   }
   if (user) {
     // write_mjcf's exact rest anchor, frame and limits

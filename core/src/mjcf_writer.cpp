@@ -269,12 +269,14 @@ class Writer {
       const double range = mjcf_ball_range(joint);
       if (range >= 0.0) out_ << " limited=\"true\" range=\"0 " << num(range) << "\"";
     } else {
-      // from the parent's side the hinge turns the other way about the same line: about minus
-      // its axis by the model's angle, so the range is the model's
+      // from the parent's side a hinge turns the other way about the same line, a slide moves the
+      // other way along it: about (along) minus its axis by the model's coordinate, so the range
+      // is the model's
+      const bool slide = joint.type == JointType::kSlide;
       const Quaterniond frame = forward ? joint.frame_in_child : joint.frame_in_parent;
       const Vector3d axis = frame * (forward ? joint.hinge_axis : Vector3d(-joint.hinge_axis));
-      out_ << " type=\"hinge\" axis=\"" << vec(axis) << "\"";
-      if (joint.lower > -kPi || joint.upper < kPi) {
+      out_ << " type=\"" << (slide ? "slide" : "hinge") << "\" axis=\"" << vec(axis) << "\"";
+      if (slide ? std::isfinite(joint.lower) : joint.lower > -kPi || joint.upper < kPi) {
         out_ << " limited=\"true\" range=\"" << nums({joint.lower, joint.upper}) << "\"";
       }
     }

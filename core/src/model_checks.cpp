@@ -197,9 +197,10 @@ std::string joint_problem(const Joint& j) {
   if (has_box_offsets(j) && (j.type != JointType::kBall || j.ball_limit != BallLimit::kEulerBox)) {
     return "hinges at different points make a box (a ball joint with Euler-angle limits) only";
   }
-  if (j.type == JointType::kHinge &&
+  if ((j.type == JointType::kHinge || j.type == JointType::kSlide) &&
       (!j.hinge_axis.allFinite() || std::abs(j.hinge_axis.squaredNorm() - 1.0) > 1e-9)) {
-    return "the hinge axis is not a unit vector";
+    return j.type == JointType::kHinge ? "the hinge axis is not a unit vector"
+                                       : "the slide's direction is not a unit vector";
   }
   // the limits, whichever file gave them (JSON's fields, MJCF's range or its user data)
   constexpr double kPi = 3.14159265358979323846;
@@ -227,6 +228,15 @@ std::string joint_problem(const Joint& j) {
     if (!within(j.lower, -kPi, 0.0) || !within(j.upper, 0.0, kPi)) {
       return "the hinge range [" + number(j.lower) + ", " + number(j.upper) +
              "] rad must contain 0, the rest angle, and lie within [-pi, pi]";
+    }
+  } else if (j.type == JointType::kSlide) {
+    // not limited: both ends infinite
+    const bool open = j.lower == -INFINITY && j.upper == INFINITY;
+    if (!open && (!within(j.lower, -kMaxCoordinate, 0.0) || !within(j.upper, 0.0, kMaxCoordinate) ||
+                  j.lower == j.upper)) {
+      return "the slide's range [" + number(j.lower) + ", " + number(j.upper) +
+             "] m must contain 0, the rest place, be wider than a point and lie within " +
+             number(kMaxCoordinate) + " m of it (or be infinite at both ends: not limited)";
     }
   }
   return {};

@@ -58,6 +58,20 @@ int root_dofs(RootHold hold) {
   return 0;
 }
 
+const char* joint_type_name(JointType type) {
+  switch (type) {
+    case JointType::kBall:
+      return "ball";
+    case JointType::kHinge:
+      return "hinge";
+    case JointType::kFixed:
+      return "fixed";
+    case JointType::kSlide:
+      return "slide";
+  }
+  return "?";
+}
+
 const char* root_hold_name(RootHold hold) {
   switch (hold) {
     case RootHold::kFree:
@@ -89,6 +103,12 @@ std::string slide_armature_problem(const Model& model) {
   for (int k = 0; k < slides; ++k) {
     if (root.passive[static_cast<size_t>(k)].armature != 0.0) {
       return "the armature of the root's slide \"" + root.names[static_cast<size_t>(k)] +
+             "\" has no inertia of a segment to stand in for it";
+    }
+  }
+  for (const Joint& joint : model.joints) {
+    if (joint.type == JointType::kSlide && joint.passive[0].armature != 0.0) {
+      return "the armature of slide \"" + joint.name +
              "\" has no inertia of a segment to stand in for it";
     }
   }

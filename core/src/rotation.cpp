@@ -159,9 +159,10 @@ Quaterniond clamp_hinge(const Joint& joint, const Quaterniond& q_rel) {
 
 Quaterniond clamp_to_limits(const Joint& joint, const Quaterniond& q_rel) {
   // derive_limit_terms() was called after the limits were last set
-  assert(std::abs(joint.twist_half_sin - std::sin(0.5 * joint.twist)) < 1e-12 &&
-         std::abs(joint.lower_half_sin - std::sin(0.5 * joint.lower)) < 1e-12 &&
-         std::abs(joint.upper_half_sin - std::sin(0.5 * joint.upper)) < 1e-12);
+  assert(joint.type == JointType::kSlide ||
+         (std::abs(joint.twist_half_sin - std::sin(0.5 * joint.twist)) < 1e-12 &&
+          std::abs(joint.lower_half_sin - std::sin(0.5 * joint.lower)) < 1e-12 &&
+          std::abs(joint.upper_half_sin - std::sin(0.5 * joint.upper)) < 1e-12));
   switch (joint.type) {
     case JointType::kBall:
       return joint.ball_limit == BallLimit::kEulerBox
@@ -170,12 +171,14 @@ Quaterniond clamp_to_limits(const Joint& joint, const Quaterniond& q_rel) {
     case JointType::kHinge:
       return clamp_hinge(joint, q_rel);
     case JointType::kFixed:
+    case JointType::kSlide:  // it turns not at all; its range is a distance (joint_limits.h)
       return Quaterniond::Identity();
   }
   return q_rel;
 }
 
 void derive_limit_terms(Joint& joint) {
+  if (joint.type == JointType::kSlide) return;  // its range is a distance, not an angle
   joint.twist_half_sin = std::sin(0.5 * joint.twist);
   joint.twist_half_cos = std::cos(0.5 * joint.twist);
   joint.lower_half_sin = std::sin(0.5 * joint.lower);

@@ -16,7 +16,13 @@ void joint_gaps(const Model& model, std::span<const BodyState> b, std::span<doub
     const BodyState &parent = b[joint.parent], &child = b[joint.child];
     const Vector3d c_parent = parent.x + parent.q * parent_anchor(joint, parent.q, child.q);
     const Vector3d c_child = b[joint.child].x + b[joint.child].q * joint.anchor_in_child;
-    out[j] = (c_parent - c_child).norm();
+    Vector3d d = c_child - c_parent;
+    if (joint.type == JointType::kSlide) {
+      // a slide's point may move along its direction, within its range
+      const Vector3d a = parent.q * (joint.frame_in_parent * joint.hinge_axis);
+      d -= std::clamp(a.dot(d), joint.lower, joint.upper) * a;
+    }
+    out[j] = d.norm();
   }
 }
 

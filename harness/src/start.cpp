@@ -57,6 +57,7 @@ StartInputs random_start(const Model& model, uint64_t seed, int64_t index) {
   for (const Joint& joint : model.joints) {
     Quaterniond q = Quaterniond::Identity();
     Vector3d w{0, 0, 0};
+    double offset = 0.0;
     switch (joint.type) {
       case JointType::kBall: {
         if (joint.ball_limit == BallLimit::kEulerBox) {
@@ -86,12 +87,19 @@ StartInputs random_start(const Model& model, uint64_t seed, int64_t index) {
         w = rng.uniform(-kStartJointSpeed, kStartJointSpeed) * joint.hinge_axis;
         break;
       }
+      case JointType::kSlide:
+        if (std::isfinite(joint.lower)) {
+          offset = joint.lower + (joint.upper - joint.lower) * rng.uniform(margin, 1.0 - margin);
+        }
+        w = rng.uniform(-kStartSlideSpeed, kStartSlideSpeed) * joint.hinge_axis;
+        break;
       case JointType::kFixed:
         break;
     }
     // inside the limits by construction; the clamp makes sure of it whatever their form
     s.joint_rotation.push_back(clamp_to_limits(joint, q).normalized());
     s.joint_velocity.push_back(w);
+    s.joint_offset.push_back(offset);
   }
   return s;
 }
@@ -110,7 +118,8 @@ double StartInputs::joint_speed_rms() const {
 
 std::vector<BodyState> posed_start(const Model& model, const StartInputs& start, int anchor) {
   if (static_cast<int>(start.joint_rotation.size()) != model.joint_count() ||
-      static_cast<int>(start.joint_velocity.size()) != model.joint_count()) {
+      static_cast<int>(start.joint_velocity.size()) != model.joint_count() ||
+      static_cast<int>(start.joint_offset.size()) != model.joint_count()) {
     throw std::invalid_argument("a start drawn for another model");
   }
   std::vector<BodyState> bodies = rest_pose(model);
@@ -150,6 +159,20 @@ std::vector<BodyState> posed_start(const Model& model, const StartInputs& start,
             (from.q * joint.frame_in_child * q_rel.conjugate() * joint.frame_in_parent.conjugate())
                 .normalized();
         parent_frame = to.q * joint.frame_in_parent;
+      }
+      if (joint.type == JointType::kSlide) {
+        // the child's point is the parent's moved along the slide, at the slide's rate; neither
+        // turns against the other
+        const double sign = down ? 1.0 : -1.0;
+        const Vector3d direction = parent_frame * joint.hinge_axis;
+        const Vector3d point = from.x + from.q * local_a + sign * start.joint_offset[j] * direction;
+        to.x = point - to.q * local_b;
+        to.w = from.w;
+        to.v = from.v + from.w.cross(to.x - from.x) +
+               sign * Vector3d(parent_frame * start.joint_velocity[j]);
+        placed[b] = true;
+        open.push(b);
+        continue;
       }
       const Vector3d point = from.x + from.q * local_a;
       to.x = point - to.q * local_b;

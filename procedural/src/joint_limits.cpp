@@ -260,7 +260,8 @@ LimitRows limit_rows(const Joint& joint, const Quaterniond& q_rel, double above)
       break;
     }
     case JointType::kFixed:
-      break;
+    case JointType::kSlide:  // no limit on a turn (none is free); a slide's range is held with
+      break;                 // its point (two_sided.cpp, tree.cpp)
   }
   return rows;
 }

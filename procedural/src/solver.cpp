@@ -30,6 +30,13 @@ std::shared_ptr<const ModelTables> make_model_tables(const Model& model) {
 std::string rule_model_problem(const Model& model, Rule rule) {
   if (rule != Rule::kXpbd && rule != Rule::kTree) {
     if (std::string problem = box_offsets_problem(model); !problem.empty()) return problem;
+    for (const Joint& joint : model.joints) {
+      if (joint.type == JointType::kSlide) {
+        return "joint \"" + joint.name +
+               "\" is a slide, which only rules xpbd and tree hold (rule " +
+               std::string(rule_name(rule)) + " does not)";
+      }
+    }
   }
   if (!root_held(model)) return {};
   if (rule != Rule::kXpbd && rule != Rule::kTree) {

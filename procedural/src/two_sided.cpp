@@ -35,27 +35,59 @@
 namespace puppet::procedural {
 namespace {
 
+// K⁻¹ y restricted to the directions P projects on (a slide's held ones): P (P K P + E − P)⁻¹ P y
+Vector3d held_solve(const Matrix3d& k, const Vector3d& y, const Matrix3d* held) {
+  if (!held) return solve3(k, y);
+  const Matrix3d& p = *held;
+  return p * solve3(Matrix3d(p * k * p + (Matrix3d::Identity() - p)), Vector3d(p * y));
+}
+
 // Δλ = (K + α̃E)⁻¹ (y − α̃ λ) in a frame where K and y are given; λ (world) is carried into that
-// frame by `to_frame` and the increment added back; α̃ = 0 solves K⁻¹ y alone
+// frame by `to_frame` and the increment added back; α̃ = 0 solves K⁻¹ y alone. `held`: the
+// projector (that frame) on the directions the constraint holds, null for all three
 template <typename ToFrame, typename ToWorld>
 Vector3d compliant_solve(Matrix3d k, Vector3d y, double alpha_tilde, Vector3d* lambda,
-                         const ToFrame& to_frame, const ToWorld& to_world) {
-  if (alpha_tilde == 0.0) return solve3(k, y);
+                         const ToFrame& to_frame, const ToWorld& to_world,
+                         const Matrix3d* held = nullptr) {
+  if (alpha_tilde == 0.0) return held_solve(k, y, held);
   k.diagonal().array() += alpha_tilde;
   y -= alpha_tilde * to_frame(*lambda);
-  const Vector3d delta = solve3(k, y);
+  const Vector3d delta = held_solve(k, y, held);
   *lambda += to_world(delta);
   return delta;
 }
 
 // (K + α̃E)⁻¹ (gap − α̃ λ) in world, λ the world multiplier; α̃ = 0 solves K⁻¹ gap alone
-Vector3d world_compliant_solve(Matrix3d k, Vector3d gap, double alpha_tilde, Vector3d* lambda) {
-  if (alpha_tilde == 0.0) return solve3(k, gap);
+Vector3d world_compliant_solve(Matrix3d k, Vector3d gap, double alpha_tilde, Vector3d* lambda,
+                               const Matrix3d* held = nullptr) {
+  if (alpha_tilde == 0.0) return held_solve(k, gap, held);
   k.diagonal().array() += alpha_tilde;
   gap -= alpha_tilde * *lambda;
-  const Vector3d delta = solve3(k, gap);
+  const Vector3d delta = held_solve(k, gap, held);
   *lambda += delta;
   return delta;
+}
+
+// A slide's point on the parent's side: the parent's anchor moved along the slide by the
+// coordinate s (clamped to its range), so that both sides' points are one point and the pair of
+// impulses turns the two segments as one; `held`, in world, projects on the directions the point
+// holds: across the slide, and along it too past an end of its range
+struct SlideSide {
+  Vector3d anchor;  // parent's frame
+  Matrix3d held;    // world
+};
+SlideSide slide_side(const Joint& joint, const BodyState& parent, const BodyState& child) {
+  const Vector3d in_parent = joint.frame_in_parent * joint.hinge_axis;
+  const Vector3d a = parent.q * in_parent;
+  const Vector3d d =
+      (child.x + child.q * joint.anchor_in_child) - (parent.x + parent.q * joint.anchor_in_parent);
+  const double s = a.dot(d);
+  const double kept = std::clamp(s, joint.lower, joint.upper);
+  SlideSide side;
+  side.anchor = joint.anchor_in_parent + kept * in_parent;
+  side.held = Matrix3d::Identity();
+  if (kept == s) side.held -= a * a.transpose();
+  return side;
 }
 
 // a segment's response to an impulse at its point r (world, current) with its lever arm r₀ and
@@ -179,8 +211,11 @@ void share_joint_correction(const Model& model, const JointTerms& terms, const J
     const double inv_mass_child = model.segments[joint.child].inv_mass;
     const Matrix3d& w0_parent = start[joint.parent];
     const Matrix3d& w0_child = start[joint.child];
-    // a box of hinges at different points carries the parent's point along its angles
-    const Vector3d anchor_parent = parent_anchor(joint, parent.q, child.q);
+    // a box of hinges at different points carries the parent's point along its angles, a slide
+    // along its direction
+    const bool slide = joint.type == JointType::kSlide;
+    const SlideSide along = slide ? slide_side(joint, parent, child) : SlideSide{};
+    const Vector3d anchor_parent = slide ? along.anchor : parent_anchor(joint, parent.q, child.q);
     const Vector3d r_parent = parent.q * anchor_parent;
     const Vector3d r_child = child.q * joint.anchor_in_child;
     const Vector3d r0_parent = state.q_prev[joint.parent] * anchor_parent;
@@ -190,7 +225,8 @@ void share_joint_correction(const Model& model, const JointTerms& terms, const J
     k.diagonal().array() += inv_mass_parent + inv_mass_child;
     // the impulse on the child (world); the parent takes its opposite
     const Vector3d impulse =
-        world_compliant_solve(k, (parent.x + r_parent) - (child.x + r_child), alpha_tilde, lambda);
+        world_compliant_solve(k, (parent.x + r_parent) - (child.x + r_child), alpha_tilde, lambda,
+                              slide ? &along.held : nullptr);
     child.x += inv_mass_child * impulse;
     child.q = quat_exp(w0_child * r0_child.cross(impulse)) * child.q;
     parent.x -= inv_mass_parent * impulse;
@@ -204,7 +240,18 @@ void share_joint_correction(const Model& model, const JointTerms& terms, const J
   const Segment& parent_segment = model.segments[joint.parent];
   const Segment& child_segment = model.segments[joint.child];
   const Matrix3d rotation = (child.q.conjugate() * parent.q).toRotationMatrix();
-  const ParentSide side = parent_side(model, terms, joint, parent.q, child.q);
+  const bool slide = joint.type == JointType::kSlide;
+  ParentSide side;
+  Matrix3d held;  // a slide's, in the child's frame
+  if (slide) {
+    const SlideSide along = slide_side(joint, parent, child);
+    const Matrix3d to_child = child.q.conjugate().toRotationMatrix();
+    side = {along.anchor, diagonal_point_mass_matrix(parent_segment.inv_mass,
+                                                     parent_segment.inv_inertia, along.anchor)};
+    held = to_child * along.held * to_child.transpose();
+  } else {
+    side = parent_side(model, terms, joint, parent.q, child.q);
+  }
   const Vector3d& anchor_parent = side.anchor;
   const Matrix3d k = terms.point_mass[1] + rotation * side.point_mass * rotation.transpose();
   const Vector3d gap =
@@ -213,7 +260,7 @@ void share_joint_correction(const Model& model, const JointTerms& terms, const J
   const Vector3d impulse = compliant_solve(
       k, gap, alpha_tilde, lambda,
       [&](const Vector3d& w) { return Vector3d(child.q.conjugate() * w); },
-      [&](const Vector3d& f) { return Vector3d(child.q * f); });
+      [&](const Vector3d& f) { return Vector3d(child.q * f); }, slide ? &held : nullptr);
   const Vector3d impulse_parent = rotation.transpose() * impulse;
   const Vector3d impulse_world = child.q * impulse;
   child.x += child_segment.inv_mass * impulse_world;

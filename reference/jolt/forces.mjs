@@ -328,6 +328,24 @@ export function addJointSpringWrenches(model, bodies, h, out) {
     const parent = bodies[joint.parent];
     const child = bodies[joint.child];
     const fp = multiply(parent.q, joint.frame_in_parent);
+    if (joint.type === 'slide') {
+      // a force along the slide at each side's point, the damper implicit in the two masses
+      const a = rotate(fp, joint.hinge_axis);
+      const rp = rotate(parent.q, joint.anchor_in_parent);
+      const rc = rotate(child.q, joint.anchor_in_child);
+      const d = sub(add(child.x, rc), add(parent.x, rp));
+      const dRate = sub(add(child.v, cross(child.w, rc)), add(parent.v, cross(parent.w, rp)));
+      const s = springs[0];
+      const inverse = model.segments[joint.parent].inv_mass + model.segments[joint.child].inv_mass;
+      const rate = dot(a, dRate) + dot(cross(parent.w, a), d);
+      const damping = s.damping / (1.0 + h * s.damping * inverse);
+      const force = scale(-s.stiffness * (dot(a, d) - s.spring_ref) - damping * rate, a);
+      out[joint.child].force = add(out[joint.child].force, force);
+      out[joint.child].torque = add(out[joint.child].torque, cross(rc, force));
+      out[joint.parent].force = sub(out[joint.parent].force, force);
+      out[joint.parent].torque = sub(out[joint.parent].torque, cross(rp, force));
+      continue;
+    }
     const fc = multiply(child.q, joint.frame_in_child);
     let relative = multiply(conjugate(fp), fc);
     if (relative[3] < 0.0) relative = relative.map((x) => -x); // the same turn, w ≥ 0

@@ -283,18 +283,22 @@ class World {
       const s = fixed(joint.anchor_in_parent, joint.anchor_in_child, inParent, inChild);
       return s.Create(parent, child);
     }
-    if (joint.type === 'hinge') {
+    if (joint.type === 'hinge' || joint.type === 'slide') {
+      // a slide: Jolt's slider, its position the child's point less the parent's along the axis
+      const hinge = joint.type === 'hinge';
       const normal = perpendicular(joint.hinge_axis);
-      const s = share(new Jolt.HingeConstraintSettings());
+      const s = share(new (hinge ? Jolt.HingeConstraintSettings : Jolt.SliderConstraintSettings)());
       s.mSpace = space;
       s.mPoint1 = r3(joint.anchor_in_parent);
       s.mPoint2 = r3(joint.anchor_in_child);
-      s.mHingeAxis1 = v3(inParent(joint.hinge_axis));
+      s[hinge ? 'mHingeAxis1' : 'mSliderAxis1'] = v3(inParent(joint.hinge_axis));
       s.mNormalAxis1 = v3(inParent(normal));
-      s.mHingeAxis2 = v3(inChild(joint.hinge_axis));
+      s[hinge ? 'mHingeAxis2' : 'mSliderAxis2'] = v3(inChild(joint.hinge_axis));
       s.mNormalAxis2 = v3(inChild(normal));
-      s.mLimitsMin = joint.lower;
-      s.mLimitsMax = joint.upper;
+      if (hinge || joint.limited) {
+        s.mLimitsMin = joint.lower;
+        s.mLimitsMax = joint.upper;
+      }
       return s.Create(parent, child);
     }
     if (joint.ball_limit === 'swing-twist') {

@@ -20,6 +20,7 @@
 #include <cstring>
 #include <mutex>
 
+#include "mujoco_library.h"
 #include "pin_springs.h"
 #include "puppet/model/euler_box.h"
 #include "puppet/model/mjcf.h"
@@ -30,94 +31,8 @@
 namespace puppet::reference {
 namespace {
 
-// MuJoCo reports what it noticed (a bad qacc, a full contact list) on stdout by default; the
-// solver reads the same counts from mjData instead
-void quiet_warning(const char*) {}
-
-// MuJoCo's errors. mju_error's default handler prints "Press Enter to exit", waits for a key on
-// a terminal and calls exit(1): a whole command, or a Python interpreter, would end inside one
-// step. The process-wide handler installed here jumps back instead, with MuJoCo's message, to
-// the guarded() call on this thread that called into MuJoCo. MuJoCo is C, and guarded() runs
-// nothing but calls into it, so no destructor lies between the jump and where it lands. (The
-// compiler sets thread-local handlers of its own while it compiles: mj_loadXML reports its
-// errors through its error buffer, never here.)
-struct MujocoJump {
-  std::jmp_buf where;
-  char message[400];
-};
-thread_local MujocoJump* t_jump = nullptr;
-
-[[noreturn]] void jump_back(const char* message) {
-  if (t_jump == nullptr) {
-    // a call this file did not guard: nothing to return to, and MuJoCo must not go on
-    std::fprintf(stderr, "mujoco: %.300s (outside a guarded call; stopping)\n", message);
-    std::abort();
-  }
-  std::snprintf(t_jump->message, sizeof t_jump->message, "%s", message);
-  std::longjmp(t_jump->where, 1);
-}
-
-void install_handlers() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    mju_user_warning = quiet_warning;
-    mju_user_error = jump_back;
-  });
-}
-
-// runs call(context) under the jump back; false with MuJoCo's message in `jump.message` when
-// MuJoCo raised its error inside it. Nothing but trivially copyable locals lives in the frame
-// that calls setjmp, so nothing the jump skips can be clobbered (gcc's -Wclobbered at -O1).
-[[gnu::noinline]] bool jump_guard(void (*call)(const void*), const void* context,
-                                  MujocoJump& jump) {
-  MujocoJump* const outer = t_jump;
-  t_jump = &jump;
-  if (setjmp(jump.where) == 0) {
-    call(context);
-    t_jump = outer;
-    return true;
-  }
-  t_jump = outer;
-  return false;
-}
-
-// runs `call` (calls into MuJoCo only); false with MuJoCo's message in `error` when MuJoCo raised
-// its error inside it
-template <class Call>
-bool guarded(const Call& call, std::string& error) {
-  MujocoJump jump{};
-  const auto trampoline = [](const void* context) { (*static_cast<const Call*>(context))(); };
-  if (jump_guard(trampoline, &call, jump)) return true;
-  error = one_line(jump.message, 300);
-  return false;
-}
-
-std::mutex& compiler_mutex() {
-  static std::mutex mutex;
-  return mutex;
-}
-
-// MJCF text → mjModel, through MuJoCo's virtual file system (nothing touches the disk)
-mjModel* compile(const std::string& xml) {
-  install_handlers();
-  const std::lock_guard<std::mutex> lock(compiler_mutex());  // the XML parser keeps globals
-  mjVFS vfs;
-  mj_defaultVFS(&vfs);
-  const char* name = "puppet.xml";
-  if (mj_makeEmptyFileVFS(&vfs, name, static_cast<int>(xml.size())) != 0) {
-    throw ModelError("mujoco: cannot stage the MJCF document");
-  }
-  std::memcpy(vfs.filedata[mj_findFileVFS(&vfs, name)], xml.data(), xml.size());
-  char error[1000] = "";
-  mjModel* m = mj_loadXML(name, &vfs, error, sizeof error);
-  mj_deleteVFS(&vfs);
-  if (m == nullptr) {
-    std::string what = error;
-    std::replace(what.begin(), what.end(), '\n', ' ');
-    throw ModelError("mujoco: the compiler rejected the model: " + what.substr(0, 300));
-  }
-  return m;
-}
+using detail::compile;
+using detail::guarded;
 
 Vector3d vec3(const mjtNum* p) { return {p[0], p[1], p[2]}; }
 const EulerOrder kXyz{{0, 1, 2}};
@@ -128,7 +43,7 @@ const EulerOrder kXyz{{0, 1, 2}};
 double arena_bytes(const Model& model) {
   double nv = 6.0;
   for (const Joint& joint : model.joints) {
-    nv += joint.type == JointType::kBall ? 3.0 : joint.type == JointType::kHinge ? 1.0 : 0.0;
+    nv += joint.type == JointType::kBall ? 3.0 : joint.type == JointType::kFixed ? 0.0 : 1.0;
   }
   const double pins = 2.0;
   const double njmax = 24.0 * model.segment_count() + 3.0 * pins + 32.0;
@@ -337,6 +252,17 @@ class MujocoSolver final : public Solver {
           const Vector3d axis = vec3(m_->jnt_axis + 3 * j);
           qpos[0] = 2.0 * std::atan2(q.vec().dot(axis), q.w());
           qvel[0] = axis.dot(relative_w);
+          break;
+        }
+        case mjJNT_SLIDE: {
+          // the body's place along the axis from where its parent puts it at qpos 0, and that
+          // place's rate as the parent (turning) carries the axis: a·(v − v_p − ω_p × (x − x_p))
+          const Vector3d xp = ps >= 0 ? bodies[ps].x : Vector3d::Zero();
+          const Vector3d vp = ps >= 0 ? bodies[ps].v : Vector3d::Zero();
+          const Vector3d axis = body.q * vec3(m_->jnt_axis + 3 * j);
+          const Vector3d zero = xp + qp * vec3(m_->body_pos + 3 * b);
+          qpos[0] = axis.dot(body.x - zero);
+          qvel[0] = axis.dot(body.v - vp - wp.cross(body.x - xp));
           break;
         }
         default:

@@ -167,6 +167,17 @@ void MultibodySolver::set_state(std::span<const BodyState> bodies) {
         body_->setJointVelMultiDof(link, &qd);
         break;
       }
+      case JointType::kSlide: {
+        // its coordinate along the axis, the model's whichever way the link runs (from the
+        // parent's side both the axis and the point's offset turn round)
+        const Joint& joint = model_.joints[joint_of_[link]];
+        const JointCoordinates c =
+            joint_coordinates(joint, bodies[joint.parent], bodies[joint.child]);
+        double s = c.angle[0], rate = c.rate[0];
+        body_->setJointPosMultiDof(link, &s);
+        body_->setJointVelMultiDof(link, &rate);
+        break;
+      }
       case JointType::kFixed:
         break;
     }

@@ -215,6 +215,10 @@ void MultibodySolver::build_links() {
         body_->setupRevolute(link, segment.mass, inertia, parent, zero, to_bt(axis_[link]),
                              to_bt(e), to_bt(d), true);
         break;
+      case JointType::kSlide:
+        body_->setupPrismatic(link, segment.mass, inertia, parent, zero, to_bt(axis_[link]),
+                              to_bt(e), to_bt(d), true);
+        break;
       case JointType::kFixed:
         body_->setupFixed(link, segment.mass, inertia, parent, zero, to_bt(e), to_bt(d), true);
         break;
@@ -265,6 +269,13 @@ void MultibodySolver::build_limits() {
     } else if (joint.type == JointType::kHinge) {
       if (joint.lower <= -kPi && joint.upper >= kPi) continue;
       limit = make_limit(body_.get(), links, joint);
+    } else if (joint.type == JointType::kSlide) {
+      if (!std::isfinite(joint.lower)) continue;
+      // its range on the link's own coordinate, the model's whichever way the link runs
+      auto range = std::make_unique<btMultiBodyJointLimitConstraint>(body_.get(), link, joint.lower,
+                                                                     joint.upper);
+      range->setMaxAppliedImpulse(kMaxImpulse);
+      limit = std::move(range);
     } else {
       continue;
     }

@@ -269,23 +269,10 @@ void OdeSolver::build_joints(std::span<const BodyState> rest) {
           swing_twist_motors_.emplace_back(k, motor);
         }
         break;
-      case JointType::kHinge: {
-        made = dJointCreateHinge(world_, nullptr);
-        dJointAttach(made, parent, child);
-        dJointSetHingeAnchor(made, anchor.x(), anchor.y(), anchor.z());
-        const Vector3d axis = frame_world * joint.hinge_axis;
-        dJointSetHingeAxis(made, axis.x(), axis.y(), axis.z());
-        if (joint.lower > -kPi || joint.upper < kPi) {
-          // ODE's angle is minus the model's; HiStop first so that LoStop ≤ HiStop throughout
-          dJointSetHingeParam(made, dParamHiStop, -joint.lower);
-          dJointSetHingeParam(made, dParamLoStop, -joint.upper);
-        }
-        break;
-      }
+      case JointType::kHinge:
       case JointType::kFixed:
-        made = dJointCreateFixed(world_, nullptr);
-        dJointAttach(made, parent, child);
-        dJointSetFixed(made);
+      case JointType::kSlide:
+        made = detail::make_pair_joint(world_, joint, parent, child, anchor, frame_world);
         break;
     }
     joints_.push_back(made);
@@ -544,8 +531,10 @@ void OdeSolver::joint_anchors(int joint, Vector3d* on_parent, Vector3d* on_child
       dJointGetHingeAnchor(j, a);
       dJointGetHingeAnchor2(j, b);
       break;
-    case JointType::kFixed: {
-      // a fixed joint has no anchor in ODE: its point is the model's, carried by each body
+    case JointType::kFixed:
+    case JointType::kSlide: {
+      // a fixed joint and a slider have no anchor in ODE: the point is the model's, carried by
+      // each body
       const Joint& m = model_.joints[joint];
       const auto carried = [this](int s, const Vector3d& local) {
         const Quaterniond q = to_quaternion(dBodyGetQuaternion(bodies_[s]));

@@ -41,4 +41,9 @@ void keep_after_failure(std::initializer_list<const void*> objects);
 // no joint for (ode_model_problem refuses it)
 dJointID make_hold(dWorldID world, dBodyID body, const RootJoint& root);
 
+// a hinge, a fixed joint or a slide of the model between two bodies at their rest poses, the
+// parent first (ode_hold.cpp); null for a ball, whose limits take motors
+dJointID make_pair_joint(dWorldID world, const Joint& joint, dBodyID parent, dBodyID child,
+                         const Vector3d& anchor, const Quaterniond& frame_world);
+
 }  // namespace puppet::reference::detail

@@ -287,5 +287,46 @@ TEST(ModelLoader, ARootHeldByTheWorldReadsAsMjcfSaysIt) {
   }
 }
 
+// A slide below the root in JSON ("type": "slide", its "axis", "range_m" and "springref_m") is
+// the model MJCF's slide gives: the same direction, range (m), spring and anchor; without a range
+// it is not limited (infinite at both ends)
+TEST(ModelLoader, ASlideReadsAsMjcfSaysIt) {
+  const std::string segments = R"("segments":[
+      {"name":"base","mass":4,"position":[0,0,1],"shape":{"type":"box","half_extents":[0.1,0.1,0.1]}},
+      {"name":"carriage","mass":1,"position":[0,0,0.8],
+       "shape":{"type":"box","half_extents":[0.05,0.05,0.05]}}])";
+  for (const bool limited : {true, false}) {
+    SCOPED_TRACE(limited ? "limited" : "not limited");
+    const Model from_json = parse_model(
+        R"({"name":"slid",)" + segments +
+            R"(,"joints":[{"name":"rail","parent":"base","child":"carriage","type":"slide",
+            "anchor":[0,0,0.88],"axis":[1,0,1],"stiffness":20,"damping":0.5,"springref_m":0.05)" +
+            (limited ? R"(,"range_m":[-0.3,0.1])" : "") + "}]}",
+        "slid.json");
+    const Model from_mjcf = parse_mjcf(
+        std::string(R"(<mujoco><worldbody><body name="base" pos="0 0 1">
+        <geom type="box" size="0.1 0.1 0.1" mass="4"/><body name="carriage" pos="0 0 -0.2">
+        <joint name="rail" type="slide" pos="0 0 0.08" axis="1 0 1" stiffness="20" damping="0.5"
+        springref="0.05" )") +
+            (limited ? R"(limited="true" range="-0.3 0.1")" : "") +
+            R"(/><geom type="box" size="0.05 0.05 0.05" mass="1"/></body></body></worldbody>
+        </mujoco>)",
+        "slid.xml");
+    ASSERT_EQ(from_json.joints.size(), 1u);
+    const Joint &a = from_json.joints[0], &b = from_mjcf.joints[0];
+    EXPECT_EQ(a.type, JointType::kSlide);
+    EXPECT_EQ(b.type, JointType::kSlide);
+    EXPECT_LT((a.frame_world * a.hinge_axis - Vector3d(1, 0, 1).normalized()).norm(), 1e-15);
+    EXPECT_LT((b.frame_world * b.hinge_axis - Vector3d(1, 0, 1).normalized()).norm(), 1e-15);
+    EXPECT_LT((a.anchor_world - b.anchor_world).norm(), 1e-15);
+    EXPECT_EQ(a.lower, limited ? -0.3 : -INFINITY);
+    EXPECT_EQ(a.upper, limited ? 0.1 : INFINITY);
+    EXPECT_EQ(b.lower, a.lower);
+    EXPECT_EQ(b.upper, a.upper);
+    EXPECT_EQ(a.passive[0], b.passive[0]);
+    EXPECT_EQ(a.passive[0].spring_ref, 0.05);
+  }
+}
+
 }  // namespace
 }  // namespace puppet

@@ -213,6 +213,7 @@ TEST(Jolt, JointSpringsAgreeWithTheTestbeds) {
       R"(<joint name="pivot" type="hinge" axis="1 1 0" pos="0 0 0.2" stiffness="40" damping="3"/>)");
   for (const Model& model :
        {load_model(std::string(PUPPET_SOURCE_DIR) + "/tests/data/mjcf/springs.xml"),
+        load_model(std::string(PUPPET_SOURCE_DIR) + "/tests/data/mjcf/slides.xml"),
         sprung_pinocchio, planar, hinged}) {
     SCOPED_TRACE(model.name);
     ASSERT_TRUE(has_joint_springs(model));

@@ -10,8 +10,12 @@
 #include <cmath>
 #include <random>
 
+#include "puppet/compare/metrics.h"
 #include "puppet/compare/start.h"
+#include "puppet/model/joint_springs.h"
+#include "puppet/model/mjcf.h"
 #include "puppet/model/rotation.h"
+#include "support/source_dir.h"
 
 namespace puppet::compare {
 namespace {
@@ -94,6 +98,54 @@ TEST(Start, APoseHasClosedJointsAndConsistentVelocities) {
       }
     }
   }
+}
+
+// A slide's start (tests/data/mjcf/slides.xml): a limited one somewhere in the middle 80 % of its
+// range, an unlimited one at its rest, each moving along its direction at a drawn rate, neither
+// turning against its parent; posed from either end of the tree, each slide's coordinate and rate
+// read back are the drawn ones and the child's point stays on the slide's line
+TEST(Start, ASlideStartsAlongItsRangeAndNeverTurns) {
+  const Model model = load_model(std::string(PUPPET_SOURCE_DIR) + "/tests/data/mjcf/slides.xml");
+  const int reach = 0, stroke = 2;
+  ASSERT_EQ(model.joints[reach].type, JointType::kSlide);
+  ASSERT_EQ(model.joints[stroke].type, JointType::kSlide);
+  double lowest = INFINITY, highest = -INFINITY;
+  for (int k = 0; k < 200; ++k) {
+    const StartInputs s = random_start(model, 5, k);
+    const Joint& limited = model.joints[reach];
+    const double margin = (1.0 - kStartLimitFraction) / 2.0 * (limited.upper - limited.lower);
+    EXPECT_GE(s.joint_offset[reach], limited.lower + margin - 1e-12);
+    EXPECT_LE(s.joint_offset[reach], limited.upper - margin + 1e-12);
+    lowest = std::min(lowest, s.joint_offset[reach]);
+    highest = std::max(highest, s.joint_offset[reach]);
+    EXPECT_EQ(s.joint_offset[stroke], 0.0);
+    for (const int anchor : {0, model.find_segment("hand")}) {
+      const std::vector<BodyState> bodies = posed_start(model, s, anchor);
+      for (const int j : {reach, stroke}) {
+        const Joint& joint = model.joints[j];
+        const BodyState& p = bodies[joint.parent];
+        const BodyState& c = bodies[joint.child];
+        const JointCoordinates coordinates = joint_coordinates(joint, p, c);
+        EXPECT_NEAR(coordinates.angle[0], s.joint_offset[j], 1e-12) << joint.name;
+        EXPECT_NEAR(coordinates.rate[0], s.joint_velocity[j].dot(joint.hinge_axis), 1e-12)
+            << joint.name;
+        EXPECT_LE(std::abs(coordinates.rate[0]), kStartSlideSpeed);
+        EXPECT_LT(
+            p.q.angularDistance(c.q * joint.frame_in_child * joint.frame_in_parent.conjugate()),
+            1e-12)
+            << joint.name;
+        EXPECT_LT((p.w - c.w).norm(), 1e-12) << joint.name;
+        std::vector<double> gaps(model.joints.size());
+        joint_gaps(model, bodies, gaps);
+        EXPECT_LT(gaps[j], 1e-12) << joint.name;
+      }
+    }
+  }
+  // the draws fill that middle part
+  const Joint& limited = model.joints[reach];
+  const double span = limited.upper - limited.lower;
+  EXPECT_LT(lowest, limited.lower + 0.15 * span);
+  EXPECT_GT(highest, limited.upper - 0.15 * span);
 }
 
 TEST(Start, ScenariosStartStillWhereTheyAreHeld) {

@@ -110,8 +110,10 @@ std::unique_ptr<LaneStepper> LaneStepper::make(const Solver& puppet, int max_wid
       (puppet.limit_pass_ && settings.limit_restitution != 0.0) || environment.tremble ||
       environment.water || environment.ground || puppet.tables_->orders.empty() ||
       puppet.joint_springs_ || puppet.model_.root.hold != RootHold::kFree ||
-      std::ranges::any_of(puppet.model_.joints, has_box_offsets)) {
-    // joint springs, a root the world holds, hinges at different points: the scalar step
+      std::ranges::any_of(puppet.model_.joints, has_box_offsets) ||
+      std::ranges::any_of(puppet.model_.joints,
+                          [](const Joint& joint) { return joint.type == JointType::kSlide; })) {
+    // joint springs, a root the world holds, hinges at different points, slides: the scalar step
     return nullptr;
   }
   const int width = widest_lanes(max_width);

@@ -99,6 +99,11 @@ ModelSize model_size(const Model& model) {
       case JointType::kFixed:
         size.joint_rows += 6;
         break;
+      case JointType::kSlide:
+        size.dofs += 1;
+        size.joint_rows += 5;
+        size.limit_rows += std::isfinite(joint.lower) ? 1 : 0;
+        break;
     }
   }
   for (const Segment& segment : model.segments) {

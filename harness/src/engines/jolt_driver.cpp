@@ -134,9 +134,8 @@ json model_json(const Model& model) {
   }
   json joints = json::array();
   for (const Joint& j : model.joints) {
-    const char* type = j.type == JointType::kBall    ? "ball"
-                       : j.type == JointType::kHinge ? "hinge"
-                                                     : "fixed";
+    const char* type = joint_type_name(j.type);
+    const bool slide = j.type == JointType::kSlide;
     json pyramid;
     if (j.type == JointType::kBall && j.ball_limit == BallLimit::kEulerBox) {
       const JoltPyramid p = nearest_jolt_pyramid(j);
@@ -167,8 +166,10 @@ json model_json(const Model& model) {
                       {"twist", std::min(j.twist, M_PI)},
                       {"pyramid", pyramid},
                       {"hinge_axis", vec(j.hinge_axis)},
-                      {"lower", angle(j.lower)},
-                      {"upper", angle(j.upper)},
+                      // a hinge's angles; a slide's distances, when limited
+                      {"limited", std::isfinite(j.lower)},
+                      {"lower", slide ? (std::isfinite(j.lower) ? j.lower : 0.0) : angle(j.lower)},
+                      {"upper", slide ? (std::isfinite(j.upper) ? j.upper : 0.0) : angle(j.upper)},
                       {"box_order", j.box_order.axes},
                       {"passive", passive}});
   }

@@ -104,7 +104,9 @@ std::vector<HeldTurn> held_turns(const Model& model) {
   if (root.hold == RootHold::kPlanar) return {{0, root.anchor_world, root.axes[2]}};
   std::vector<HeldTurn> turns;
   for (const Joint& joint : model.joints) {
-    if (joint.parent != 0 || joint.type == JointType::kFixed) continue;
+    if (joint.parent != 0 || joint.type == JointType::kFixed || joint.type == JointType::kSlide) {
+      continue;
+    }
     HeldTurn turn{joint.child, joint.anchor_world, std::nullopt};
     if (joint.type == JointType::kHinge) turn.axis = joint.frame_world * joint.hinge_axis;
     turns.push_back(turn);

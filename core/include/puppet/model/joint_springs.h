@@ -15,11 +15,12 @@ namespace puppet {
 /// Adds every joint's spring and damper torques (world) to `out` (one wrench per segment) for a
 /// step of length h from `bodies`. About each degree of freedom the generalized force is
 ///   f = −stiffness (angle − spring_ref) − damping′ · rate,
-/// with the angle and rate MuJoCo's: a hinge's angle about its axis; an Euler box's three angles
-/// (their rates through euler_gradients); a swing–twist ball's rotation from rest as a rotation
-/// vector in the child's joint frame, its rate the child's angular velocity relative to the parent.
-/// The damper is integrated implicitly per joint, as MuJoCo's Euler integrates damping: with
-/// K = I_p⁻¹ + I_c⁻¹ the two segments' world inverse inertias, the rate it acts on is the rate
+/// with the angle and rate MuJoCo's: a hinge's angle about its axis; a slide's coordinate along
+/// its direction (a force then, at each side's point on the slide's line); an Euler box's three
+/// angles (their rates through euler_gradients); a swing–twist ball's rotation from rest as a
+/// rotation vector in the child's joint frame, its rate the child's angular velocity relative to
+/// the parent. The damper is integrated implicitly per joint, as MuJoCo's Euler integrates damping:
+/// with K = I_p⁻¹ + I_c⁻¹ the two segments' world inverse inertias, the rate it acts on is the rate
 /// after the step, (1 + h · damping · K)⁻¹ · rate (a hinge's or a box angle's K along its own
 /// direction; a ball's the 3×3), so that a stiff damper on a light segment slows it without
 /// overshooting for any h (h = 0: the explicit damper). The joint's constraints only add
@@ -32,9 +33,10 @@ void add_joint_spring_wrenches(const Model& model, std::span<const BodyState> bo
 void add_root_spring_wrench(const Model& model, const BodyState& root, double h, Wrench& out);
 
 /// one joint's coordinates as MuJoCo reads them, those its springs and dampers act on (one per
-/// degree of freedom: 1 for a hinge, 3 for a ball), and their rates
+/// degree of freedom: 1 for a hinge or a slide, 3 for a ball), and their rates
 struct JointCoordinates {
-  Vector3d angle{0, 0, 0};  ///< hinge: [0]; box: the Euler angles; ball: the rotation vector
+  Vector3d angle{0, 0, 0};  ///< hinge: [0]; slide: [0] its distance (m); box: the Euler angles;
+                            ///< ball: the rotation vector
   Vector3d rate{0, 0, 0};   ///< the same coordinates' rates
 };
 JointCoordinates joint_coordinates(const Joint& joint, const BodyState& parent,

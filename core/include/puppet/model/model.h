@@ -61,7 +61,9 @@ struct Segment {
   int parent = -1;        ///< parent segment; -1 for the root
 };
 
-enum class JointType { kBall, kHinge, kFixed };
+/// a slide (MJCF's slide below the root) moves its child along one direction of its parent and
+/// lets it turn not at all
+enum class JointType { kBall, kHinge, kFixed, kSlide };
 
 /// The passive dynamics of one degree of freedom of a joint, as MuJoCo's joint `stiffness`,
 /// `springref`, `damping` and `armature` define them (docs/model-format.md, "Springs, dampers and
@@ -112,7 +114,9 @@ struct Joint {
   /// side is then the first hinge's point, the one on the child's side the last's, and they meet
   /// where parent_anchor() (euler_box.h) carries the first along the box's angles
   std::array<Vector3d, 2> box_offsets{Vector3d::Zero(), Vector3d::Zero()};
-  /// hinge: unit axis in the joint frame and the range of the right-handed angle about it (rad)
+  /// hinge: unit axis in the joint frame and the range of the right-handed angle about it (rad);
+  /// slide: its direction in the joint frame and the range of its coordinate, the child's point
+  /// less the parent's along it (m; ±infinity when not limited)
   Vector3d hinge_axis{0, 0, 1};
   double lower = 0.0, upper = 0.0;
   /// sine and cosine of each half-limit (the twist's, the hinge's lower and upper), derived by
@@ -120,7 +124,8 @@ struct Joint {
   double twist_half_sin = 0.0, twist_half_cos = 1.0;
   double lower_half_sin = 0.0, lower_half_cos = 1.0;
   double upper_half_sin = 0.0, upper_half_cos = 1.0;
-  /// springs, dampers and armature (joint_springs.h): a hinge's on its angle in entry 0; an Euler
+  /// springs, dampers and armature (joint_springs.h): a hinge's on its angle and a slide's on its
+  /// coordinate (N/m, N s/m, kg) in entry 0; an Euler
   /// box's on its angle k in entry k (MuJoCo's three hinges); a swing–twist ball's entry 0 on each
   /// coordinate of its rotation from rest as a rotation vector (MuJoCo's ball: spring_ref 0); a
   /// fixed joint has none
@@ -159,6 +164,8 @@ struct RootJoint {
 
 /// how many degrees of freedom the root's joint leaves it (free 6, weld 0, ball 3, planar 3)
 int root_dofs(RootHold hold);
+/// the joint type's name as the JSON format says it: "ball", "hinge", "fixed", "slide"
+const char* joint_type_name(JointType type);
 /// the hold's name as MJCF and the docs say it: "free", "weld", "hinge", "slide", "ball", "planar"
 const char* root_hold_name(RootHold hold);
 

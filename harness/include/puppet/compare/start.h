@@ -34,7 +34,9 @@ struct StartInputs {
   double phase = 0.0;                       // rad
   Vector3d grab_direction{0, 0, -1};        // segment frame, unit
   std::vector<Quaterniond> joint_rotation;  // q_rel per joint, inside its limits
-  std::vector<Vector3d> joint_velocity;     // ω_rel per joint, in the joint's frame (rad/s)
+  std::vector<Vector3d> joint_velocity;     // ω_rel per joint, in the joint's frame (rad/s);
+                                            // a slide's rate along its direction (m/s)
+  std::vector<double> joint_offset;         // a slide's coordinate (m), 0 for the other joints
 
   // summaries for a CSV row: the RMS of the joints' relative angles (deg) and speeds (rad/s)
   double joint_angle_rms_deg() const;
@@ -46,6 +48,7 @@ inline constexpr double kStartTiltDeg = 45.0;
 inline constexpr double kStartHzLow = 0.25, kStartHzHigh = 1.0;
 inline constexpr double kStartLimitFraction = 0.8;
 inline constexpr double kStartJointSpeed = 2.0;  // rad/s
+inline constexpr double kStartSlideSpeed = 0.2;  // m/s; an unlimited slide starts at its rest
 
 StartInputs random_start(const Model& model, uint64_t seed, int64_t index);
 
