@@ -36,6 +36,10 @@ void check_model(const puppet::Model& model) {
     check(j.anchor_in_parent.allFinite() && j.anchor_in_child.allFinite());
     check(std::abs(j.frame_in_parent.norm() - 1.0) < 1e-9);
     check(std::abs(j.hinge_axis.norm() - 1.0) < 1e-9);
+    // a range holds the rest; only a slide's may be infinite (not limited)
+    check(j.lower <= 0.0 && j.upper >= 0.0);
+    check(j.type == puppet::JointType::kSlide ||
+          (std::isfinite(j.lower) && std::isfinite(j.upper)));
   }
 }
 
