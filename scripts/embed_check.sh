@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Installs the libraries from a build into a fresh prefix and, against the installed package
 # alone (find_package(puppet CONFIG)), from clean build folders that set no C++ standard:
-#   - builds examples/embed and runs it;
+#   - builds examples/embed and runs it: on `pinocchio` by name, which the installed package must
+#     read from its own share/puppet/models, the example grabbing the end of the right forearm
+#     (Pinocchio's arms end there); and on chain:8;
 #   - compiles every installed header on its own, one translation unit each, so that a header
 #     that uses what it does not include fails here;
 # and runs examples/python/tour.py on the installed Python package, from outside the source tree
@@ -16,7 +18,13 @@ cmake --install "$build" --prefix "$work/prefix" >/dev/null
 cmake -S examples/embed -B "$work/build" -DCMAKE_PREFIX_PATH="$work/prefix" \
   -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS="-Wall -Wextra -Werror" >/dev/null
 cmake --build "$work/build" >/dev/null
-"$work/build/embed" models/pinocchio.json
+said=$("$work/build/embed")
+echo "$said"
+case "$said" in
+  "pinocchio ($work/prefix/share/puppet/models/pinocchio.json): the end of r_forearm at "*", rule xpbd") ;;
+  *) echo "embed_check: the example did not load the installed Pinocchio by name and grab its" \
+       "right forearm's end with rule xpbd" >&2; exit 1 ;;
+esac
 "$work/build/embed" chain:8
 
 # one translation unit per installed header, nothing before its #include

@@ -69,7 +69,8 @@ int list_json() {
                      {"iterations", info.iterations},
                      {"substeps", info.substeps},
                      {"iterations_are", info.iterations_are},
-                     {"lanes", info.lanes}});
+                     {"lanes", info.lanes},
+                     {"seed", info.seed}});
   }
   out["default_rule"] = procedural::rule_name(SolverOptions{}.procedural.rule);
   // what a verdict searches for each configuration besides dt: the flags candidates.csv names a

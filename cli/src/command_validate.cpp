@@ -17,29 +17,43 @@
 namespace puppet::testbed {
 namespace {
 
-// what each engine makes of the model: the verdict every command applies before it runs
+// what each engine makes of the model: the verdict every command applies before it runs. The
+// procedural engine's is per rule: which rules run it, when not all of them do
 void print_engines(const Model& model, double budget) {
   std::string engines, refusals;
+  const auto add_engine = [&](const std::string& text) {
+    engines += (engines.empty() ? "" : ", ") + text;
+  };
   for (const std::string& solver : compare::solver_names()) {
     std::string problem = compare::engine_model_problem(solver, model, {}, budget);
-    std::string rules;  // the rules that run it, when the default rule does not
-    if (!problem.empty() && solver == compare::kProceduralEngine) {
-      // the default rule refuses it: the rules that run it, if any
+    if (solver == compare::kProceduralEngine) {
+      std::string rules, refused;  // the rules that run it; the first refusal of another
+      int running = 0;
       for (const procedural::Rule rule : procedural::kAllRules) {
         compare::SolverOptions options;
         options.procedural.rule = rule;
-        if (compare::engine_model_problem(solver, model, options, budget).empty()) {
+        const std::string why = compare::engine_model_problem(solver, model, options, budget);
+        if (why.empty()) {
           rules += (rules.empty() ? "" : ", ") + std::string(procedural::rule_name(rule));
+          ++running;
+        } else if (refused.empty()) {
+          refused = why;
         }
       }
-      if (!rules.empty()) {
-        engines += (engines.empty() ? "" : ", ") + solver + " (rules " + rules + ")";
-        refusals += "  not procedural with the other rules: " + one_line(problem, 300) + "\n";
+      if (running > 0 && !refused.empty()) {
+        add_engine(solver + " (rules " + rules + ")");
+        refusals += "  not procedural with the other rules: " + one_line(refused, 300) + "\n";
         problem.clear();
+      } else if (running == 0) {
+        problem = refused;
       }
+    } else if (problem.empty()) {
+      add_engine(solver);
     }
     if (problem.empty()) {
-      if (rules.empty()) engines += (engines.empty() ? "" : ", ") + solver;
+      if (solver == compare::kProceduralEngine && engines.find(solver) == std::string::npos) {
+        add_engine(solver);
+      }
       if (std::string note = compare::engine_model_note(solver, model); !note.empty()) {
         refusals += "  " + solver + " approximates: " + note + "\n";
       }

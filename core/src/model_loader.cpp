@@ -454,8 +454,8 @@ Model parse_model(const std::string& json_text, const std::string& source) {
   return build(document, source);
 }
 
-Model load_model(const std::string& path_or_builtin, const ReadOptions& options,
-                 std::string* note) {
+Model load_model_file(const std::string& path_or_builtin, const ReadOptions& options,
+                      std::string* note) {
   if (note) note->clear();
   const std::string chain_prefix = "chain:";
   if (path_or_builtin.rfind(chain_prefix, 0) == 0) {

@@ -154,7 +154,7 @@ std::string with_flag(const ScenarioError& error) {
 namespace {
 std::mutex builtin_mutex;
 std::string& builtin_path() {
-  static std::string path = std::string(PUPPET_SOURCE_DIR) + "/models/pinocchio.json";
+  static std::string path = pinocchio_path();
   return path;
 }
 }  // namespace

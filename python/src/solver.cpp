@@ -269,7 +269,7 @@ void bind_solver(py::module_& m) {
              return Solver(std::move(model), make_settings(rule, settings),
                            environment.value_or(Environment{}));
            }),
-           py::arg("model"), py::arg("rule") = "relaxed", py::kw_only(),
+           py::arg("model"), py::arg("rule") = "xpbd", py::kw_only(),
            py::arg("environment") = py::none(),
            (std::string("settings as keywords (None: the rule's own): ") + setting_names()).c_str())
       .def("step", &Solver::step, py::arg("dt"), "one step of dt seconds, in (0, 1]")

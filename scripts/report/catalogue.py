@@ -24,6 +24,12 @@ SCENARIO_ASKS = dict(_CATALOGUE.get("scenario_asks", {}))
 # the scenario the stability frontier searches (testbed frontier)
 FRONTIER_SCENARIO = _CATALOGUE["frontier_scenario"]
 RULES = [rule["name"] for rule in _CATALOGUE["rules"]]
+# the paper's own readings of its adjust (a catalogue written before this key reads as none)
+SEED_RULES = [rule["name"] for rule in _CATALOGUE["rules"] if rule.get("seed")]
+# the rule wherever one rule is implied
+DEFAULT_RULE = _CATALOGUE["default_rule"]
+# the scenes on the ground, judged by the contact judge
+CONTACT_SCENARIOS = list(_CATALOGUE.get("contact_scenarios", []))
 # each rule's defaults and what its iterations count ("": it makes one pass)
 RULE_INFO = {rule["name"]: rule for rule in _CATALOGUE["rules"]}
 # the engine a sweep runs once per rule

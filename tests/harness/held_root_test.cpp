@@ -266,8 +266,10 @@ TEST(HeldRoot, EnginesThatDoNotBuildItRefuseInOneLine) {
     const bool holds = rule == procedural::Rule::kXpbd || rule == procedural::Rule::kTree;
     EXPECT_EQ(problem.empty(), holds) << procedural::rule_name(rule) << ": " << problem;
   }
+  SolverOptions relaxed;
+  relaxed.procedural.rule = procedural::Rule::kRelaxed;
   for (const std::string& solver : solver_names()) {
-    const std::string problem = engine_model_problem(solver, model);  // procedural: relaxed
+    const std::string problem = engine_model_problem(solver, model, relaxed);
     if (solver == "mujoco" || solver == "bullet-multibody" || solver == "bullet-rigid" ||
         solver == "jolt") {
       EXPECT_EQ(problem, "") << solver;  // slides and a hinge; a 6-dof joint to the world

@@ -84,7 +84,9 @@ TEST(Settings, ARulesDefaultsFillOnlyWhatWasLeftToTheRule) {
     EXPECT_EQ(chosen.substeps, 3);
     EXPECT_EQ(validate(defaults), "");
   }
+  EXPECT_EQ(Settings{}.rule, Rule::kXpbd);  // the default: the rule the verdict picks
   Settings relaxed;
+  relaxed.rule = Rule::kRelaxed;
   EXPECT_EQ(rule_defaults(relaxed).iterations, 4);  // the four sweeps of docs/design.md
   EXPECT_EQ(rule_defaults(relaxed).substeps, 1);
 }

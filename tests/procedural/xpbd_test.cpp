@@ -29,6 +29,7 @@ TEST(Xpbd, RuleDefaultsAreOneSweepOfManySubsteps) {
   EXPECT_EQ(settings.iterations, 1);
   EXPECT_EQ(settings.substeps, kXpbdSubsteps);
   Settings relaxed;
+  relaxed.rule = Rule::kRelaxed;
   relaxed = rule_defaults(relaxed);
   EXPECT_EQ(relaxed.iterations, 4);
   EXPECT_EQ(relaxed.substeps, 1);

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 namespace puppet::viewer {
@@ -118,6 +119,31 @@ TEST(OrbitCamera, FrameShowsTheWholeBox) {
     EXPECT_GE(pixel.y(), 0.0);
     EXPECT_LE(pixel.y(), camera.height);
   }
+}
+
+// Following a point, the target closes the distance as e^(−t/τ) whatever the frame rate: after
+// τ, 1 − 1/e of it in one call or in sixty, to rounding; it never passes the point; a still
+// point is reached to 1e-6 after 14 τ; a frame of no time moves nothing
+TEST(OrbitCamera, FollowsAPointAtItsTimeConstantAtAnyFrameRate) {
+  const Vector3d point(1.0, -2.0, 0.5);
+  OrbitCamera once = test_camera(), sixty = test_camera();
+  const Vector3d start = once.target;
+  const double yaw = once.yaw, distance = once.distance;
+  once.follow(point, kFollowSeconds);
+  for (int k = 0; k < 60; ++k) sixty.follow(point, kFollowSeconds / 60);
+  const Vector3d expected = start + (1.0 - std::exp(-1.0)) * (point - start);
+  EXPECT_LT((once.target - expected).norm(), 1e-12);
+  EXPECT_LT((sixty.target - expected).norm(), 1e-12);
+  EXPECT_EQ(once.yaw, yaw);  // only the target moves: the view keeps its angle and distance
+  EXPECT_EQ(once.distance, distance);
+  for (int k = 0; k < 14 * 60; ++k) {
+    sixty.follow(point, kFollowSeconds / 60);
+    ASSERT_LE((sixty.target - start).dot(point - start), (point - start).squaredNorm());
+  }
+  EXPECT_LT((sixty.target - point).norm(), 1e-6 * (point - start).norm());
+  const Vector3d held = once.target;
+  once.follow(point, 0.0);
+  EXPECT_EQ(once.target, held);
 }
 
 }  // namespace

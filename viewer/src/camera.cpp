@@ -90,4 +90,9 @@ void OrbitCamera::frame(const Vector3d& low, const Vector3d& high) {
   distance = std::clamp(1.15 * radius / std::sin(0.5 * fov_y), kMinDistance, kMaxDistance);
 }
 
+void OrbitCamera::follow(const Vector3d& point, double seconds) {
+  if (!(seconds > 0.0)) return;
+  target += (1.0 - std::exp(-seconds / kFollowSeconds)) * (point - target);
+}
+
 }  // namespace puppet::viewer

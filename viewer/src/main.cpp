@@ -126,6 +126,9 @@ void on_key(GLFWwindow* window, int key, int /*scancode*/, int action, int /*mod
     case GLFW_KEY_S:
       app.controller.toggle_shake();
       break;
+    case GLFW_KEY_F:
+      app.panel.follow = !app.panel.follow;
+      break;
     case GLFW_KEY_ESCAPE:
       glfwSetWindowShouldClose(window, GLFW_TRUE);
       break;
@@ -225,6 +228,12 @@ int run(App& app, int frames, const std::string& screenshot, std::optional<Scrip
         app.session.step();
         app.panel.step_once = false;
       }
+      // the camera follows the first run's centre of mass, but not while a gesture holds the view
+      if (app.panel.follow && !app.controller.holding()) {
+        const double seconds = headless ? kFrameSeconds : elapsed;
+        app.camera.follow(compare::centre_of_mass(app.session.model(), app.session.run(0).bodies),
+                          seconds);
+      }
 
       renderer.draw(app.session, app.camera, fb_scene_width, fb_height);
       ImGui_ImplOpenGL3_NewFrame();
@@ -277,7 +286,8 @@ int main(int argc, char** argv) {
     rule_names.emplace_back(procedural::rule_name(rule));
   }
   std::string rule_text(procedural::rule_name(config.options.procedural.rule));
-  app.add_option("--rule", rule_text, "the procedural solver's adjust rule")
+  app.add_option("--rule", rule_text,
+                 "the procedural solver's adjust rule (default xpbd, the rule the verdict picks)")
       ->check(CLI::IsMember(rule_names))
       ->capture_default_str();
   app.add_option("--ghost", config.ghost, "a second solver, drawn as a translucent ghost");

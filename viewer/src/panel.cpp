@@ -140,7 +140,7 @@ void world_section(Session& session) {
   session.set_environment(e);
 }
 
-void time_section(Session& session, Controller& controller, PanelState& state) {
+void time_section(Session& session, PanelState& state) {
   SessionConfig config = session.config();
   static const std::array<int, 6> kRates = {30, 60, 120, 240, 480, 960};
   int rate = static_cast<int>(std::lround(1.0 / config.dt));
@@ -196,14 +196,20 @@ void time_section(Session& session, Controller& controller, PanelState& state) {
     }
   }
   if (changed) configure(session, config, state);
+}
 
+// what the keys do, always in view: pause, follow, step, reset, shake
+void controls_row(Session& session, Controller& controller, PanelState& state) {
   ImGui::Checkbox("pause [space]", &state.paused);
   ImGui::SameLine();
+  ImGui::Checkbox("camera follows [f]", &state.follow);
   if (ImGui::Button("step [n]")) state.step_once = true;
   ImGui::SameLine();
   if (ImGui::Button("reset [r]")) session.reset();
+  ImGui::SameLine();
   bool shaking = session.shaking();
-  if (ImGui::Checkbox("shake the grabbed point [s]", &shaking)) controller.toggle_shake();
+  if (ImGui::Checkbox("shake [s]", &shaking)) controller.toggle_shake();
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("the grabbed point oscillates along the view");
 }
 
 void runs_section(const Session& session) {
@@ -261,6 +267,7 @@ void draw_panel(Session& session, Controller& controller, PanelState& state, flo
   } else {
     ImGui::TextDisabled("holding nothing");
   }
+  controls_row(session, controller, state);
   if (ImGui::CollapsingHeader("solvers", ImGuiTreeNodeFlags_DefaultOpen)) {
     solver_section(session, state);
   }
@@ -269,9 +276,10 @@ void draw_panel(Session& session, Controller& controller, PanelState& state, flo
   }
   if (!state.error.empty())
     ImGui::TextColored({1.0f, 0.35f, 0.3f, 1.0f}, "%s", state.error.c_str());
-  if (ImGui::CollapsingHeader("world", ImGuiTreeNodeFlags_DefaultOpen)) world_section(session);
-  if (ImGui::CollapsingHeader("time", ImGuiTreeNodeFlags_DefaultOpen)) {
-    time_section(session, controller, state);
+  // the world and the clock closed at first, so that the runs' measurements fit a 720-pixel window
+  if (ImGui::CollapsingHeader("world")) world_section(session);
+  if (ImGui::CollapsingHeader("time")) {
+    time_section(session, state);
   }
   if (ImGui::CollapsingHeader("runs", ImGuiTreeNodeFlags_DefaultOpen)) {
     ImGui::Text("%.0f frames/s drawn", ImGui::GetIO().Framerate);
@@ -282,7 +290,8 @@ void draw_panel(Session& session, Controller& controller, PanelState& state, flo
   ImGui::TextDisabled("left-drag the puppet: grab it");
   ImGui::TextDisabled("left-drag elsewhere, right-drag: orbit");
   ImGui::TextDisabled("middle or shift-drag: pan; wheel: zoom");
-  ImGui::TextDisabled("space: pause; n: step; r: reset; s: shake");
+  ImGui::TextDisabled("space: pause; n: step; r: reset; s: shake;");
+  ImGui::TextDisabled("f: the camera follows the figure, or not");
   ImGui::End();
 }
 

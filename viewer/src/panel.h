@@ -13,6 +13,7 @@ constexpr float kPanelWidth = 340.0f;
 
 struct PanelState {
   bool paused = false;
+  bool follow = true;  // the camera follows the figure's centre of mass [f]
   bool step_once = false;
   char model_path[512] = {};
   std::string error;  // why the last change was refused

@@ -2,8 +2,8 @@
 
 from ..catalogue import CANDIDATES_CSV as C
 from ..catalogue import VERDICT_CSV as V
-from ..catalogue import (ERROR_FLOOR, HEADLINE, MET, PER_FRAME, PER_SECOND, RULES_ENGINE,
-                        setting_label)
+from ..catalogue import (CONTACT_SCENARIOS, DEFAULT_RULE, ERROR_FLOOR, HEADLINE, MET, PER_FRAME,
+                         PER_SECOND, RULES_ENGINE, SEED_RULES, setting_label)
 from ..common import (HEADLINE_BUDGET, VERDICT, budget_name, dt_text, fmt, label, md_table,
                       wilson_upper)
 from ..readers import Verdict, read_verdict
@@ -70,11 +70,77 @@ def refused_text(v, refused):
             + ", ".join(f"{sc} (floor {fmt(v.floor[sc])} m)" for sc in refused) + ".")
 
 
+def two_figures(x):
+    """a measured ratio or length as a reader takes it in: two significant figures"""
+    return f"{x:.2g}"
+
+
+def cm_range(values):
+    """'4.7 to 50 cm' (or '5 cm' when they round alike)"""
+    low, high = (two_figures(100.0 * x) for x in (min(values), max(values)))
+    return f"{low} cm" if low == high else f"{low} to {high} cm"
+
+
+def plain_result(v, budget=HEADLINE_BUDGET, view=PER_SECOND):
+    """the verdict in three plain sentences: the paper's own rules, the default rule against the
+    cheapest reference engine, and where it wins most and where the family loses"""
+    within = budget_name(budget)
+    model = v.model[:1].upper() + v.model[1:]
+    judged = [sc for sc in v.scenarios if v.judged(sc, budget)]
+    off_ground = [sc for sc in judged if sc not in CONTACT_SCENARIOS]
+    out = []
+    seed_rows = [v.row(sc, (RULES_ENGINE, rule), view, budget) for rule in SEED_RULES
+                 for sc in off_ground]
+    seed_rows = [r for r in seed_rows if r]
+    if seed_rows:
+        met = sorted({r[V.scenario] for r in seed_rows if r[V.verdict] == MET})
+        floors = [r[V.best_error_m] for r in seed_rows if r[V.verdict] == ERROR_FLOOR]
+        sentence = (f"In the scenes off the ground, the paper's own rules "
+                    f"({', '.join(SEED_RULES)}) "
+                    + (f"keep {model} within {within} of the truth only in {', '.join(met)}"
+                       if met else f"never keep {model} within {within} of the truth"))
+        if floors:
+            sentence += (f"; {'elsewhere ' if met else ''}the least error they reach is "
+                         f"{cm_range(floors)}")
+        out.append(sentence + ".")
+    rule = DEFAULT_RULE
+    ratios, references, lost = {}, {}, []
+    met_count = 0
+    for sc in judged:
+        r = v.row(sc, (RULES_ENGINE, rule), view, budget)
+        ref = v.cheapest_reference(sc, view, budget)
+        if r and r[V.verdict] == MET:
+            met_count += 1
+            if ref:
+                ratios[sc] = ref[V.cost_us_per_s] / r[V.cost_us_per_s]
+                references[sc] = label(ref["config"])
+        elif not v.cheapest_procedural(sc, view, budget) and ref:
+            lost.append((sc, label(ref["config"])))
+    if ratios:
+        ordered_ratios = sorted(ratios.values())
+        median = ordered_ratios[len(ordered_ratios) // 2]
+        out.append(
+            f"{rule}, the best of the family and the default rule, keeps it within {within} in "
+            f"{met_count} of the {len(judged)} scenes the truth can judge there, for "
+            f"{two_figures(min(ratios.values()))}× to {two_figures(max(ratios.values()))}× less "
+            "CPU per simulated second than the cheapest reference engine in each (median "
+            f"{two_figures(median)}×).")
+        best, least = max(ratios, key=ratios.get), min(ratios, key=ratios.get)
+        sentence = (f"It gains most in {best} ({two_figures(ratios[best])}× "
+                    f"{references[best]}'s speed) and least in {least} "
+                    f"({two_figures(ratios[least])}× {references[least]}'s)")
+        if lost:
+            sentence += ("; no procedural rule meets the budget in "
+                         + ", ".join(f"{sc}, where {engine} does" for sc, engine in lost))
+        out.append(sentence + ".")
+    return " ".join(out)
+
+
 def verdict_headline(folder, budget=HEADLINE_BUDGET):
     """the README's headline: µs per simulated second at one budget, per solver and scenario"""
     v = Verdict(folder)
     table, refused = verdict_table(v, PER_SECOND, budget)
-    return (f"CPU µs per simulated second to keep Pinocchio within {budget_name(budget)} of "
+    return (plain_result(v, budget) + "\n\n" + f"CPU µs per simulated second to keep Pinocchio within {budget_name(budget)} of "
             f"the truth ({v.truth}) and never diverge in {v.starts} random starts, with the "
             f"cheapest configuration each solver has ({searched_summary(v)}); in brackets, how "
             "many times cheaper than the cheapest reference engine "

@@ -235,8 +235,26 @@ struct ReadOptions {
 Model parse_model(const std::string& json_text, const std::string& source);
 /// Loads a model file, or a built-in generated model `chain:N`. `note`, when given, gets what was
 /// skipped as one line ("21 <motor>, 2 <camera>"), or nothing.
-Model load_model(const std::string& path_or_builtin, const ReadOptions& options = {},
-                 std::string* note = nullptr);
+Model load_model_file(const std::string& path_or_chain, const ReadOptions& options = {},
+                      std::string* note = nullptr);
+
+#ifdef PUPPET_MODELS_DIR
+/// The built-in figure's file: pinocchio.json in the models folder of the package this program
+/// was built against (PUPPET_MODELS_DIR, which linking puppet::model defines: the source tree's
+/// models/ in its own build, <prefix>/share/puppet/models once installed)
+inline std::string pinocchio_path() { return PUPPET_MODELS_DIR "/pinocchio.json"; }
+/// load_model_file, and `pinocchio`, the built-in figure, by name
+inline Model load_model(const std::string& name, const ReadOptions& options = {},
+                        std::string* note = nullptr) {
+  return load_model_file(name == "pinocchio" ? pinocchio_path() : name, options, note);
+}
+#else
+/// load_model_file (a program that defines no PUPPET_MODELS_DIR has no built-in figure by name)
+inline Model load_model(const std::string& name, const ReadOptions& options = {},
+                        std::string* note = nullptr) {
+  return load_model_file(name, options, note);
+}
+#endif
 /// N capsules (0.25 m tip to tip, 1 kg) hanging in a chain of free ball joints from z = 0.
 Model make_chain(int n);
 

@@ -38,6 +38,9 @@ struct RuleInfo {
   /// a user's grab anchors its pass (the viewer's `auto` anchor): the seed's way, which only a
   /// rule that closes a joint by translating alone survives (docs/viewer.md)
   bool grab_anchors = false;
+  /// one of the seed's readings of its adjust (literal, smoothed, weighted, subtree, relaxed);
+  /// xpbd and tree are the best of the family it belongs to
+  bool seed = false;
 };
 RuleInfo rule_info(Rule rule);
 

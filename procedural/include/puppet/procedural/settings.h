@@ -23,7 +23,7 @@ constexpr int kMaxSubsteps = 1000;
 constexpr double kMaxCompliance = 1e6;
 
 struct Settings {
-  Rule rule = Rule::kRelaxed;
+  Rule rule = Rule::kXpbd;  ///< the verdict's pick (docs/verdict.md); the seed's own: relaxed
   /// two-sided sweeps per substep (relaxed: 4, xpbd: 1); tree: Newton iterations per substep
   int iterations = kRuleDefault;
   int substeps = kRuleDefault;  ///< each step(dt) runs this many stages of dt/substeps (xpbd: 8)

@@ -11,6 +11,9 @@ using Eigen::Matrix4d;
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
+// the time constant of OrbitCamera::follow (s): a third of a second, about a swing's quarter
+inline constexpr double kFollowSeconds = 0.3;
+
 // a half-line; direction is unit length
 struct Ray {
   Vector3d origin{0, 0, 0};
@@ -55,6 +58,9 @@ class OrbitCamera {
   void zoom(double steps);
   // aims at the centre of a box and backs away until it fits the view
   void frame(const Vector3d& low, const Vector3d& high);
+  // moves the target toward `point` over `seconds`, closing the distance as e^(−t/τ) with
+  // τ = kFollowSeconds: the view keeps a falling or swinging figure in sight without jerking
+  void follow(const Vector3d& point, double seconds);
 };
 
 }  // namespace puppet::viewer

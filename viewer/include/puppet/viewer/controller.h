@@ -28,6 +28,8 @@ class Controller {
   void scroll(double steps) { camera_.zoom(steps); }
   // the grabbed point oscillates along the camera's right axis, or stops
   void toggle_shake();
+  // a gesture holds the view (a grab's drag plane, an orbit, a pan): the camera keeps still
+  bool holding() const { return gesture_ != Gesture::kNone; }
 
  private:
   enum class Gesture { kNone, kGrab, kOrbit, kPan };
