@@ -103,7 +103,7 @@ int main(int argc, char** argv) {
       longest *= 4;
     }
     benchmark::RegisterBenchmark(
-        ("scaling/" + config.label).c_str(),
+        ("scaling/" + compare::config_label(config)).c_str(),
         [config](benchmark::State& state) { scaling_benchmark(state, config); })
         ->RangeMultiplier(4)
         ->Range(4, longest)

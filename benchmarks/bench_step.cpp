@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
   for (const std::string& scenario : kStepScenarios) {
     for (const SolverConfig& config : solver_configs()) {
       benchmark::RegisterBenchmark(
-          ("step/" + scenario + "/" + config.label).c_str(),
+          ("step/" + scenario + "/" + compare::config_label(config)).c_str(),
           [scenario, config](benchmark::State& state) {
             const Workload workload = make_workload(pinocchio(), scenario, kBatchSteps);
             const auto simulator = compare::make_simulator(config.solver, config.options);

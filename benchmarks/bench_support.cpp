@@ -12,23 +12,14 @@
 namespace puppet::bench {
 
 std::vector<SolverConfig> solver_configs() {
-  std::vector<SolverConfig> configs;
-  // every rule of procedural, then every other engine this build has, in the catalogue's order;
-  // not one out of this process (jolt): its cost is WebAssembly's, timed by itself (the testbed's
-  // step_us and the verdict report it apart), never ranked against native code's here
+  // in the catalogue's order; not one out of this process (jolt): its cost is WebAssembly's,
+  // timed by itself (the testbed's step_us and the verdict report it apart), never ranked
+  // against native code's here
+  std::vector<std::string> native;
   for (const std::string& solver : compare::solver_names()) {
-    if (!compare::find_engine(solver)->native) continue;
-    if (!compare::has_rules(solver)) {
-      configs.push_back({solver, solver, {}});
-      continue;
-    }
-    for (procedural::Rule rule : procedural::kAllRules) {
-      compare::SolverOptions options;
-      options.procedural.rule = rule;
-      configs.push_back({std::string(procedural::rule_name(rule)), solver, options});
-    }
+    if (compare::find_engine(solver)->native) native.push_back(solver);
   }
-  return configs;
+  return compare::solver_configs(native, procedural::kAllRules);
 }
 
 Workload make_workload(const Model& model, const std::string& scenario, int batch_steps,

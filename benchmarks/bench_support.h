@@ -16,6 +16,7 @@
 
 #include "puppet/compare/scenario.h"
 #include "puppet/compare/simulator.h"
+#include "puppet/compare/solver_config.h"
 #include "puppet/procedural/solver.h"
 
 namespace puppet::bench {
@@ -26,11 +27,9 @@ inline constexpr int kBatchSteps = 60;
 inline const std::vector<std::string> kStepScenarios = {"hang", "drag", "drop"};
 
 // every solver configuration the comparison runs: one per procedural rule, then the references
-struct SolverConfig {
-  std::string label;  // "literal", …, "bullet-multibody", "bullet-rigid"
-  std::string solver;
-  compare::SolverOptions options;
-};
+using compare::SolverConfig;
+// every rule of procedural, then every other engine this build has that runs in this process,
+// each labelled by config_label ("literal", …, "bullet-multibody", "bullet-rigid")
 std::vector<SolverConfig> solver_configs();
 
 // seconds stepped before the snapshot: past the targets' 0.5 s ramp, and in `drop` past the

@@ -51,29 +51,6 @@ std::vector<Truth> truths_for(const Model& model, double budget) {
   return out;
 }
 
-std::string rule_of(const SolverConfig& config) {
-  return has_rules(config.solver)
-             ? std::string(procedural::rule_name(config.options.procedural.rule))
-             : std::string();
-}
-
-std::vector<SolverConfig> solver_configs(const std::vector<std::string>& solvers,
-                                         std::span<const procedural::Rule> rules,
-                                         const SolverOptions& options) {
-  std::vector<SolverConfig> out;
-  for (const std::string& solver : solvers) {
-    if (!has_rules(solver)) {
-      out.push_back({solver, options});
-      continue;
-    }
-    for (const procedural::Rule rule : rules) {
-      out.push_back({solver, options});
-      out.back().options.procedural.rule = rule;
-    }
-  }
-  return out;
-}
-
 std::string dt_flag(size_t count) {
   std::string out;
   for (size_t k = 0; k < count && k < kStepRates.size(); ++k) {

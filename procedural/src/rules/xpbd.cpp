@@ -3,20 +3,22 @@
 // Macklin, Müller, Chentanez 2016, "XPBD"), the best of the update/adjust family the seed belongs
 // to. Per substep of h = dt / substeps:
 //
-//   update            every segment alone under its forces (the same stage as every rule)
+//   update            every segment alone under its forces (the same stage as every rule; the
+//                     joints' springs and dampers among them, joint_springs.h)
 //   adjust            `iterations` Gauss–Seidel sweeps (default 1): pins and the world's hold on
 //                     the root, then every limit, then every joint's point (the joints first
 //                     with Settings::limits_before_joints off), then the ground, each re-evaluated
 //                     from the current poses and closed by both of its bodies in proportion to
 //                     their generalised inverse masses, with compliance α (two_sided.cpp)
-//   velocities        v = Δx/h, ω = log(q q_prev⁻¹)/h, then the velocity pass: the ground's
-//                     normal velocity removed (no restitution) with Coulomb friction on the
-//                     impulse that takes (contacts.cpp, ground_velocity_pass)
+//   velocities        v = Δx/h, ω = log(q q_prev⁻¹)/h, then the velocity passes: each limit
+//                     its adjust met loses its rate into the limit (limit_velocities.cpp), and
+//                     the ground's normal velocity is removed (no restitution) with Coulomb
+//                     friction on the impulse that takes (contacts.cpp, ground_velocity_pass)
 //
 // seed: unlike every seed rule there is no one-sided closure: joints close only to the
 // residual the sweeps leave (joint_gap_m reports it); with many short substeps that residual
-// shrinks as h², and nothing moves a child as if its parent were infinitely heavy. The model
-// has no joint damping, so the velocity pass has none.
+// shrinks as h², and nothing moves a child as if its parent were infinitely heavy. Joint
+// dampers act in the update, implicit per joint, not in the velocity passes.
 #include "rules.h"
 
 namespace puppet::procedural {

@@ -1,7 +1,9 @@
 /// \file
 /// The seed paper's procedural solver (Bae, Baek, Lee & Ryu 2001): each segment moves alone
-/// under its forces (update), then one geometric pass over the tree rotates and translates
-/// segments so that joints meet again and limits hold (adjust). No linear system is solved.
+/// under its forces (update), then a geometric pass over the tree rotates and translates
+/// segments so that joints meet again and limits hold (adjust). The seed's rules and xpbd solve
+/// no linear system, only 3×3 blocks per constraint; rule tree factors the whole projection's
+/// (sparse, on the tree, in O(n)).
 ///
 ///   step(dt) = for each substep: update → adjust → contacts → velocities
 ///

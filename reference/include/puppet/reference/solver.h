@@ -1,4 +1,5 @@
-// The interface every reference engine's world sits behind (Bullet's two, MuJoCo's): one model in
+// The interface every reference engine's world sits behind (Bullet's two, MuJoCo's, ODE's; Jolt's
+// is a driver process behind the harness's Simulator, harness/src/engines/jolt.cpp): one model in
 // one engine, driven by the same environment forces and pins as the procedural solver, read back
 // in the model's own frames. Engine types stay inside reference/src: this header speaks the
 // model's language only.

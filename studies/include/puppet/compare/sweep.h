@@ -11,6 +11,7 @@
 
 #include "puppet/compare/engines.h"
 #include "puppet/compare/run.h"
+#include "puppet/compare/solver_config.h"
 
 namespace puppet::compare {
 
@@ -53,19 +54,6 @@ inline constexpr std::array<int, 6> kStepRates{30, 60, 120, 240, 480, 960};
 inline constexpr size_t kSweepStepRates = 5;
 // the first `count` step rates as a --dt flag writes them: "1/30,1/60,..."
 std::string dt_flag(size_t count = kStepRates.size());
-
-// a solver and its options (for procedural, the rule among them)
-struct SolverConfig {
-  std::string solver;
-  SolverOptions options;
-};
-// the rule column of a configuration's rows: its rule's name for procedural, else empty
-std::string rule_of(const SolverConfig& config);
-// the configurations of these solvers, in their order, all from `options`: an engine that runs
-// the rules (has_rules) once per rule of `rules`, each other engine once
-std::vector<SolverConfig> solver_configs(const std::vector<std::string>& solvers,
-                                         std::span<const procedural::Rule> rules,
-                                         const SolverOptions& options = {});
 
 struct SweepSpec {
   const Model* model = nullptr;
