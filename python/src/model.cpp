@@ -157,6 +157,106 @@ std::string vector_text(const Vector3d& v) {
          py::repr(py::float_(v.z())).cast<std::string>() + ")";
 }
 
+py::tuple xyz(const Vector3d& v) { return py::make_tuple(v.x(), v.y(), v.z()); }
+// quaternions as the package's arrays hold them: x, y, z, w (named so in every key)
+py::tuple xyzw(const Quaterniond& q) { return py::make_tuple(q.x(), q.y(), q.z(), q.w()); }
+
+// a segment by index or name
+int segment_of(const Model& model, const py::handle& which) {
+  if (py::isinstance<py::str>(which)) {
+    const std::string name = which.cast<std::string>();
+    const int index = model.find_segment(name);
+    if (index < 0) refuse("segment", "no segment \"" + one_line(name, 64) + "\" in " + model.name);
+    return index;
+  }
+  if (!py::isinstance<py::int_>(which) || py::isinstance<py::bool_>(which)) {
+    refuse("segment", "a segment is an index or a name");
+  }
+  const long long index = which.cast<long long>();
+  if (index < 0 || index >= model.segment_count()) {
+    refuse("segment", "index " + std::to_string(index) + " is not one of the " +
+                          std::to_string(model.segment_count()) + " segments");
+  }
+  return static_cast<int>(index);
+}
+
+py::dict shape_dict(const Shape& shape) {
+  py::dict d;
+  d["type"] = shape_type_name(shape.type);
+  d["radius"] = shape.radius;
+  d["half_length"] = shape.half_length;
+  d["half_extents"] = xyz(shape.half_extents);
+  d["position"] = xyz(shape.position);
+  d["orientation_xyzw"] = xyzw(shape.orientation);
+  return d;
+}
+
+py::dict segment_dict(const Model& model, int s) {
+  const Segment& segment = model.segments[static_cast<size_t>(s)];
+  py::dict d;
+  d["index"] = s;
+  d["name"] = segment.name;
+  d["parent"] = segment.parent < 0 ? py::object(py::none())
+                                   : py::object(py::str(model.segments[segment.parent].name));
+  d["mass"] = segment.mass;
+  d["inertia"] = xyz(segment.inertia);
+  d["rest_position"] = xyz(segment.rest_position);
+  d["rest_orientation_xyzw"] = xyzw(segment.rest_orientation);
+  py::list shapes;
+  for (const Shape& shape : segment.shapes) shapes.append(shape_dict(shape));
+  d["shapes"] = shapes;
+  return d;
+}
+
+// a joint as its model says it (docs/model-format.md): kind, segments, anchor and frame at rest
+// in world, and its limits in the units the JSON format gives them
+py::dict joint_dict(const Model& model, const Joint& joint) {
+  constexpr double kDeg = 180.0 / 3.14159265358979323846;
+  py::dict d;
+  d["name"] = joint.name;
+  d["type"] = joint_type_name(joint.type);
+  d["parent"] = model.segments[joint.parent].name;
+  d["child"] = model.segments[joint.child].name;
+  d["anchor"] = xyz(joint.anchor_world);
+  d["frame_xyzw"] = xyzw(joint.frame_world);
+  switch (joint.type) {
+    case JointType::kHinge:
+      d["axis"] = xyz(joint.frame_world * joint.hinge_axis);
+      d["range_deg"] = py::make_tuple(joint.lower * kDeg, joint.upper * kDeg);
+      break;
+    case JointType::kSlide:
+      d["axis"] = xyz(joint.frame_world * joint.hinge_axis);
+      d["range_m"] = std::isfinite(joint.lower)
+                         ? py::object(py::make_tuple(joint.lower, joint.upper))
+                         : py::object(py::none());
+      break;
+    case JointType::kBall:
+      if (joint.ball_limit == BallLimit::kEulerBox) {
+        d["box_order"] = std::string{"xyz"[joint.box_order.axes[0]], "xyz"[joint.box_order.axes[1]],
+                                     "xyz"[joint.box_order.axes[2]]};
+        d["box_lower_deg"] = xyz(joint.box_lower * kDeg);
+        d["box_upper_deg"] = xyz(joint.box_upper * kDeg);
+      } else {
+        d["swing_deg"] = py::make_tuple(joint.swing_x * kDeg, joint.swing_y * kDeg);
+        d["twist_deg"] = joint.twist * kDeg;
+      }
+      break;
+    case JointType::kFixed:
+      break;
+  }
+  py::list passive;
+  for (const JointPassive& p : joint.passive) {
+    py::dict spring;
+    spring["stiffness"] = p.stiffness;
+    spring["damping"] = p.damping;
+    spring["spring_ref"] = p.spring_ref;
+    spring["armature"] = p.armature;
+    passive.append(spring);
+  }
+  d["passive"] = passive;
+  return d;
+}
+
 }  // namespace
 
 void bind_model(py::module_& m) {
@@ -185,6 +285,48 @@ void bind_model(py::module_& m) {
             return index;
           },
           py::arg("name"))
+      .def(
+          "segment",
+          [](const Model& model, const py::handle& which) {
+            return segment_dict(model, segment_of(model, which));
+          },
+          py::arg("which"),
+          "a segment, by index or name, as a dict: name, parent (a name, None for the root), "
+          "mass, inertia (diagonal, segment frame), rest_position, rest_orientation_xyzw and its "
+          "shapes (type, sizes, place in the segment frame)")
+      .def_property_readonly(
+          "joints",
+          [](const Model& model) {
+            py::list joints;
+            for (const Joint& joint : model.joints) joints.append(joint_dict(model, joint));
+            return joints;
+          },
+          "each joint as a dict: name, type (ball, hinge, slide, fixed), parent and child "
+          "(names), anchor and frame_xyzw at rest in world, a hinge's or slide's axis and "
+          "range (range_deg, range_m: None when not limited), a ball's swing and twist or box "
+          "(deg), and passive: per degree of freedom its stiffness, damping, spring_ref, "
+          "armature")
+      .def(
+          "joint",
+          [](const Model& model, const py::handle& which) {
+            if (py::isinstance<py::str>(which)) {
+              const std::string name = which.cast<std::string>();
+              for (const Joint& joint : model.joints) {
+                if (joint.name == name) return joint_dict(model, joint);
+              }
+              refuse("joint", "no joint \"" + one_line(name, 64) + "\" in " + model.name);
+            }
+            if (!py::isinstance<py::int_>(which) || py::isinstance<py::bool_>(which)) {
+              refuse("joint", "a joint is an index or a name");
+            }
+            const long long index = which.cast<long long>();
+            if (index < 0 || index >= model.joint_count()) {
+              refuse("joint", "index " + std::to_string(index) + " is not one of the " +
+                                  std::to_string(model.joint_count()) + " joints");
+            }
+            return joint_dict(model, model.joints[static_cast<size_t>(index)]);
+          },
+          py::arg("which"), "a joint, by index or name, as in `joints`")
       .def("__repr__", [](const Model& model) {
         return "<puppet.Model " + model.name + ": " + std::to_string(model.segment_count()) +
                " segments>";

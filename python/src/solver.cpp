@@ -176,6 +176,23 @@ void Solver::set_pin_targets(const py::handle& given) {
   solver_->set_pin_targets(std::span(moved.data(), static_cast<size_t>(pins)));
 }
 
+void Solver::set_pin_target(const py::handle& pin, const py::handle& target) {
+  const int pins = solver_->state().slot_count;
+  if (pins == 0) refuse("pin", "the solver has no pins (set_pins first)");
+  const auto k = static_cast<int>(whole("pin", pin, 0, pins - 1));
+  const Vector3d moved = vector3("target", target);
+  std::array<Vector3d, procedural::kMaxPins> targets;
+  // set_pins' order: a pin's slot is in pins, a grab's in grabs (State::slots)
+  const procedural::State& state = solver_->state();
+  for (int i = 0; i < pins; ++i) {
+    const int slot = state.slots[i];
+    targets[i] = slot >= 0 ? state.pins[slot].target : state.grabs[-1 - slot].target;
+  }
+  targets[k] = moved;
+  const Exclusive held = hold();
+  solver_->set_pin_targets(std::span(targets.data(), static_cast<size_t>(pins)));
+}
+
 void Solver::set_state(const py::handle& x_given, const py::handle& q_given,
                        const py::handle& v_given, const py::handle& w_given) {
   const auto n = static_cast<ssize_t>(model_->segment_count());
@@ -290,6 +307,9 @@ void bind_solver(py::module_& m) {
            "replaces the pins and grabs (at most 4); the first hard pin anchors the adjust pass")
       .def("set_pin_targets", &Solver::set_pin_targets, py::arg("targets"),
            "(k, 3): the targets of the k pins for the end of the next step")
+      .def("set_pin_target", &Solver::set_pin_target, py::arg("pin"), py::arg("target"),
+           "one pin's target (its index in set_pins' order) for the end of the next step, the "
+           "others' kept")
       .def("set_state", &Solver::set_state, py::arg("positions"), py::arg("rotations"),
            py::arg("velocities"), py::arg("angular_velocities"),
            "places every segment (copies the arrays; checks shapes, finiteness, unit rotations)")

@@ -58,6 +58,8 @@ class Solver {
   void reset();
   void set_pins(const std::vector<PinSpec>& pins);
   void set_pin_targets(const py::handle& targets);
+  // one pin's target, the others' kept
+  void set_pin_target(const py::handle& pin, const py::handle& target);
   void set_state(const py::handle& x, const py::handle& q, const py::handle& v,
                  const py::handle& w);
   /// held for the length of any call that reads or changes the state (Exclusive)

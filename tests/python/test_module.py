@@ -250,3 +250,65 @@ def test_every_kind_of_model_loads_and_steps(name, segments):
     for _ in range(60):
         solver.step(1 / 240)
     assert not solver.diverged and solver.positions.shape == (segments, 3)
+
+
+def test_the_model_shows_its_segments_and_joints_by_index_or_name():
+    model = puppet.load_model("pinocchio")
+    head = model.segment("head")
+    assert head == model.segment(model.segment_index("head"))
+    assert head["parent"] == "chest" and model.segment(0)["parent"] is None
+    assert sum(model.segment(k)["mass"] for k in range(model.segment_count)) == pytest.approx(
+        sum(model.masses), rel=1e-15)
+    assert head["shapes"][0]["type"] in {"sphere", "capsule", "box", "cylinder", "ellipsoid"}
+    assert len(head["rest_orientation_xyzw"]) == 4
+    joints = model.joints
+    assert len(joints) == model.segment_count - 1
+    elbow = model.joint("r_elbow")
+    assert elbow == joints[[j["name"] for j in joints].index("r_elbow")]
+    assert elbow["type"] == "hinge" and elbow["child"] == "r_forearm"
+    lo, hi = elbow["range_deg"]
+    assert lo <= 0.0 <= hi and abs(np.linalg.norm(elbow["axis"]) - 1.0) < 1e-12
+    # every child's rest place is its parent's and the joint's: the anchor on both shapes' side
+    for j in joints:
+        assert j["type"] in {"ball", "hinge", "slide", "fixed"}
+        assert len(j["passive"]) == 3
+    slides = puppet.load_model(os.path.join(os.path.dirname(__file__), "..", "data", "mjcf",
+                                            "slides.xml"))
+    reach, stroke = slides.joint("reach"), slides.joint("stroke")
+    assert reach["type"] == "slide" and reach["range_m"] == pytest.approx((-0.45, 0.55))
+    assert stroke["range_m"] is None
+    for bad in ("nose", 99, -1, 1.5, True):
+        with pytest.raises(ValueError) as error:
+            model.segment(bad)
+        assert "\n" not in str(error.value)
+        with pytest.raises(ValueError):
+            model.joint(bad)
+
+
+def test_one_pin_moves_and_the_others_stay():
+    model = puppet.load_model("pinocchio")
+    solver = puppet.Solver(model)
+    assert solver.rule == "xpbd"  # the default rule
+    head, arm = model.segment_index("head"), model.segment_index("r_forearm")
+    held = solver.positions[head].copy()
+    solver.set_pins([puppet.Pin(head, target=held),
+                     puppet.Pin("r_forearm", target=solver.positions[arm].copy(),
+                                grab=puppet.grab_spring(model))])
+    raised = solver.positions[arm] + (0.0, 0.0, 0.2)
+    other = puppet.Solver(model)
+    other.set_pins([puppet.Pin(head, target=held),
+                    puppet.Pin("r_forearm", target=solver.positions[arm].copy(),
+                               grab=puppet.grab_spring(model))])
+    solver.set_pin_target(1, raised)
+    other.set_pin_targets([held, raised])
+    for _ in range(120):
+        solver.step(1 / 240)
+        other.step(1 / 240)
+    assert np.array_equal(solver.positions, other.positions)  # the head's target was kept
+    for bad in (2, -1, "1", True):
+        with pytest.raises(ValueError):
+            solver.set_pin_target(bad, raised)
+    with pytest.raises(ValueError):
+        solver.set_pin_target(0, (0.0, float("nan"), 1.0))
+    with pytest.raises(ValueError):
+        puppet.Solver(model).set_pin_target(0, held)  # no pins
