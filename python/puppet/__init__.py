@@ -5,6 +5,7 @@ testbed that measures them against reference engines (docs/python.md).
     solver = puppet.Solver(model, "xpbd")
     solver.step(1 / 240)
     solver.positions            # (n, 3), a read-only view of the solver's state
+    engine = puppet.Engine(model, "mujoco")   # any engine, stepped as the testbed steps it
 
     rows = puppet.run(scenario="hang", rule="xpbd", dt="1/240")   # the testbed's summary rows
 """
@@ -13,6 +14,7 @@ import os
 from . import _puppet
 from ._puppet import (  # noqa: F401
     Crowd,
+    Engine,
     Environment,
     GrabSpring,
     Model,
@@ -30,6 +32,7 @@ _puppet._use_builtin_model(os.path.join(os.path.dirname(__file__), "models", "pi
 
 __all__ = [
     "Crowd",
+    "Engine",
     "Environment",
     "GrabSpring",
     "Model",

@@ -41,5 +41,6 @@ void bind_model(py::module_& m);
 void bind_solver(py::module_& m);
 void bind_crowd(py::module_& m);
 void bind_testbed(py::module_& m);
+void bind_engine(py::module_& m);
 
 }  // namespace puppet::python

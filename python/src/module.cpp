@@ -11,5 +11,6 @@ PYBIND11_MODULE(_puppet, m) {
   puppet::python::bind_model(m);
   puppet::python::bind_solver(m);
   puppet::python::bind_crowd(m);
+  puppet::python::bind_engine(m);
   puppet::python::bind_testbed(m);
 }

@@ -138,7 +138,7 @@ void Solver::reset() {
   solver_->reset(rest_pose(*model_));
 }
 
-void Solver::set_pins(const std::vector<PinSpec>& specs) {
+std::vector<Pin> to_pins(const Model& model, const std::vector<PinSpec>& specs) {
   if (specs.size() > static_cast<size_t>(procedural::kMaxPins)) {
     refuse("pins", std::to_string(specs.size()) + " given, at most " +
                        std::to_string(procedural::kMaxPins));
@@ -148,11 +148,11 @@ void Solver::set_pins(const std::vector<PinSpec>& specs) {
     Pin pin;
     if (py::isinstance<py::str>(spec.segment)) {
       const auto name = spec.segment.cast<std::string>();
-      pin.segment = model_->find_segment(name);
-      if (pin.segment < 0) refuse("pin", "no segment \"" + name + "\" in " + model_->name);
+      pin.segment = model.find_segment(name);
+      if (pin.segment < 0) refuse("pin", "no segment \"" + name + "\" in " + model.name);
     } else {
       pin.segment =
-          static_cast<int>(whole("pin: segment", spec.segment, 0, model_->segment_count() - 1));
+          static_cast<int>(whole("pin: segment", spec.segment, 0, model.segment_count() - 1));
     }
     pin.local_point = spec.point;
     pin.target = spec.target;
@@ -160,6 +160,11 @@ void Solver::set_pins(const std::vector<PinSpec>& specs) {
     pin.grab = spec.grab;
     pins.push_back(pin);
   }
+  return pins;
+}
+
+void Solver::set_pins(const std::vector<PinSpec>& specs) {
+  const std::vector<Pin> pins = to_pins(*model_, specs);
   const Exclusive held = hold();
   solver_->set_pins(pins);
 }

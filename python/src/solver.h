@@ -38,6 +38,10 @@ struct PinSpec {
   GrabSpring grab{};  ///< hz 0: not a grab
 };
 
+/// the pins as the solvers take them, each segment resolved against the model (ValueError for
+/// more than kMaxPins, an unknown name or an index out of range)
+std::vector<Pin> to_pins(const Model& model, const std::vector<PinSpec>& specs);
+
 class Solver {
  public:
   /// a solver of its own
