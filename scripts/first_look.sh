@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A first look, in about a minute once the packages are in (scripts/setup.sh, which this runs
+# A first look, in seconds once the packages are in (scripts/setup.sh, which this runs
 # first) and the testbed is built (this builds it if needed): the headline scenario, drag, for two
 # simulated seconds in rule xpbd and in ODE, each at the configuration the committed verdict
 # chose for it within 1 cm (results/verdict/verdict.csv), against the truth, and one small table
