@@ -257,9 +257,8 @@ py::dict joint_dict(const Model& model, const Joint& joint) {
   return d;
 }
 
-}  // namespace
-
-void bind_model(py::module_& m) {
+// the Model class: its names, masses, segments and joints
+void bind_model_class(py::module_& m) {
   py::class_<Model, ModelPtr>(m, "Model", "an articulated figure: segments joined in a tree")
       .def_property_readonly("name", [](const Model& model) { return model.name; })
       .def_property_readonly("segment_count", &Model::segment_count)
@@ -331,6 +330,12 @@ void bind_model(py::module_& m) {
         return "<puppet.Model " + model.name + ": " + std::to_string(model.segment_count()) +
                " segments>";
       });
+}
+
+}  // namespace
+
+void bind_model(py::module_& m) {
+  bind_model_class(m);
   m.def("_use_builtin_model", &compare::set_builtin_model_path, py::arg("path"),
         "where \"pinocchio\" is read from: the package's own copy");
   m.def("load_model", &load, py::arg("name"), py::kw_only(), py::arg("strict") = false,
