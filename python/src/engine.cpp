@@ -82,22 +82,7 @@ class Engine {
   }
   void set_state(const py::handle& x_given, const py::handle& q_given, const py::handle& v_given,
                  const py::handle& w_given) {
-    const auto n = static_cast<ssize_t>(model_->segment_count());
-    const auto x = real_array("positions", x_given, n, 3);
-    const auto q = real_array("rotations", q_given, n, 4);
-    const auto v = real_array("velocities", v_given, n, 3);
-    const auto w = real_array("angular_velocities", w_given, n, 3);
-    std::vector<BodyState> bodies(static_cast<size_t>(n));
-    for (ssize_t i = 0; i < n; ++i) {
-      BodyState& b = bodies[static_cast<size_t>(i)];
-      b.x = Vector3d(x.at(i, 0), x.at(i, 1), x.at(i, 2));
-      b.q = Quaterniond(q.at(i, 3), q.at(i, 0), q.at(i, 1), q.at(i, 2));
-      if (std::abs(b.q.norm() - 1.0) > 1e-6) {
-        refuse("rotations", "row " + std::to_string(i) + " is not a unit quaternion (x, y, z, w)");
-      }
-      b.v = Vector3d(v.at(i, 0), v.at(i, 1), v.at(i, 2));
-      b.w = Vector3d(w.at(i, 0), w.at(i, 1), w.at(i, 2));
-    }
+    const std::vector<BodyState> bodies = bodies_from(*model_, x_given, q_given, v_given, w_given);
     simulator_->set_state(bodies);
     read();
   }

@@ -42,6 +42,13 @@ struct PinSpec {
 /// more than kMaxPins, an unknown name or an index out of range)
 std::vector<Pin> to_pins(const Model& model, const std::vector<PinSpec>& specs);
 
+/// a whole state from the four arrays as the package holds them (positions, rotations x, y, z,
+/// w, velocities, angular velocities; one row per segment), copied after checking their shapes,
+/// that every value is finite and that each rotation is a unit quaternion
+std::vector<BodyState> bodies_from(const Model& model, const py::handle& positions,
+                                   const py::handle& rotations, const py::handle& velocities,
+                                   const py::handle& angular_velocities);
+
 class Solver {
  public:
   /// a solver of its own

@@ -20,6 +20,7 @@
 #include "puppet/procedural/rule.h"
 #include "puppet/procedural/solver.h"
 #include "support/holders.h"
+#include "support/pendulum.h"
 #include "support/source_dir.h"
 
 namespace puppet::compare {
@@ -120,19 +121,13 @@ TEST(HeldRoot, AHingedRodSwingsAndDecaysAsAPendulum) {
     RootCoordinates start;
     start.count = 1;
     start.value[0] = 3.0 * M_PI / 180.0;
-    std::vector<double> crossings, peaks;
-    double previous = start.value[0], peak = 0.0;
+    test::SwingMeter swing(start.value[0]);
     run_held(holder, model, start, Vector3d(0, 0, -g), dt, 6.0,
              [&](double t, const BodyState& root) {
-               const double angle = root_coordinates(model, root).value[0];
-               peak = std::max(peak, std::abs(angle));
-               if ((previous > 0.0) != (angle > 0.0)) {
-                 crossings.push_back(t - dt * angle / (angle - previous));
-                 peaks.push_back(peak);
-                 peak = 0.0;
-               }
-               previous = angle;
+               swing.add(t, dt, root_coordinates(model, root).value[0]);
              });
+    const std::vector<double>& crossings = swing.crossings();
+    const std::vector<double>& peaks = swing.peaks();
     ASSERT_GE(crossings.size(), 6u);
     const double half_period = (crossings.back() - crossings.front()) / (crossings.size() - 1);
     EXPECT_NEAR(half_period, M_PI / wd, 0.01 * M_PI / wd);

@@ -21,6 +21,7 @@
 #include "puppet/model/rotation.h"
 #include "puppet/procedural/rule.h"
 #include "support/holders.h"
+#include "support/pendulum.h"
 
 namespace puppet::compare {
 namespace {
@@ -147,19 +148,13 @@ TEST(SlideJoint, ASpringOscillatesAtItsFrequencyAndItsDamperDecaysIt) {
   initial[1].x += s0 * Vector3d(1, 0, 1).normalized();
   for (const Holder& holder : holders()) {
     SCOPED_TRACE(holder.name);
-    std::vector<double> crossings, peaks;
-    double previous = s0, peak = 0.0;
+    test::SwingMeter swing(s0);
     run(holder, model, initial, Vector3d::Zero(), dt, 3.0,
         [&](double t, std::span<const BodyState> bodies) {
-          const double s = slide_coordinate(model, bodies);
-          peak = std::max(peak, std::abs(s));
-          if ((previous > 0.0) != (s > 0.0)) {
-            crossings.push_back(t - dt * s / (s - previous));
-            peaks.push_back(peak);
-            peak = 0.0;
-          }
-          previous = s;
+          swing.add(t, dt, slide_coordinate(model, bodies));
         });
+    const std::vector<double>& crossings = swing.crossings();
+    const std::vector<double>& peaks = swing.peaks();
     ASSERT_GE(crossings.size(), 6u);
     const double half_period = (crossings.back() - crossings.front()) / (crossings.size() - 1);
     EXPECT_NEAR(half_period, M_PI / wd, 0.01 * M_PI / wd);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -74,6 +75,29 @@ class PeriodMeter {
  private:
   std::vector<double> crossings_;
   double previous_ = 0.0;
+};
+
+// Collects every zero crossing of a damped swing's coordinate (both ways), interpolated within
+// the step, and the largest magnitude of each half swing before it: a damped oscillator's half
+// period is the crossings' mean spacing, its decay per half swing the peaks' ratio.
+class SwingMeter {
+ public:
+  explicit SwingMeter(double start) : previous_(start) {}
+  void add(double t, double dt, double value) {
+    peak_ = std::max(peak_, std::abs(value));
+    if ((previous_ > 0.0) != (value > 0.0)) {
+      crossings_.push_back(t - dt * value / (value - previous_));
+      peaks_.push_back(peak_);
+      peak_ = 0.0;
+    }
+    previous_ = value;
+  }
+  const std::vector<double>& crossings() const { return crossings_; }
+  const std::vector<double>& peaks() const { return peaks_; }
+
+ private:
+  std::vector<double> crossings_, peaks_;
+  double previous_, peak_ = 0.0;
 };
 
 // the double physical pendulum of two identical rods, planar, by Lagrange; RK4 at 1e-4 s
